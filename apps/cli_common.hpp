@@ -1,0 +1,33 @@
+// Options every rbdem command shares: the scene file, --set overrides and the --beta/--spacing/--mesh shorthands.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "dem/scene.hpp"
+
+namespace rbdem::cli {
+
+// Exit status of every command: 0 done, 1 the run failed, 2 bad input (scene, options, files),
+// 3 a physical check failed (the elastic gate).
+enum Exit : int { ok = 0, run_failed = 1, bad_input = 2, check_failed = 3 };
+
+struct SceneOptions {
+  std::string scene_file;
+  std::vector<std::string> sets;
+  std::optional<double> beta, spacing;
+  std::string mesh_file;
+  bool quiet = false;
+};
+
+// Adds [scene] positional, --scene, --set, --beta, --spacing, --mesh and --quiet to a command.
+void add_scene_options(CLI::App& cmd, SceneOptions& opt);
+// Built-in defaults <- scene file <- shorthands <- --set, validated. Throws SceneError.
+Scene resolve_scene(const SceneOptions& opt);
+// Prints the resolved scene (TOML) under a heading, unless quiet.
+void print_scene(const Scene& scene, const SceneOptions& opt);
+
+}  // namespace rbdem::cli

@@ -1,0 +1,16 @@
+// The rbdem subcommands. Each registers its options on the CLI11 app and returns a runner.
+#pragma once
+
+#include <functional>
+
+#include <CLI/CLI.hpp>
+
+namespace rbdem::cli {
+
+using Runner = std::function<int()>;
+
+Runner add_mesh_command(CLI::App& app);
+// The main job with no arguments.
+int run_default_job();
+
+}  // namespace rbdem::cli

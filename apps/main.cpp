@@ -1,0 +1,61 @@
+// rbdem: rigid block DEM of layered rock under uniaxial compression, with its elastic and strength checks.
+//
+// Usage:
+//   rbdem                                   the default study (paper specimen), table and report
+//   rbdem mesh --beta 30 --out s.msh        the specimen mesh, for inspection in gmsh
+//   rbdem --help-scene                      every scene key with unit, range and default
+//   rbdem <command> --help                  the options of one command
+//
+// Exit status: 0 done, 1 the run failed, 2 bad input, 3 a physical check failed.
+#include <cstdio>
+#include <exception>
+#include <map>
+
+#include <fmt/format.h>
+
+#include "apps/cli_common.hpp"
+#include "apps/commands.hpp"
+
+int main(int argc, char** argv) {
+  using namespace rbdem::cli;
+  CLI::App app{"rbdem: rigid block DEM of transversely isotropic rock under uniaxial compression.\n"
+               "With no command, runs the default study on the paper's specimen.\n"
+               "Units are SI (m, Pa, s, kg); angles in degrees. Exit status: 0 done, 1 run failed, 2 bad input,\n"
+               "3 a physical check failed."};
+  app.require_subcommand(0, 1);
+  bool help_scene = false;
+  app.add_flag("--help-scene", help_scene, "list every scene key with unit, allowed range, default and meaning");
+  bool print_defaults = false;
+  app.add_flag("--print-scene", print_defaults, "print the built-in default scene as TOML (scenes/paper.toml)");
+
+  std::map<CLI::App*, Runner> runners;
+  runners[nullptr] = nullptr;
+  auto add = [&](Runner r) { runners[app.get_subcommands({}).back()] = std::move(r); };
+  add(add_mesh_command(app));
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? ok : bad_input;
+  }
+  try {
+    if (help_scene) {
+      fmt::print("{}", rbdem::parameter_reference());
+      return ok;
+    }
+    if (print_defaults) {
+      fmt::print("{}", rbdem::to_toml(rbdem::Scene{}));
+      return ok;
+    }
+    for (auto& [cmd, run] : runners)
+      if (cmd && cmd->parsed()) return run();
+    return run_default_job();
+  } catch (const rbdem::SceneError& e) {
+    fmt::print(stderr, "rbdem: error: {}\n", e.what());
+    return bad_input;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "rbdem: run failed: {}\n", e.what());
+    return run_failed;
+  }
+}

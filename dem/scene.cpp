@@ -1,0 +1,497 @@
+// Scene registry, TOML reader, overrides and printers. See scene.hpp.
+#include "dem/scene.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <numbers>
+#include <sstream>
+#include <variant>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <toml++/toml.h>
+
+namespace rbdem {
+
+namespace {
+
+using ValueRef = std::variant<double*, int*, bool*, std::string*>;
+
+struct Entry {
+  ParamInfo info;
+  std::function<ValueRef(Scene&)> ref;
+};
+
+constexpr double huge = 1e300;
+
+Entry real(std::string key, std::string unit, double lo, double hi, std::string doc,
+           std::function<double&(Scene&)> get, bool lo_exclusive = false) {
+  ParamInfo info{std::move(key), ParamKind::real, std::move(unit), std::move(doc), lo, hi, lo_exclusive, {}};
+  return {std::move(info), [get](Scene& s) -> ValueRef { return &get(s); }};
+}
+Entry positive(std::string key, std::string unit, double hi, std::string doc, std::function<double&(Scene&)> get) {
+  return real(std::move(key), std::move(unit), 0.0, hi, std::move(doc), std::move(get), true);
+}
+Entry integer(std::string key, std::string unit, int lo, int hi, std::string doc, std::function<int&(Scene&)> get) {
+  ParamInfo info{std::move(key), ParamKind::integer, std::move(unit), std::move(doc), double(lo), double(hi), false, {}};
+  return {std::move(info), [get](Scene& s) -> ValueRef { return &get(s); }};
+}
+Entry boolean(std::string key, std::string doc, std::function<bool&(Scene&)> get) {
+  ParamInfo info{std::move(key), ParamKind::boolean, "-", std::move(doc), 0, 1, false, {}};
+  return {std::move(info), [get](Scene& s) -> ValueRef { return &get(s); }};
+}
+Entry choice(std::string key, std::vector<std::string> choices, std::string doc,
+             std::function<std::string&(Scene&)> get) {
+  ParamInfo info{std::move(key), ParamKind::choice, "-", std::move(doc), 0, 0, false, std::move(choices)};
+  return {std::move(info), [get](Scene& s) -> ValueRef { return &get(s); }};
+}
+Entry text(std::string key, std::string doc, std::function<std::string&(Scene&)> get) {
+  ParamInfo info{std::move(key), ParamKind::text, "-", std::move(doc), 0, 0, false, {}};
+  return {std::move(info), [get](Scene& s) -> ValueRef { return &get(s); }};
+}
+
+// The keys of one contact kind; `section` is "rock" or "joint".
+void add_material(std::vector<Entry>& e, const std::string& section, std::function<MaterialParams&(Scene&)> m) {
+  const std::string p = section + ".";
+  const std::string what = section == "rock" ? "bonds inside a layer" : "bonds across layers (joints)";
+  e.push_back(positive(p + "effective_modulus", "Pa", 1e14,
+                       "effective modulus E* of " + what + ": k_n = E*/d (linear part and parallel bond)",
+                       [m](Scene& s) -> double& { return m(s).effective_modulus; }));
+  e.push_back(positive(p + "stiffness_ratio", "-", 100.0, "normal to shear stiffness ratio kappa = k_n/k_s of " + what,
+                       [m](Scene& s) -> double& { return m(s).stiffness_ratio; }));
+  e.push_back(positive(p + "tensile_strength", "Pa", 1e12, "parallel bond tensile strength sigma_c of " + what,
+                       [m](Scene& s) -> double& { return m(s).tensile_strength; }));
+  e.push_back(positive(p + "cohesion", "Pa", 1e12, "parallel bond cohesion c of " + what,
+                       [m](Scene& s) -> double& { return m(s).cohesion; }));
+  e.push_back(real(p + "friction_deg", "deg", 0.0, 89.0,
+                   "parallel bond friction angle phi_b: shear strength c - sigma_n tan(phi_b) of " + what,
+                   [m](Scene& s) -> double& { return m(s).friction_deg; }));
+  e.push_back(real(p + "contact_friction", "-", 0.0, 10.0,
+                   "Coulomb coefficient mu of the linear part and of contacts after breakage, " + what,
+                   [m](Scene& s) -> double& { return m(s).contact_friction; }));
+  e.push_back(real(p + "moment_factor", "-", 0.0, 1.0,
+                   "moment contribution factor beta_m in the bond tensile stress of " + what,
+                   [m](Scene& s) -> double& { return m(s).moment_factor; }));
+}
+
+std::vector<Entry> make_registry() {
+  std::vector<Entry> e;
+  // [specimen]
+  e.push_back(positive("specimen.width", "m", 100.0, "specimen width (horizontal)",
+                       [](Scene& s) -> double& { return s.specimen.width; }));
+  e.push_back(positive("specimen.height", "m", 100.0, "specimen height (load axis, vertical)",
+                       [](Scene& s) -> double& { return s.specimen.height; }));
+  e.push_back(positive("specimen.thickness", "m", 100.0, "out-of-plane thickness t (bond area A = L t)",
+                       [](Scene& s) -> double& { return s.specimen.thickness; }));
+  e.push_back(choice("specimen.model", {"plane_strain", "plane_stress"},
+                     "2D interpretation of the continuum constants (FE model and Amadei's formula)",
+                     [](Scene& s) -> std::string& { return s.specimen.model; }));
+  // [joint_set]
+  e.push_back(real("joint_set.dip_deg", "deg", 0.0, 90.0,
+                   "joint dip from the horizontal; the load is vertical (0 = joints normal to the load)",
+                   [](Scene& s) -> double& { return s.joint_set.dip_deg; }));
+  e.push_back(positive("joint_set.spacing", "m", 100.0, "normal distance between neighbouring joints",
+                       [](Scene& s) -> double& { return s.joint_set.spacing; }));
+  e.push_back(real("joint_set.offset", "m", -100.0, 100.0,
+                   "shift of the joint set along its normal; 0 puts a joint through the specimen centre",
+                   [](Scene& s) -> double& { return s.joint_set.offset; }));
+  e.push_back(boolean("joint_set.enabled", "false gives intact rock (no joints)",
+                      [](Scene& s) -> bool& { return s.joint_set.enabled; }));
+  // [mesh]
+  e.push_back(positive("mesh.size", "m", 1.0, "target triangle edge length h (one rigid block per triangle)",
+                       [](Scene& s) -> double& { return s.mesh.size; }));
+  e.push_back(text("mesh.file", "user mesh (.msh; physical surfaces = layers); empty = mesh the specimen",
+                   [](Scene& s) -> std::string& { return s.mesh.file; }));
+  // [rock], [joint]
+  add_material(e, "rock", [](Scene& s) -> MaterialParams& { return s.rock; });
+  e.push_back(positive("rock.density", "kg/m^3", 1e5, "block density",
+                       [](Scene& s) -> double& { return s.rock.density; }));
+  add_material(e, "joint", [](Scene& s) -> MaterialParams& { return s.joint; });
+  // [loading]
+  e.push_back(positive("loading.platen_velocity", "m/s", 100.0, "closing speed of the top platen (bottom fixed)",
+                       [](Scene& s) -> double& { return s.loading.platen_velocity; }));
+  e.push_back(real("loading.platen_friction", "-", 0.0, 10.0, "Coulomb coefficient between platens and blocks",
+                   [](Scene& s) -> double& { return s.loading.platen_friction; }));
+  e.push_back(real("loading.stop_fraction", "-", 0.0, 1.0,
+                   "stop when the stress falls below this fraction of the peak, after the peak",
+                   [](Scene& s) -> double& { return s.loading.stop_fraction; }, true));
+  e.push_back(positive("loading.max_strain", "-", 1.0, "stop at this axial strain in any case",
+                       [](Scene& s) -> double& { return s.loading.max_strain; }));
+  // [numerics]
+  e.push_back(real("numerics.damping", "-", 0.0, 0.99, "Cundall local damping coefficient alpha",
+                   [](Scene& s) -> double& { return s.numerics.damping; }));
+  e.push_back(positive("numerics.dt_safety", "-", 1.0, "fraction of the critical time step used",
+                       [](Scene& s) -> double& { return s.numerics.dt_safety; }));
+  e.push_back(real("numerics.dt", "s", 0.0, 1.0,
+                   "requested time step; 0 = automatic; a step above the critical one is refused",
+                   [](Scene& s) -> double& { return s.numerics.dt; }));
+  e.push_back(real("numerics.mass_scaling", "-", 1.0, 1e8,
+                   "density multiplier for quasi-static runs (dt grows as its square root); reported",
+                   [](Scene& s) -> double& { return s.numerics.mass_scaling; }));
+  e.push_back(integer("numerics.threads", "-", 0, 1024, "OpenMP threads for one run; 0 = all cores",
+                      [](Scene& s) -> int& { return s.numerics.threads; }));
+  e.push_back(boolean("numerics.elastic_start",
+                      "start failure runs from the static elastic state just below the first bond failure",
+                      [](Scene& s) -> bool& { return s.numerics.elastic_start; }));
+  // [elastic]
+  e.push_back(positive("elastic.tolerance", "-", 1.0,
+                       "elastic gate: largest relative difference of DEM and Amadei moduli accepted",
+                       [](Scene& s) -> double& { return s.elastic.tolerance; }));
+  return e;
+}
+
+const std::vector<Entry>& registry() {
+  static const std::vector<Entry> r = make_registry();
+  return r;
+}
+
+const Entry* find_entry(std::string_view key) {
+  for (const auto& e : registry())
+    if (e.info.key == key) return &e;
+  return nullptr;
+}
+
+std::string fmt_real(double v) { return fmt::format("{:.10g}", v); }
+// Shortest text that reads back to the same double (for printed scenes, which must round-trip exactly).
+std::string exact_real(double v) { return fmt::format("{}", v); }
+
+std::string range_text(const ParamInfo& p) {
+  switch (p.kind) {
+    case ParamKind::real:
+    case ParamKind::integer:
+      return fmt::format("{}{}, {}] {}", p.min_exclusive ? "(" : "[", fmt_real(p.min), fmt_real(p.max), p.unit);
+    case ParamKind::boolean:
+      return "true or false";
+    case ParamKind::choice: {
+      std::string s;
+      for (const auto& c : p.choices) s += (s.empty() ? "\"" : ", \"") + c + "\"";
+      return "one of " + s;
+    }
+    case ParamKind::text:
+      return "a string";
+  }
+  return {};
+}
+
+// Edit distance, to suggest the key a user probably meant.
+std::size_t distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j)
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+[[noreturn]] void unknown_key(std::string_view key, std::string_view origin) {
+  std::string best;
+  std::size_t best_d = 1000;
+  for (const auto& e : registry()) {
+    const std::size_t d = distance(key, e.info.key);
+    if (d < best_d) best_d = d, best = e.info.key;
+  }
+  std::string msg = fmt::format("{}: unknown key '{}'", origin, key);
+  if (best_d <= 4) msg += fmt::format("; did you mean '{}'?", best);
+  msg += " (rbdem --help-scene lists every key)";
+  throw SceneError(msg);
+}
+
+void check_range(const ParamInfo& p, double v, std::string_view shown) {
+  const bool below = p.min_exclusive ? !(v > p.min) : !(v >= p.min);
+  if (!std::isfinite(v) || below || v > p.max)
+    throw SceneError(fmt::format("{} = {} is out of range: allowed {} ({})", p.key, shown, range_text(p), p.doc));
+}
+
+double parse_real(const ParamInfo& p, std::string_view value) {
+  std::string s(value);
+  std::size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(s, &used);
+  } catch (...) {
+    used = 0;
+  }
+  if (used == 0 || used != s.size())
+    throw SceneError(fmt::format("{} = '{}' is not a number: expected a real value in {}", p.key, value,
+                                 range_text(p)));
+  return v;
+}
+
+void assign(Scene& scene, const Entry& e, std::string_view value) {
+  const ParamInfo& p = e.info;
+  ValueRef ref = e.ref(scene);
+  switch (p.kind) {
+    case ParamKind::real: {
+      const double v = parse_real(p, value);
+      check_range(p, v, value);
+      *std::get<double*>(ref) = v;
+      break;
+    }
+    case ParamKind::integer: {
+      int v = 0;
+      auto [ptr, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
+      if (ec != std::errc() || ptr != value.data() + value.size())
+        throw SceneError(fmt::format("{} = '{}' is not an integer: expected {}", p.key, value, range_text(p)));
+      check_range(p, v, value);
+      *std::get<int*>(ref) = v;
+      break;
+    }
+    case ParamKind::boolean: {
+      if (value == "true" || value == "1") *std::get<bool*>(ref) = true;
+      else if (value == "false" || value == "0") *std::get<bool*>(ref) = false;
+      else throw SceneError(fmt::format("{} = '{}' is not a boolean: expected true or false", p.key, value));
+      break;
+    }
+    case ParamKind::choice: {
+      if (std::find(p.choices.begin(), p.choices.end(), value) == p.choices.end())
+        throw SceneError(fmt::format("{} = '{}' is not allowed: expected {}", p.key, value, range_text(p)));
+      *std::get<std::string*>(ref) = std::string(value);
+      break;
+    }
+    case ParamKind::text:
+      *std::get<std::string*>(ref) = std::string(value);
+      break;
+  }
+}
+
+std::string_view kind_name(ParamKind k) {
+  switch (k) {
+    case ParamKind::real: return "a number";
+    case ParamKind::integer: return "an integer";
+    case ParamKind::boolean: return "a boolean";
+    case ParamKind::choice:
+    case ParamKind::text: return "a string";
+  }
+  return "";
+}
+
+// A TOML value as the user wrote it, for messages.
+std::string shown(const toml::node& node) {
+  std::ostringstream out;
+  node.visit([&out](const auto& v) {
+    if constexpr (toml::is_string<decltype(v)>) out << '"' << v.get() << '"';
+    else if constexpr (toml::is_number<decltype(v)> || toml::is_boolean<decltype(v)>) out << v;
+    else out << "(a " << v.type() << ")";
+  });
+  return out.str();
+}
+
+// One TOML value into the scene, type-checked against the registry.
+void assign_toml(Scene& scene, const Entry& e, const toml::node& node, std::string_view origin) {
+  const ParamInfo& p = e.info;
+  auto wrong_type = [&]() {
+    throw SceneError(fmt::format("{}: {} = {} has the wrong type: expected {} ({})", origin, p.key, shown(node),
+                                 kind_name(p.kind), range_text(p)));
+  };
+  switch (p.kind) {
+    case ParamKind::real: {
+      double v;
+      if (auto f = node.as_floating_point()) v = f->get();
+      else if (auto i = node.as_integer()) v = double(i->get());
+      else wrong_type();
+      check_range(p, v, fmt_real(v));
+      *std::get<double*>(e.ref(scene)) = v;
+      break;
+    }
+    case ParamKind::integer: {
+      auto i = node.as_integer();
+      if (!i) wrong_type();
+      check_range(p, double(i->get()), std::to_string(i->get()));
+      *std::get<int*>(e.ref(scene)) = int(i->get());
+      break;
+    }
+    case ParamKind::boolean: {
+      auto b = node.as_boolean();
+      if (!b) wrong_type();
+      *std::get<bool*>(e.ref(scene)) = b->get();
+      break;
+    }
+    case ParamKind::choice:
+    case ParamKind::text: {
+      auto s = node.as_string();
+      if (!s) wrong_type();
+      assign(scene, e, s->get());
+      break;
+    }
+  }
+}
+
+}  // namespace
+
+// Calibrated defaults for the paper's specimen (docs/calibration.md says how they were found).
+Scene::Scene() {
+  rock.effective_modulus = 160e9;
+  rock.stiffness_ratio = 1.5;
+  rock.tensile_strength = 60e6;
+  rock.cohesion = 60e6;
+  rock.friction_deg = 40.0;
+  rock.contact_friction = std::tan(40.0 * std::numbers::pi / 180.0);
+  rock.moment_factor = 1.0;
+  rock.density = 2700.0;
+  joint.effective_modulus = 50e9;
+  joint.stiffness_ratio = 1.5;
+  joint.tensile_strength = 15e6;
+  joint.cohesion = 15e6;
+  joint.friction_deg = 30.0;
+  joint.contact_friction = std::tan(30.0 * std::numbers::pi / 180.0);
+  joint.moment_factor = 1.0;
+}
+
+const std::vector<ParamInfo>& scene_parameters() {
+  static const std::vector<ParamInfo> infos = [] {
+    std::vector<ParamInfo> v;
+    for (const auto& e : registry()) v.push_back(e.info);
+    return v;
+  }();
+  return infos;
+}
+
+void set_parameter(Scene& scene, std::string_view key, std::string_view value) {
+  const Entry* e = find_entry(key);
+  if (!e) unknown_key(key, "--set");
+  assign(scene, *e, value);
+}
+
+void apply_override(Scene& scene, std::string_view assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string_view::npos || eq == 0)
+    throw SceneError(fmt::format("--set '{}': expected section.key=value, e.g. --set rock.cohesion=20e6", assignment));
+  auto trim = [](std::string_view s) {
+    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+    if (s.size() >= 2 && ((s.front() == '"' && s.back() == '"') || (s.front() == '\'' && s.back() == '\'')))
+      s = s.substr(1, s.size() - 2);
+    return s;
+  };
+  set_parameter(scene, trim(assignment.substr(0, eq)), trim(assignment.substr(eq + 1)));
+}
+
+Scene parse_scene(std::string_view toml_text, std::string_view origin) {
+  toml::table root;
+  try {
+    root = toml::parse(toml_text, origin);
+  } catch (const toml::parse_error& err) {
+    throw SceneError(fmt::format("{}:{}:{}: TOML syntax error: {}", origin, err.source().begin.line,
+                                 err.source().begin.column, err.description()));
+  }
+  Scene scene;
+  for (const auto& [section, node] : root) {
+    const auto* table = node.as_table();
+    if (!table)
+      throw SceneError(fmt::format("{}: top-level key '{}' must be a [section] table (sections: specimen, "
+                                   "joint_set, mesh, rock, joint, loading, numerics, elastic)",
+                                   origin, section.str()));
+    for (const auto& [name, value] : *table) {
+      const std::string key = std::string(section.str()) + "." + std::string(name.str());
+      const Entry* e = find_entry(key);
+      if (!e) unknown_key(key, origin);
+      assign_toml(scene, *e, value, origin);
+    }
+  }
+  validate(scene);
+  return scene;
+}
+
+Scene load_scene_file(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in)
+    throw SceneError(fmt::format("cannot read scene file '{}': check the path (shipped scenes are in scenes/)",
+                                 path.string()));
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return parse_scene(buffer.str(), path.string());
+}
+
+void validate(const Scene& scene) {
+  Scene copy = scene;
+  for (const auto& e : registry()) {
+    const ParamInfo& p = e.info;
+    ValueRef ref = e.ref(copy);
+    if (p.kind == ParamKind::real) {
+      const double v = *std::get<double*>(ref);
+      check_range(p, v, fmt_real(v));
+    } else if (p.kind == ParamKind::integer) {
+      const int v = *std::get<int*>(ref);
+      check_range(p, v, std::to_string(v));
+    } else if (p.kind == ParamKind::choice) {
+      const std::string& v = *std::get<std::string*>(ref);
+      if (std::find(p.choices.begin(), p.choices.end(), v) == p.choices.end())
+        throw SceneError(fmt::format("{} = '{}' is not allowed: expected {}", p.key, v, range_text(p)));
+    }
+  }
+  if (scene.mesh.size > 0.25 * std::min(scene.specimen.width, scene.specimen.height))
+    throw SceneError(fmt::format("mesh.size = {} m is too coarse for a {} x {} m specimen: use at most a quarter of "
+                                 "the smaller side ({} m)",
+                                 fmt_real(scene.mesh.size), fmt_real(scene.specimen.width),
+                                 fmt_real(scene.specimen.height),
+                                 fmt_real(0.25 * std::min(scene.specimen.width, scene.specimen.height))));
+}
+
+std::string parameter_text(const Scene& scene, std::string_view key) {
+  const Entry* e = find_entry(key);
+  if (!e) unknown_key(key, "parameter_text");
+  Scene copy = scene;
+  ValueRef ref = e->ref(copy);
+  return std::visit(
+      [](auto* v) -> std::string {
+        using T = std::remove_pointer_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, double>) return exact_real(*v);
+        else if constexpr (std::is_same_v<T, int>) return std::to_string(*v);
+        else if constexpr (std::is_same_v<T, bool>) return *v ? "true" : "false";
+        else return *v;
+      },
+      ref);
+}
+
+std::string to_toml(const Scene& scene) {
+  std::string out;
+  std::string section;
+  for (const auto& e : registry()) {
+    const std::string& key = e.info.key;
+    const auto dot = key.find('.');
+    const std::string sec = key.substr(0, dot);
+    if (sec != section) {
+      out += fmt::format("{}[{}]\n", section.empty() ? "" : "\n", sec);
+      section = sec;
+    }
+    std::string value = parameter_text(scene, key);
+    if (e.info.kind == ParamKind::choice || e.info.kind == ParamKind::text) value = "\"" + value + "\"";
+    else if (e.info.kind == ParamKind::real && value.find_first_of(".eEn") == std::string::npos) value += ".0";
+    out += fmt::format("{:<20} = {:<16} # {}\n", key.substr(dot + 1), value, e.info.unit);
+  }
+  return out;
+}
+
+void to_json(nlohmann::json& j, const Scene& scene) {
+  j = nlohmann::json::object();
+  Scene copy = scene;
+  for (const auto& e : registry()) {
+    const std::string& key = e.info.key;
+    const auto dot = key.find('.');
+    nlohmann::json& slot = j[key.substr(0, dot)][key.substr(dot + 1)];
+    std::visit([&slot](auto* v) { slot = *v; }, e.ref(copy));
+  }
+}
+
+nlohmann::json scene_json(const Scene& scene) {
+  nlohmann::json j;
+  to_json(j, scene);
+  return j;
+}
+
+std::string parameter_reference() {
+  std::string out = fmt::format("{:<28} {:<8} {:<26} {:<14} {}\n", "key", "unit", "allowed", "default", "meaning");
+  const Scene defaults;
+  for (const auto& e : registry())
+    out += fmt::format("{:<28} {:<8} {:<26} {:<14} {}\n", e.info.key, e.info.unit, range_text(e.info),
+                       parameter_text(defaults, e.info.key), e.info.doc);
+  return out;
+}
+
+}  // namespace rbdem

@@ -1,0 +1,128 @@
+// The scene: every input of a run, declared once with default, unit, allowed range and doc string.
+//
+// A scene is plain data (`Scene`) plus one registry (`scene_parameters()`) that names each key as
+// "section.key" (the TOML layout of DESIGN.md), so parsing, `--set` overrides, validation, printing
+// and JSON output all come from one table. SI units throughout (m, Pa, kg, s); angles in degrees.
+// Anything a user can get wrong raises `SceneError` with the key, the value and the allowed range.
+#pragma once
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+namespace rbdem {
+
+struct SpecimenParams {
+  double width = 0.05;              // m, horizontal extent
+  double height = 0.10;             // m, vertical extent (load axis)
+  double thickness = 1.0;           // m, out of plane
+  std::string model = "plane_strain";  // continuum interpretation: plane_strain | plane_stress
+};
+
+struct JointSetParams {
+  double dip_deg = 60.0;  // deg, dip of the joint planes from the horizontal (THEORY.md convention)
+  double spacing = 0.01;  // m, normal distance between joints
+  double offset = 0.0;    // m, shift of the set along its normal, from the specimen centre
+  bool enabled = true;    // false: intact rock, no joints
+};
+
+struct MeshParams {
+  double size = 0.001;    // m, target triangle edge length
+  std::string file;       // optional user mesh (.msh, physical surfaces = layers); empty = generate
+};
+
+// Bond and contact parameters of one contact kind (rock inside a layer, joint across layers).
+struct MaterialParams {
+  double effective_modulus = 0;  // Pa, E*: k_n = E*/d for the linear part and the parallel bond
+  double stiffness_ratio = 1.0;  // -, kappa = k_n/k_s
+  double tensile_strength = 0;   // Pa, parallel bond tensile strength sigma_c
+  double cohesion = 0;           // Pa, parallel bond cohesion c
+  double friction_deg = 0;       // deg, parallel bond friction angle phi_b (shear strength)
+  double contact_friction = 0;   // -, Coulomb coefficient mu of the linear part and later contacts
+  double moment_factor = 1.0;    // -, beta_m, moment contribution to the bond's tensile stress
+};
+
+struct RockParams : MaterialParams {
+  double density = 2700.0;  // kg/m^3, block density
+};
+
+struct LoadingParams {
+  double platen_velocity = 0.05;  // m/s, closing speed of the top platen (bottom fixed)
+  double platen_friction = 0.0;   // -, Coulomb coefficient between platens and blocks
+  double stop_fraction = 0.7;     // -, stop when the stress falls below this fraction of the peak
+  double max_strain = 0.01;       // -, stop at this axial strain whatever happens
+};
+
+struct NumericsParams {
+  double damping = 0.7;         // -, Cundall local damping coefficient alpha
+  double dt_safety = 0.8;       // -, fraction of the critical time step used
+  double dt = 0.0;              // s, requested step; 0 = automatic (dt_safety x critical)
+  double mass_scaling = 1.0;    // -, density multiplier (>= 1) for quasi-static runs; reported
+  int threads = 0;              // -, OpenMP threads; 0 = all cores
+  bool elastic_start = true;    // start failure runs from the static elastic state below first break
+};
+
+struct ElasticGateParams {
+  double tolerance = 0.05;  // -, largest relative DEM/Amadei modulus difference accepted
+};
+
+struct Scene {
+  SpecimenParams specimen;
+  JointSetParams joint_set;
+  MeshParams mesh;
+  RockParams rock;
+  MaterialParams joint;
+  LoadingParams loading;
+  NumericsParams numerics;
+  ElasticGateParams elastic;
+
+  Scene();  // the paper's specimen with the calibrated defaults
+};
+
+// What a user can get wrong in a scene; the message names the key, the value and the fix.
+class SceneError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+enum class ParamKind { real, integer, boolean, choice, text };
+
+struct ParamInfo {
+  std::string key;   // "section.name"
+  ParamKind kind;
+  std::string unit;  // "Pa", "m", "deg", "-", ...
+  std::string doc;
+  double min = 0, max = 0;        // allowed range for real and integer keys
+  bool min_exclusive = false;     // (min, max] instead of [min, max]
+  std::vector<std::string> choices;  // for choice keys
+};
+
+// The registry, in file order.
+const std::vector<ParamInfo>& scene_parameters();
+
+// Reads a TOML scene file over the defaults. Unknown keys, wrong types and out-of-range values throw.
+Scene load_scene_file(const std::filesystem::path& path);
+// Parses TOML text (for tests and embedded scenes); `origin` names the source in messages.
+Scene parse_scene(std::string_view toml_text, std::string_view origin = "scene");
+// Applies one "section.key=value" override (the --set option).
+void apply_override(Scene& scene, std::string_view assignment);
+// Sets one key from its textual value, with the same checks as the file reader.
+void set_parameter(Scene& scene, std::string_view key, std::string_view value);
+// Checks every value against its range and the cross-key rules; throws SceneError on the first problem.
+void validate(const Scene& scene);
+
+// The value of one key as text (for printing and tables).
+std::string parameter_text(const Scene& scene, std::string_view key);
+// The resolved scene as TOML (with units as comments) and as JSON.
+std::string to_toml(const Scene& scene);
+void to_json(nlohmann::json& j, const Scene& scene);
+nlohmann::json scene_json(const Scene& scene);
+
+// A reference table of every key (for --help and docs/scene.md).
+std::string parameter_reference();
+
+}  // namespace rbdem

@@ -1,0 +1,51 @@
+// Specimen geometry and meshing through the gmsh C++ API.
+//
+// The specimen is the W x H rectangle [0, W] x [0, H] cut by a set of parallel joints dipping at beta from the
+// horizontal, spaced s along their normal n = (-sin beta, cos beta), one joint through the centre when the
+// offset is 0. gmsh meshes it so that every joint is a chain of mesh edges and every layer (region between
+// joints) is its own physical surface group. User meshes are read from .msh files (physical surfaces = layers).
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "dem/scene.hpp"
+#include "dem/trimesh.hpp"
+
+namespace rbdem {
+
+struct SpecimenGeometry {
+  double width = 0.05, height = 0.10;            // m
+  double dip_deg = 60.0, spacing = 0.01, offset = 0.0;  // deg, m, m
+  bool joints = true;
+
+  static SpecimenGeometry from_scene(const Scene& scene);
+  // Unit vectors along the joints and along their normal; exact at 0 and 90 degrees.
+  std::array<double, 2> direction() const;
+  std::array<double, 2> normal() const;
+};
+
+struct JointSegment {
+  std::array<double, 2> a, b;  // end points on the specimen boundary, m
+  double r;                    // signed normal distance of the joint from the specimen centre, m
+  double length() const;
+};
+
+// The joint segments inside the rectangle. Joints that only touch a corner or lie on a side are left out;
+// a joint that would cut off a corner piece thinner than `min_piece` is left out too and noted in `notes`.
+std::vector<JointSegment> joint_segments(const SpecimenGeometry& g, double min_piece = 0.0,
+                                         std::vector<std::string>* notes = nullptr);
+
+// Meshes the specimen with target edge length h. Throws SceneError when a layer is narrower than about two
+// elements. When `msh_out` is not empty the mesh is also written there (gmsh MSH 4.1).
+TriMesh mesh_specimen(const SpecimenGeometry& g, double h, const std::filesystem::path& msh_out = {});
+
+// Reads a user mesh: one physical surface group per layer, first-order triangles only.
+TriMesh read_msh(const std::filesystem::path& path);
+
+// The mesh a scene asks for: mesh.file when set, else the meshed specimen.
+TriMesh make_mesh(const Scene& scene, const std::filesystem::path& msh_out = {});
+
+}  // namespace rbdem

@@ -1,0 +1,26 @@
+// TriMesh: the specimen's triangle mesh as plain data. Both solvers read this very object, so "the DEM and
+// the FE model use the same mesh" is literal. Triangles are stored counter-clockwise.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace rbdem {
+
+struct TriMesh {
+  std::vector<std::array<double, 2>> nodes;   // m
+  std::vector<std::array<int, 3>> triangles;  // node indices, counter-clockwise
+  std::vector<int> layer;                     // layer id per triangle (0 .. layer_names.size()-1)
+  std::vector<std::string> layer_names;       // physical surface group name per layer
+  std::vector<std::string> notes;             // what the mesher adjusted (skipped slivers, snapped nodes)
+
+  std::size_t num_nodes() const { return nodes.size(); }
+  std::size_t num_triangles() const { return triangles.size(); }
+  std::size_t num_layers() const { return layer_names.size(); }
+};
+
+// Signed area of triangle t (positive when counter-clockwise).
+double signed_area(const TriMesh& mesh, std::size_t t);
+
+}  // namespace rbdem

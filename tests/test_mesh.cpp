@@ -1,0 +1,244 @@
+// Specimen meshing and bonded-block topology: conformity, joint length against the analytic chord lengths,
+// block inertia against the closed form, and the .msh round trip.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <set>
+#include <tuple>
+
+#include "dem/scene.hpp"
+#include "dem/specimen_mesh.hpp"
+#include "dem/topology.hpp"
+
+namespace rbdem {
+namespace {
+
+constexpr double W = 0.05, H = 0.10;
+
+SpecimenGeometry geometry(double beta, double spacing, double offset = 0.0) {
+  SpecimenGeometry g;
+  g.width = W, g.height = H, g.dip_deg = beta, g.spacing = spacing, g.offset = offset;
+  return g;
+}
+
+// Analytic total length of the lines n.(x - c) = offset + k s inside the rectangle, computed independently of the
+// mesher: the chord length of a line at distance r from the centre, by integrating the indicator of the rectangle
+// along the line (closed form: intersection of two slabs).
+double analytic_joint_length(double beta, double s, double offset) {
+  const double b = beta * std::numbers::pi / 180.0;
+  const double dx = beta == 90 ? 0.0 : std::cos(b), dy = beta == 0 ? 0.0 : std::sin(b);
+  const double nx = -dy, ny = dx;
+  double total = 0;
+  for (int k = -1000; k <= 1000; ++k) {
+    const double r = offset + k * s;
+    const double px = r * nx, py = r * ny;  // relative to the centre
+    double lo = -1e9, hi = 1e9;
+    auto slab = [&](double p, double d, double half) {
+      if (std::abs(d) < 1e-15) {
+        if (std::abs(p) >= half - 1e-12) lo = 1, hi = 0;
+        return;
+      }
+      double a = (-half - p) / d, c = (half - p) / d;
+      if (a > c) std::swap(a, c);
+      lo = std::max(lo, a), hi = std::min(hi, c);
+    };
+    slab(px, dx, W / 2);
+    slab(py, dy, H / 2);
+    if (hi - lo > 1e-12) total += hi - lo;
+  }
+  return total;
+}
+
+void expect_conforming(const TriMesh& mesh, const Topology& topo) {
+  // Areas sum to W x H.
+  double area = 0;
+  for (double a : topo.blocks.area) area += a;
+  EXPECT_NEAR(area, W * H, 1e-12 * W * H);
+  // Every edge has one or two triangles; every single-triangle edge lies on the rectangle (no T-junction, no hole).
+  std::map<std::pair<int, int>, int> uses;
+  for (const auto& t : mesh.triangles)
+    for (int e = 0; e < 3; ++e) ++uses[std::minmax(t[e], t[(e + 1) % 3])];
+  double boundary_length = 0;
+  for (const auto& [edge, n] : uses) {
+    EXPECT_LE(n, 2);
+    if (n == 1) {
+      const auto& a = mesh.nodes[edge.first];
+      const auto& b = mesh.nodes[edge.second];
+      const bool on_side = (a[0] == 0 && b[0] == 0) || (a[0] == W && b[0] == W) || (a[1] == 0 && b[1] == 0) ||
+                           (a[1] == H && b[1] == H);
+      EXPECT_TRUE(on_side) << "free edge inside the specimen at (" << a[0] << ", " << a[1] << ")";
+      boundary_length += std::hypot(b[0] - a[0], b[1] - a[1]);
+    }
+  }
+  EXPECT_NEAR(boundary_length, 2 * (W + H), 1e-12);
+  EXPECT_EQ(topo.bonds.size() + topo.boundary.size(), uses.size());
+  // Every boundary edge got a side.
+  for (auto s : topo.boundary.side) EXPECT_NE(s, Side::other);
+}
+
+class JointLength : public ::testing::TestWithParam<std::tuple<double, double>> {};
+
+TEST_P(JointLength, EqualsAnalyticLengthOfJointLines) {
+  const auto [beta, spacing] = GetParam();
+  const double h = std::min(0.0025, spacing / 2);
+  const TriMesh mesh = mesh_specimen(geometry(beta, spacing), h);
+  EXPECT_TRUE(mesh.notes.empty()) << mesh.notes.front();
+  const Topology topo = build_topology(mesh, 1.0, 2700.0);
+  expect_conforming(mesh, topo);
+  const double expected = analytic_joint_length(beta, spacing, 0.0);
+  EXPECT_NEAR(topo.total_length(BondKind::joint), expected, 1e-9 * expected) << "beta " << beta << " s " << spacing;
+  // Layers: joint bonds separate different layers, rock bonds join the same layer.
+  for (std::size_t b = 0; b < topo.bonds.size(); ++b)
+    EXPECT_EQ(topo.bonds.kind[b] == BondKind::joint,
+              topo.blocks.layer[topo.bonds.i[b]] != topo.blocks.layer[topo.bonds.j[b]]);
+}
+
+INSTANTIATE_TEST_SUITE_P(DipsAndSpacings, JointLength,
+                         ::testing::Combine(::testing::Values(0.0, 15.0, 30.0, 45.0, 60.0, 75.0, 90.0),
+                                            ::testing::Values(0.005, 0.01, 0.02, 0.05)));
+
+TEST(Mesh, NoJointBondsWhenTheSetMissesTheSpecimen) {
+  // Lines at r = 0.1 + 0.2 k: the nearest is 0.1 m from the centre, outside the 0.05 x 0.1 specimen for beta = 0.
+  const TriMesh mesh = mesh_specimen(geometry(0.0, 0.2, 0.1), 0.005);
+  const Topology topo = build_topology(mesh, 1.0, 2700.0);
+  EXPECT_EQ(topo.count(BondKind::joint), 0u);
+  EXPECT_EQ(mesh.num_layers(), 1u);
+  expect_conforming(mesh, topo);
+}
+
+TEST(Mesh, HorizontalAndVerticalJointsAreExact) {
+  for (double beta : {0.0, 90.0}) {
+    const TriMesh mesh = mesh_specimen(geometry(beta, 0.01), 0.0025);
+    const Topology topo = build_topology(mesh, 1.0, 2700.0);
+    for (std::size_t b = 0; b < topo.bonds.size(); ++b) {
+      if (topo.bonds.kind[b] != BondKind::joint) continue;
+      const auto& a = mesh.nodes[topo.bonds.node_a[b]];
+      const auto& c = mesh.nodes[topo.bonds.node_b[b]];
+      if (beta == 0.0) EXPECT_NEAR(a[1], c[1], 1e-15);
+      else EXPECT_NEAR(a[0], c[0], 1e-15);
+    }
+  }
+}
+
+TEST(Mesh, LayerNarrowerThanTwoElementsIsRejected) {
+  try {
+    mesh_specimen(geometry(30.0, 0.003), 0.002);
+    FAIL();
+  } catch (const SceneError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("joint_set.spacing"), std::string::npos) << m;
+    EXPECT_NE(m.find("mesh.size <= 0.0015"), std::string::npos) << m;
+  }
+}
+
+TEST(Blocks, InertiaEqualsTriangleClosedForm) {
+  const TriMesh mesh = mesh_specimen(geometry(45.0, 0.02), 0.004);
+  const double rho = 2500.0, t = 0.7;
+  const Topology topo = build_topology(mesh, t, rho);
+  for (std::size_t k = 0; k < mesh.num_triangles(); ++k) {
+    const auto& tri = mesh.triangles[k];
+    const auto& a = mesh.nodes[tri[0]];
+    const auto& b = mesh.nodes[tri[1]];
+    const auto& c = mesh.nodes[tri[2]];
+    auto sq = [](auto p, auto q) { return (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]); };
+    // Polar moment of a triangle about its centroid: m (a^2 + b^2 + c^2) / 36 with side lengths a, b, c.
+    const double m = rho * t * 0.5 * std::abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    const double closed = m * (sq(a, b) + sq(b, c) + sq(c, a)) / 36.0;
+    EXPECT_NEAR(topo.blocks.mass[k], m, 1e-13 * m);
+    EXPECT_NEAR(topo.blocks.inertia[k], closed, 1e-12 * closed);
+  }
+}
+
+TEST(Bonds, NormalPointsFromFirstToSecondBlockAndAdjacencyIsComplete) {
+  const TriMesh mesh = mesh_specimen(geometry(60.0, 0.01), 0.0025);
+  const Topology topo = build_topology(mesh, 1.0, 2700.0);
+  const auto& B = topo.blocks;
+  const auto& N = topo.bonds;
+  for (std::size_t b = 0; b < N.size(); ++b) {
+    EXPECT_LT(N.i[b], N.j[b]);
+    EXPECT_NEAR(std::hypot(N.nx[b], N.ny[b]), 1.0, 1e-14);
+    EXPECT_GT(N.nx[b] * (B.cx[N.j[b]] - B.cx[N.i[b]]) + N.ny[b] * (B.cy[N.j[b]] - B.cy[N.i[b]]), 0.0);
+    EXPECT_NEAR(N.d[b], N.nx[b] * (B.cx[N.j[b]] - B.cx[N.i[b]]) + N.ny[b] * (B.cy[N.j[b]] - B.cy[N.i[b]]), 1e-15);
+  }
+  std::vector<int> count(B.size(), 0);
+  for (std::size_t k = 0; k < B.size(); ++k)
+    for (int o = topo.bond_offset[k]; o < topo.bond_offset[k + 1]; ++o) {
+      const int b = topo.bond_of[o];
+      EXPECT_TRUE(N.i[b] == int(k) || N.j[b] == int(k));
+      ++count[k];
+    }
+  std::vector<int> edges(B.size(), 0);
+  for (int blk : topo.boundary.block) ++edges[blk];
+  for (std::size_t k = 0; k < B.size(); ++k) EXPECT_EQ(count[k] + edges[k], 3);
+}
+
+// Blocks and bonds as sorted tuples, independent of node and triangle numbering.
+auto signature(const Topology& t) {
+  std::vector<std::tuple<long, long, long, int>> blocks;
+  for (std::size_t k = 0; k < t.blocks.size(); ++k)
+    blocks.emplace_back(std::lround(t.blocks.cx[k] * 1e9), std::lround(t.blocks.cy[k] * 1e9),
+                        std::lround(t.blocks.area[k] * 1e15), t.blocks.layer[k]);
+  std::vector<std::tuple<long, long, long, int>> bonds;
+  for (std::size_t b = 0; b < t.bonds.size(); ++b)
+    bonds.emplace_back(std::lround(t.bonds.mx[b] * 1e9), std::lround(t.bonds.my[b] * 1e9),
+                       std::lround(t.bonds.length[b] * 1e9), int(t.bonds.kind[b]));
+  std::sort(blocks.begin(), blocks.end());
+  std::sort(bonds.begin(), bonds.end());
+  return std::make_pair(blocks, bonds);
+}
+
+TEST(Mesh, WrittenMshReadsBackToTheSameBlocksAndBonds) {
+  const auto path = std::filesystem::temp_directory_path() / "rbdem_test_roundtrip.msh";
+  const TriMesh written = mesh_specimen(geometry(30.0, 0.01), 0.0025, path);
+  const TriMesh read = read_msh(path);
+  EXPECT_EQ(read.num_triangles(), written.num_triangles());
+  EXPECT_EQ(read.num_layers(), written.num_layers());
+  EXPECT_EQ(read.layer_names, written.layer_names);
+  const auto a = signature(build_topology(written, 1.0, 2700.0));
+  const auto b = signature(build_topology(read, 1.0, 2700.0));
+  EXPECT_EQ(a.first, b.first);
+  EXPECT_EQ(a.second, b.second);
+  std::filesystem::remove(path);
+}
+
+TEST(Mesh, UserMeshWithoutPhysicalSurfacesIsRejected) {
+  const auto path = std::filesystem::temp_directory_path() / "rbdem_test_nophys.msh";
+  std::ofstream(path) << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n0 0 1 0\n1 0 0 0 1 1 0 0 0\n$EndEntities\n"
+                         "$Nodes\n1 3 1 3\n2 1 0 3\n1\n2\n3\n0 0 0\n1 0 0\n0 1 0\n$EndNodes\n"
+                         "$Elements\n1 1 1 1\n2 1 2 1\n1 1 2 3\n$EndElements\n";
+  try {
+    read_msh(path);
+    FAIL();
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("physical surface"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
+TEST(Mesh, UserMeshWithQuadranglesIsRejected) {
+  const auto path = std::filesystem::temp_directory_path() / "rbdem_test_quads.msh";
+  std::ofstream(path) << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
+                         "$PhysicalNames\n1\n2 1 \"layer_0\"\n$EndPhysicalNames\n"
+                         "$Entities\n0 0 1 0\n1 0 0 0 1 1 0 1 1 0\n$EndEntities\n"
+                         "$Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n$EndNodes\n"
+                         "$Elements\n1 1 1 1\n2 1 3 1\n1 1 2 3 4\n$EndElements\n";
+  try {
+    read_msh(path);
+    FAIL();
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("triangles only"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
+TEST(Mesh, MissingMeshFileIsAClearError) {
+  EXPECT_THROW(read_msh("/nonexistent/specimen.msh"), SceneError);
+}
+
+}  // namespace
+}  // namespace rbdem

@@ -1,0 +1,97 @@
+// Closed-form theory against itself and against independent limits (THEORY.md sections 1-3).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "compare/theory/elasticity.hpp"
+
+namespace rbdem::theory {
+namespace {
+
+const TIConstants layered{60e9, 0.2, 25e9, 0.12, 9e9};
+
+TEST(Amadei, IsotropicLimitIsConstant) {
+  const auto iso = TIConstants::isotropic(50e9, 0.25);
+  for (double beta = 0; beta <= 90; beta += 7.5) {
+    EXPECT_NEAR(apparent_modulus(iso, beta, Plane::stress), 50e9, 1e-13 * 50e9);
+    EXPECT_NEAR(apparent_modulus(iso, beta, Plane::strain), 50e9 / (1 - 0.25 * 0.25), 1e-13 * 50e9);
+  }
+}
+
+TEST(Amadei, RotatedComplianceEqualsWrittenOutFormulaInPlaneStress) {
+  for (double beta = 0; beta <= 90; beta += 5)
+    EXPECT_NEAR(apparent_modulus(layered, beta, Plane::stress), amadei_plane_stress(layered, beta),
+                1e-12 * layered.E);
+  EXPECT_NEAR(apparent_modulus(layered, 0, Plane::stress), layered.E_prime, 1e-3);
+  EXPECT_NEAR(apparent_modulus(layered, 90, Plane::stress), layered.E, 1e-3);
+}
+
+TEST(Amadei, ConstantsRecoveredFromTheirCompliance) {
+  for (Plane plane : {Plane::stress, Plane::strain}) {
+    // Plane strain recovery assumes nu'/E' = nu/E, which Goodman's constants satisfy.
+    const TIConstants c = goodman(60e9, 0.22, 3e12, 1e12, 0.01);
+    const TIConstants back = constants_from_compliance(reduced_compliance(c, plane), plane);
+    EXPECT_NEAR(back.E_prime, c.E_prime, 1e-9 * c.E_prime);
+    EXPECT_NEAR(back.G_prime, c.G_prime, 1e-9 * c.G_prime);
+    EXPECT_NEAR(back.nu_prime, c.nu_prime, 1e-9);
+    EXPECT_NEAR(back.E, c.E, 1e-9 * c.E);
+    EXPECT_NEAR(back.nu, c.nu, 1e-9);
+  }
+}
+
+TEST(Amadei, AdmissibilityRejectsNonPositiveCompliance) {
+  EXPECT_TRUE(layered.admissible());
+  TIConstants bad = layered;
+  bad.nu_prime = 0.9;  // 1 - nu - 2 nu'^2 E/E' < 0
+  EXPECT_FALSE(bad.admissible());
+}
+
+TEST(Goodman, AgreesWithBackusForAThinSoftLayer) {
+  // A soft layer of thickness h every s with k_n = (lambda_j + 2 mu_j)/h and k_s = mu_j/h held fixed as h -> 0:
+  // Backus's exact layered medium tends to Goodman's rock-plus-joint constants.
+  const double Er = 60e9, nur = 0.2, s = 0.01, kn = 2e12, ks = 0.8e12;
+  for (double h : {1e-4, 1e-5, 1e-6}) {
+    const double mj = ks * h, lj = kn * h - 2 * mj;
+    const double Ej = mj * (3 * lj + 2 * mj) / (lj + mj), nuj = lj / (2 * (lj + mj));
+    const TIConstants g = goodman(Er, nur, kn, ks, s);
+    const TIConstants b = backus(Er, nur, s - h, Ej, nuj, h);
+    const double tol = 3 * h / s;  // the differences vanish linearly with h/s
+    EXPECT_NEAR(g.E_prime / b.E_prime, 1.0, tol) << h;
+    EXPECT_NEAR(g.G_prime / b.G_prime, 1.0, tol) << h;
+    EXPECT_NEAR(g.E / b.E, 1.0, tol) << h;
+    EXPECT_NEAR(g.nu, b.nu, tol) << h;
+    EXPECT_NEAR(g.nu_prime, b.nu_prime, tol) << h;
+  }
+}
+
+TEST(Backus, IdenticalLayersAreIsotropic) {
+  const TIConstants b = backus(40e9, 0.25, 1.0, 40e9, 0.25, 3.0);
+  EXPECT_NEAR(b.E, 40e9, 1e-3);
+  EXPECT_NEAR(b.E_prime, 40e9, 1e-3);
+  EXPECT_NEAR(b.nu, 0.25, 1e-12);
+  EXPECT_NEAR(b.nu_prime, 0.25, 1e-12);
+  EXPECT_NEAR(b.G_prime, 16e9, 1e-3);
+}
+
+TEST(Jaeger, MinimumAt45PlusHalfPhiWithClosedFormValue) {
+  const JaegerInput in{6e6, 30.0, 50e6, 0.0};
+  double best = 1e300, best_beta = 0;
+  for (double beta = 30.5; beta < 90; beta += 0.01) {
+    const double s = jaeger_sliding_strength(in, beta);
+    if (s < best) best = s, best_beta = beta;
+  }
+  EXPECT_NEAR(best_beta, jaeger_min_angle_deg(30.0), 0.02);
+  EXPECT_NEAR(best, jaeger_min_uniaxial_strength(6e6, 30.0), 1e-6 * best);
+  EXPECT_NEAR(best, 2 * 6e6 * std::cos(M_PI / 6) / (1 - 0.5), 1.0);
+}
+
+TEST(Jaeger, IntactStrengthOutsideTheSlidingRange) {
+  const JaegerInput in{6e6, 30.0, 50e6, 0.0};
+  EXPECT_EQ(jaeger_strength(in, 0.0), 50e6);
+  EXPECT_EQ(jaeger_strength(in, 25.0), 50e6);
+  EXPECT_EQ(jaeger_strength(in, 90.0), 50e6);
+  EXPECT_LT(jaeger_strength(in, 60.0), 50e6);
+}
+
+}  // namespace
+}  // namespace rbdem::theory
