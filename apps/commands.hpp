@@ -10,6 +10,7 @@ namespace rbdem::cli {
 using Runner = std::function<int()>;
 
 Runner add_mesh_command(CLI::App& app);
+Runner add_ucs_command(CLI::App& app);
 // The main job with no arguments.
 int run_default_job();
 

@@ -15,6 +15,7 @@
 
 #include "apps/cli_common.hpp"
 #include "apps/commands.hpp"
+#include "dem/engine.hpp"
 
 int main(int argc, char** argv) {
   using namespace rbdem::cli;
@@ -31,6 +32,7 @@ int main(int argc, char** argv) {
   std::map<CLI::App*, Runner> runners;
   runners[nullptr] = nullptr;
   auto add = [&](Runner r) { runners[app.get_subcommands({}).back()] = std::move(r); };
+  add(add_ucs_command(app));
   add(add_mesh_command(app));
 
   try {
@@ -52,6 +54,12 @@ int main(int argc, char** argv) {
       if (cmd && cmd->parsed()) return run();
     return run_default_job();
   } catch (const rbdem::SceneError& e) {
+    fmt::print(stderr, "rbdem: error: {}\n", e.what());
+    return bad_input;
+  } catch (const rbdem::InstabilityError& e) {
+    fmt::print(stderr, "rbdem: run failed: {}\n", e.what());
+    return run_failed;
+  } catch (const std::invalid_argument& e) {
     fmt::print(stderr, "rbdem: error: {}\n", e.what());
     return bad_input;
   } catch (const std::exception& e) {

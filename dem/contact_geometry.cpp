@@ -1,0 +1,141 @@
+// Convex polygon overlap by clipping boundary segments (Cyrus-Beck) and Green's theorem. See the header.
+#include "dem/contact_geometry.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rbdem {
+
+namespace {
+
+inline double cross(double ax, double ay, double bx, double by) { return ax * by - ay * bx; }
+
+// Parameter interval [t0, t1] of the segment p + t (q - p), t in [0, 1], inside the convex CCW polygon `poly`
+// (vertex coordinates relative to the same origin). Points on the polygon's boundary count as inside.
+inline bool clip_segment(double px, double py, double qx, double qy, const double* poly, int n, double& t0,
+                         double& t1) {
+  t0 = 0.0, t1 = 1.0;
+  const double dx = qx - px, dy = qy - py;
+  for (int k = 0; k < n; ++k) {
+    const double ax = poly[2 * k], ay = poly[2 * k + 1];
+    const int k1 = (k + 1) % n;
+    const double ex = poly[2 * k1] - ax, ey = poly[2 * k1 + 1] - ay;
+    // inside: cross(e, x - a) >= 0; along the segment: f(t) = f0 + t df
+    const double f0 = cross(ex, ey, px - ax, py - ay);
+    const double df = cross(ex, ey, dx, dy);
+    if (df == 0.0) {
+      if (f0 < 0.0) return false;
+      continue;
+    }
+    const double t = -f0 / df;
+    if (df > 0.0) t0 = std::max(t0, t);
+    else t1 = std::min(t1, t);
+    if (t0 >= t1) return false;
+  }
+  return t1 > t0;
+}
+
+struct Integrals {
+  double area2 = 0;          // 2 x area
+  double cx6 = 0, cy6 = 0;   // 6 x area x centroid
+  double sx = 0, sy = 0;     // S
+  double v = 0;              // V
+  bool any = false;
+};
+
+// Adds a boundary piece p0 -> p1 (counter-clockwise along the overlap's boundary) to the area integrals.
+inline void add_area(Integrals& I, double x0, double y0, double x1, double y1) {
+  const double c = cross(x0, y0, x1, y1);
+  I.area2 += c;
+  I.cx6 += (x0 + x1) * c;
+  I.cy6 += (y0 + y1) * c;
+}
+
+// Adds the part of B's edge inside A: its normal x length to S and its moment to V.
+inline void add_normal(Integrals& I, double x0, double y0, double x1, double y1) {
+  const double nx = y1 - y0, ny = -(x1 - x0);  // outward normal of a CCW edge, times its length
+  I.sx += nx, I.sy += ny;
+  I.v += cross(0.5 * (x0 + x1), 0.5 * (y0 + y1), nx, ny);
+}
+
+bool finish(const Integrals& I, double ox, double oy, Overlap& out) {
+  const double area = 0.5 * I.area2;
+  const double s = std::hypot(I.sx, I.sy);
+  if (!I.any || !(area > 0.0) || !(s > 0.0)) return false;
+  const double ux = I.sx / s, uy = I.sy / s;  // from B into A
+  // Contact point: the overlap centroid projected onto the line of action {x : x cross u = V/|S|}.
+  const double cx = I.cx6 / (3.0 * I.area2), cy = I.cy6 / (3.0 * I.area2);
+  const double mu = cross(cx, cy, ux, uy) - I.v / s;  // move along perp(u) = (-uy, ux)
+  out.area = area;
+  out.nx = ux, out.ny = uy;
+  out.chord = s;
+  out.px = ox + cx - mu * uy;
+  out.py = oy + cy + mu * ux;
+  return true;
+}
+
+}  // namespace
+
+bool overlap_polygons(const double* a, int na, const double* b, int nb, Overlap& out) {
+  // Work relative to A's first vertex: small numbers, no cancellation against far-away origins.
+  const double ox = a[0], oy = a[1];
+  double A[16], B[16];
+  for (int k = 0; k < na; ++k) A[2 * k] = a[2 * k] - ox, A[2 * k + 1] = a[2 * k + 1] - oy;
+  for (int k = 0; k < nb; ++k) B[2 * k] = b[2 * k] - ox, B[2 * k + 1] = b[2 * k + 1] - oy;
+  Integrals I;
+  double t0, t1;
+  for (int k = 0; k < nb; ++k) {  // B's boundary inside A
+    const int k1 = (k + 1) % nb;
+    const double px = B[2 * k], py = B[2 * k + 1], qx = B[2 * k1], qy = B[2 * k1 + 1];
+    if (!clip_segment(px, py, qx, qy, A, na, t0, t1)) continue;
+    const double x0 = px + t0 * (qx - px), y0 = py + t0 * (qy - py);
+    const double x1 = px + t1 * (qx - px), y1 = py + t1 * (qy - py);
+    add_area(I, x0, y0, x1, y1);
+    add_normal(I, x0, y0, x1, y1);
+    I.any = true;
+  }
+  if (!I.any) return false;  // convex: if no part of B's boundary is in A, either no overlap or A inside B
+  for (int k = 0; k < na; ++k) {  // A's boundary inside B
+    const int k1 = (k + 1) % na;
+    const double px = A[2 * k], py = A[2 * k + 1], qx = A[2 * k1], qy = A[2 * k1 + 1];
+    if (!clip_segment(px, py, qx, qy, B, nb, t0, t1)) continue;
+    add_area(I, px + t0 * (qx - px), py + t0 * (qy - py), px + t1 * (qx - px), py + t1 * (qy - py));
+  }
+  return finish(I, ox, oy, out);
+}
+
+bool overlap_halfplane(const double* b, int nb, double px, double py, double mx, double my, Overlap& out) {
+  const double ox = b[0], oy = b[1];
+  double B[16];
+  for (int k = 0; k < nb; ++k) B[2 * k] = b[2 * k] - ox, B[2 * k + 1] = b[2 * k + 1] - oy;
+  const double qx = px - ox, qy = py - oy;
+  auto depth = [&](double x, double y) { return (x - qx) * mx + (y - qy) * my; };  // > 0 inside the platen
+  Integrals I;
+  double enter[2] = {0, 0}, leave[2] = {0, 0};
+  bool has_enter = false, has_leave = false;
+  for (int k = 0; k < nb; ++k) {
+    const int k1 = (k + 1) % nb;
+    const double x0 = B[2 * k], y0 = B[2 * k + 1], x1 = B[2 * k1], y1 = B[2 * k1 + 1];
+    const double d0 = depth(x0, y0), d1 = depth(x1, y1);
+    if (d0 <= 0 && d1 <= 0) continue;
+    double ax = x0, ay = y0, bx = x1, by = y1;
+    if (d0 <= 0) {  // entering the platen
+      const double t = d0 / (d0 - d1);
+      ax = x0 + t * (x1 - x0), ay = y0 + t * (y1 - y0);
+      enter[0] = ax, enter[1] = ay, has_enter = true;
+    }
+    if (d1 <= 0) {  // leaving it
+      const double t = d0 / (d0 - d1);
+      bx = x0 + t * (x1 - x0), by = y0 + t * (y1 - y0);
+      leave[0] = bx, leave[1] = by, has_leave = true;
+    }
+    add_area(I, ax, ay, bx, by);
+    add_normal(I, ax, ay, bx, by);
+    I.any = true;
+  }
+  if (!I.any || !has_enter || !has_leave) return false;  // fully inside the platen is not a contact state
+  add_area(I, leave[0], leave[1], enter[0], enter[1]);   // the chord along the platen face closes the boundary
+  return finish(I, ox, oy, out);
+}
+
+}  // namespace rbdem

@@ -1,0 +1,79 @@
+// Result writers. See results.hpp.
+#include "io/results.hpp"
+
+#include <fstream>
+
+#include <fmt/format.h>
+#include <fmt/os.h>
+
+namespace rbdem::io {
+
+nlohmann::json ucs_summary(const Scene& scene, const UcsResult& r) {
+  nlohmann::json j;
+  j["beta_deg"] = scene.joint_set.dip_deg;
+  j["spacing_m"] = scene.joint_set.spacing;
+  j["peak_stress_pa"] = r.peak_stress;
+  j["strain_at_peak"] = r.strain_at_peak;
+  j["youngs_modulus_pa"] = r.youngs_modulus;
+  j["blocks"] = r.blocks;
+  j["bonds"] = r.bonds;
+  j["bonds_by_kind"] = {{"rock", r.rock_bonds}, {"joint", r.joint_bonds}};
+  j["cracks"] = {{"rock_tensile", r.crack_counts.rock_tensile},
+                 {"rock_shear", r.crack_counts.rock_shear},
+                 {"joint_tensile", r.crack_counts.joint_tensile},
+                 {"joint_shear", r.crack_counts.joint_shear},
+                 {"total", r.crack_counts.total()}};
+  j["failure_mode"] = r.failure_mode;
+  j["stop_reason"] = r.stop_reason;
+  j["steps"] = r.steps;
+  j["dt_s"] = r.dt;
+  j["dt_critical_s"] = r.dt_critical;
+  j["mass_scaling"] = r.mass_scaling;
+  j["elastic_start_strain"] = r.elastic_start_strain;
+  j["wall_seconds"] = r.wall_seconds;
+  j["platen_force_mismatch"] = r.platen_force_mismatch;
+  j["kinetic_to_strain_energy_at_peak"] = r.kinetic_to_strain_at_peak;
+  j["scene"] = scene_json(scene);
+  return j;
+}
+
+void write_text_atomic(const std::filesystem::path& file, const std::string& text) {
+  const auto tmp = file.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    if (!out) throw std::runtime_error("cannot write " + tmp + ": check that the output folder is writable");
+    out << text;
+    if (!out) throw std::runtime_error("writing " + tmp + " failed (disk full?)");
+  }
+  std::filesystem::rename(tmp, file);
+}
+
+void write_curve_csv(const std::filesystem::path& file, const std::vector<CurvePoint>& curve) {
+  std::string s =
+      "step,time_s,strain,stress_top_pa,stress_bottom_pa,kinetic_j,strain_energy_j,"
+      "broken_rock_tensile,broken_rock_shear,broken_joint_tensile,broken_joint_shear\n";
+  for (const auto& p : curve)
+    s += fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{},{},{},{}\n", p.step, p.time, p.strain,
+                     p.stress_top, p.stress_bottom, p.kinetic, p.strain_energy, p.broken[0], p.broken[1], p.broken[2],
+                     p.broken[3]);
+  write_text_atomic(file, s);
+}
+
+void write_cracks_csv(const std::filesystem::path& file, const std::vector<Crack>& cracks) {
+  std::string s = "time_s,strain,x_m,y_m,kind,mode,bond,sigma_pa,tau_pa\n";
+  for (const auto& c : cracks)
+    s += fmt::format("{:.9g},{:.9g},{:.9g},{:.9g},{},{},{},{:.6g},{:.6g}\n", c.time, c.strain, c.x, c.y,
+                     c.kind == BondKind::rock ? "rock" : "joint", c.mode == BreakMode::shear ? "shear" : "tensile",
+                     c.bond, c.sigma, c.tau);
+  write_text_atomic(file, s);
+}
+
+void write_ucs(const std::filesystem::path& dir, const Scene& scene, const UcsResult& r) {
+  std::filesystem::create_directories(dir);
+  write_text_atomic(dir / "scene.toml", to_toml(scene));
+  write_curve_csv(dir / "curve.csv", r.curve);
+  write_cracks_csv(dir / "cracks.csv", r.cracks);
+  write_text_atomic(dir / "summary.json", ucs_summary(scene, r).dump(2) + "\n");
+}
+
+}  // namespace rbdem::io
