@@ -11,9 +11,11 @@ namespace {
 inline double cross(double ax, double ay, double bx, double by) { return ax * by - ay * bx; }
 
 // Parameter interval [t0, t1] of the segment p + t (q - p), t in [0, 1], inside the convex CCW polygon `poly`
-// (vertex coordinates relative to the same origin). Points on the polygon's boundary count as inside.
+// (vertex coordinates relative to the same origin). Points on the polygon's boundary count as inside, except,
+// when `skip_shared` is set, a segment lying exactly on an edge of `poly` with the same direction: that piece of
+// the overlap's boundary was already counted from the other polygon (Green's theorem must see it once).
 inline bool clip_segment(double px, double py, double qx, double qy, const double* poly, int n, double& t0,
-                         double& t1) {
+                         double& t1, bool skip_shared = false) {
   t0 = 0.0, t1 = 1.0;
   const double dx = qx - px, dy = qy - py;
   for (int k = 0; k < n; ++k) {
@@ -25,6 +27,7 @@ inline bool clip_segment(double px, double py, double qx, double qy, const doubl
     const double df = cross(ex, ey, dx, dy);
     if (df == 0.0) {
       if (f0 < 0.0) return false;
+      if (skip_shared && f0 == 0.0 && ex * dx + ey * dy > 0.0) return false;
       continue;
     }
     const double t = -f0 / df;
@@ -98,7 +101,7 @@ bool overlap_polygons(const double* a, int na, const double* b, int nb, Overlap&
   for (int k = 0; k < na; ++k) {  // A's boundary inside B
     const int k1 = (k + 1) % na;
     const double px = A[2 * k], py = A[2 * k + 1], qx = A[2 * k1], qy = A[2 * k1 + 1];
-    if (!clip_segment(px, py, qx, qy, B, nb, t0, t1)) continue;
+    if (!clip_segment(px, py, qx, qy, B, nb, t0, t1, true)) continue;
     add_area(I, px + t0 * (qx - px), py + t0 * (qy - py), px + t1 * (qx - px), py + t1 * (qy - py));
   }
   return finish(I, ox, oy, out);

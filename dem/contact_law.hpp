@@ -1,9 +1,14 @@
 // Contact laws of the linear parallel bond model (THEORY.md 4 and 4b). Small value types, one function each,
 // no I/O, history passed in explicitly.
 //
-// LinearContact: the infinitesimal, no-tension, frictional part. Normal force from the overlap area
-//   F_n = k_n t A_o        (k_n = E*/d in Pa/m; A_o the overlap area, m^2; t the thickness)
-//   dF_s = -k_s t l_c ds   (l_c the contact chord), |F_s| <= mu F_n.
+// LinearContact: the infinitesimal, no-tension, frictional part. Normal force from the overlap area through
+// Feng, Han and Owen's potential w(A_o) = k_n t A_o^2 / (2 L_ref):
+//   F_n = w'(A_o) l_c = k_n t A_o l_c / L_ref    (k_n = E*/d in Pa/m; A_o overlap area, m^2; l_c the chord)
+//   dF_s = -k_s t l_c ds,  |F_s| <= mu F_n.
+// For a whole edge in contact l_c = L_ref = L and F_n = k_n t A_o = k_n L t delta, THEORY.md 4b's law. Where the
+// edge is only partly closed, or a vertex touches a face, the l_c / L_ref factor makes the force the gradient of
+// w: the plain k_n t A_o law at the chord midpoint is not conservative there, and its non-symmetric tangent made
+// the explicit scheme diverge at 0.6 x the linear stability limit (docs/model.md).
 // It is the same law for the linear part of an intact bond (A_o from the bond's own kinematics: the compressed
 // part of the edge) and for every later contact (A_o from polygon clipping), so a bond breaking under
 // compression hands its linear force over without a jump.
@@ -23,12 +28,13 @@ namespace rbdem {
 enum class BreakMode : std::uint8_t { none = 0, tensile = 1, shear = 2 };
 
 struct LinearContact {
-  double kn = 0;  // Pa/m, normal stiffness per unit area (E*/d)
-  double ks = 0;  // Pa/m, shear stiffness per unit area (kn / kappa)
-  double mu = 0;  // Coulomb coefficient
+  double kn = 0;    // Pa/m, normal stiffness per unit area (E*/d)
+  double ks = 0;    // Pa/m, shear stiffness per unit area (kn / kappa)
+  double mu = 0;    // Coulomb coefficient
+  double lref = 1;  // m, reference chord L_ref of the potential (the edge length for a bond)
 
-  // Normal force (compression positive) for an overlap area per unit thickness (m^2) and thickness t.
-  double normal_force(double area, double t) const { return kn * t * area; }
+  // Normal force (compression positive) for an overlap area per unit thickness (m^2), chord (m), thickness t.
+  double normal_force(double area, double chord, double t) const { return kn * t * area * chord / lref; }
 
   // Updates the shear force `fs` (N, along the tangent) for a tangential displacement increment `ds` (m) over a
   // chord `chord` (m) under normal force `fn`. Returns true when the contact slides.

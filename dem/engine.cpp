@@ -29,15 +29,83 @@ EngineOptions EngineOptions::from_scene(const Scene& scene) {
   return o;
 }
 
+namespace {
+
+// One bond's forces from the kinematics of its two blocks: the parallel bond (total, co-rotated) and the linear
+// part (overlap of the compressed part of the edge, incremental shear at the bond centre). `fs` is the linear
+// part's shear history in and out; dt = 0 evaluates without advancing it.
+struct BondEval {
+  double fnb, fsb, mb, fnl, fsl;  // forces in the co-rotated frame
+  double inv_L;
+  BondSlot slot;                  // force on j, moments on i and j
+  double px, py;                  // bond point (world)
+};
+
+inline void eval_bond(const BondFrame& f, const BlockState& bi, const BlockState& bj, const Engine::KindParams& kp,
+                      double dt, double fs, BondEval& out) {
+  // Material points of the bond on each block, and the co-rotated frame: the bisector of the two rotated normals,
+  // R_i n0 + R_j n0 = 2 cos(dtheta / 2) R_mean n0 (normalised by a series while |dtheta| is small).
+  const double rix = bi.cos_t * f.rix - bi.sin_t * f.riy, riy = bi.sin_t * f.rix + bi.cos_t * f.riy;
+  const double rjx = bj.cos_t * f.rjx - bj.sin_t * f.rjy, rjy = bj.sin_t * f.rjx + bj.cos_t * f.rjy;
+  const double gx = (bj.x + rjx) - (bi.x + rix), gy = (bj.y + rjy) - (bi.y + riy);
+  const double dth = bj.theta - bi.theta;
+  double nx = (bi.cos_t + bj.cos_t) * f.n0x - (bi.sin_t + bj.sin_t) * f.n0y;
+  double ny = (bi.sin_t + bj.sin_t) * f.n0x + (bi.cos_t + bj.cos_t) * f.n0y;
+  const double d2 = dth * dth;
+  const double inv = std::abs(dth) < 0.05 ? 0.5 * (1.0 + d2 * (0.125 + d2 * (5.0 / 384.0)))
+                                          : 1.0 / std::sqrt(nx * nx + ny * ny);
+  nx *= inv, ny *= inv;
+  const double tx = -ny, ty = nx;
+  const double dn = gx * nx + gy * ny, ds = gx * tx + gy * ty;
+  // Parallel bond: k A on the normal opening, k A / kappa on the shear, k I = k A L^2 / 12 on the rotation.
+  out.fnb = -f.kA * dn;
+  out.fsb = -f.kA * kp.inv_kappa * ds;
+  out.mb = -f.kA * f.L * f.L * (1.0 / 12.0) * dth;
+  // Linear part, THEORY.md 4b with the potential of contact_law.hpp: F = k t A_o l_c / L = k A (A_o l_c / L^2).
+  const double inv_L = 1.0 / f.L;
+  const EdgeOverlap eo = edge_overlap(f.L, dn, dth);
+  out.fnl = f.kA * eo.area * eo.chord * inv_L * inv_L;
+  const double cix = rix + 0.5 * gx, ciy = riy + 0.5 * gy;  // bond point relative to each centroid
+  const double cjx = rjx - 0.5 * gx, cjy = rjy - 0.5 * gy;
+  out.px = bi.x + cix, out.py = bi.y + ciy;
+  if (out.fnl > 0.0) {
+    const double vrx = (bj.vx - bj.omega * cjy) - (bi.vx - bi.omega * ciy);
+    const double vry = (bj.vy + bj.omega * cjx) - (bi.vy + bi.omega * cix);
+    fs -= f.kA * kp.inv_kappa * (eo.chord * inv_L) * (vrx * tx + vry * ty) * dt;  // k_s t l_c ds
+    const double limit = kp.mu * out.fnl;
+    if (std::abs(fs) > limit) fs = std::copysign(limit, fs);
+  } else {
+    fs = 0.0;
+  }
+  out.fsl = fs;
+  out.inv_L = inv_L;
+  const double flx = out.fnl * nx + fs * tx, fly = out.fnl * ny + fs * ty;
+  const double fx = out.fnb * nx + out.fsb * tx + flx, fy = out.fnb * ny + out.fsb * ty + fly;
+  const double lever = cross(eo.s_c * tx, eo.s_c * ty, flx, fly);  // the linear part acts at s_c along the edge
+  out.slot.fx = fx, out.slot.fy = fy;
+  out.slot.mj = cross(cjx, cjy, fx, fy) + lever + out.mb;
+  out.slot.mi = -cross(cix, ciy, fx, fy) - lever - out.mb;
+}
+
+// The parallel bond's failure test of contact_law.hpp (BondStrength::check) in force units, without divisions:
+// with A = L t and I = t L^3 / 12, sigma A = -F_n + beta_m |M| 6 / L and tau A = |F_s|.
+inline BreakMode bond_failure(const BondEval& ev, const BondStrength& st, double A) {
+  if (-ev.fnb + st.beta_m * std::abs(ev.mb) * 6.0 * ev.inv_L >= st.sigma_c * A) return BreakMode::tensile;
+  if (std::abs(ev.fsb) >= st.cohesion * A - std::min(-ev.fnb, st.sigma_c * A) * st.tan_phi) return BreakMode::shear;
+  return BreakMode::none;
+}
+
+}  // namespace
+
 Engine::Engine(const Topology& topo, const Scene& scene, const EngineOptions& options)
     : topo_(topo), options_(options), thickness_(topo.thickness), width_(topo.width()), height_(topo.height()) {
   const std::size_t nb = topo.blocks.size();
   const auto& G = topo.blocks;
   auto& B = blocks;
-  B.x = G.cx, B.y = G.cy, B.x0 = G.cx, B.y0 = G.cy;
-  B.theta.assign(nb, 0.0), B.vx.assign(nb, 0.0), B.vy.assign(nb, 0.0), B.omega.assign(nb, 0.0);
+  B.state.resize(nb);
+  for (std::size_t b = 0; b < nb; ++b) B.state[b] = {G.cx[b], G.cy[b], 0.0, 0.0, 0.0, 0.0, 1.0, 0.0};
+  B.x0 = G.cx, B.y0 = G.cy;
   B.fx.assign(nb, 0.0), B.fy.assign(nb, 0.0), B.moment.assign(nb, 0.0);
-  B.cos_t.assign(nb, 1.0), B.sin_t.assign(nb, 0.0);
   B.mass.resize(nb), B.inertia.resize(nb);
   for (std::size_t b = 0; b < nb; ++b) {
     B.mass[b] = G.mass[b] * options_.mass_scaling;
@@ -54,41 +122,33 @@ Engine::Engine(const Topology& topo, const Scene& scene, const EngineOptions& op
   }
   B.free_face.assign(nb, 0);
   B.fixed.assign(nb, 0);
+  B.ext_fx.assign(nb, 0.0), B.ext_fy.assign(nb, 0.0), B.ext_m.assign(nb, 0.0);
   for (int b : topo.boundary.block) B.free_face[b] = 1;
 
   // Materials by kind: rock inside a layer, joint across layers.
   const std::array<const MaterialParams*, 2> mat{&scene.rock, &scene.joint};
   for (int k = 0; k < 2; ++k) {
-    modulus_[k] = mat[k]->effective_modulus;
-    kappa_[k] = mat[k]->stiffness_ratio;
-    strength_[k] = {mat[k]->tensile_strength, mat[k]->cohesion, std::tan(mat[k]->friction_deg * deg),
-                    mat[k]->moment_factor};
-    contact_law_[k] = {0.0, 0.0, mat[k]->contact_friction};
+    kinds_[k].modulus = mat[k]->effective_modulus;
+    kinds_[k].kappa = mat[k]->stiffness_ratio;
+    kinds_[k].inv_kappa = 1.0 / mat[k]->stiffness_ratio;
+    kinds_[k].mu = mat[k]->contact_friction;
+    kinds_[k].strength = {mat[k]->tensile_strength, mat[k]->cohesion, std::tan(mat[k]->friction_deg * deg),
+                          mat[k]->moment_factor};
   }
 
   const auto& N = topo.bonds;
   const std::size_t nbond = N.size();
   auto& D = bonds;
-  D.i = N.i, D.j = N.j, D.n0x = N.nx, D.n0y = N.ny, D.L = N.length, D.d = N.d, D.kind = N.kind;
-  D.rix.resize(nbond), D.riy.resize(nbond), D.rjx.resize(nbond), D.rjy.resize(nbond);
-  D.A.resize(nbond), D.I.resize(nbond), D.kbnA.resize(nbond), D.kbsA.resize(nbond), D.kbnI.resize(nbond);
-  D.linear.resize(nbond);
+  D.i = N.i, D.j = N.j, D.kind = N.kind;
+  D.frame.resize(nbond);
   for (std::size_t b = 0; b < nbond; ++b) {
-    D.rix[b] = N.mx[b] - G.cx[N.i[b]], D.riy[b] = N.my[b] - G.cy[N.i[b]];
-    D.rjx[b] = N.mx[b] - G.cx[N.j[b]], D.rjy[b] = N.my[b] - G.cy[N.j[b]];
     const double L = N.length[b];
-    D.A[b] = L * thickness_;
-    D.I[b] = thickness_ * L * L * L / 12.0;
-    const int k = int(N.kind[b]);
-    const double kn = modulus_[k] / N.d[b];  // Pa/m
-    D.kbnA[b] = kn * D.A[b];
-    D.kbsA[b] = kn / kappa_[k] * D.A[b];
-    D.kbnI[b] = kn * D.I[b];
-    D.linear[b] = {kn, kn / kappa_[k], contact_law_[k].mu};
+    D.frame[b] = {N.mx[b] - G.cx[N.i[b]], N.my[b] - G.cy[N.i[b]], N.mx[b] - G.cx[N.j[b]], N.my[b] - G.cy[N.j[b]],
+                  N.nx[b], N.ny[b], L, kinds_[int(N.kind[b])].modulus / N.d[b] * L * thickness_};
   }
   D.broken.assign(nbond, 0);
   D.fs_lin.assign(nbond, 0.0);
-  for (auto* v : {&D.fn_b, &D.fs_b, &D.m_b, &D.fn_lin, &D.sfx, &D.sfy, &D.smi, &D.smj}) v->assign(nbond, 0.0);
+  D.slot.assign(nbond, BondSlot{0, 0, 0, 0});
 
   // CSR with the block's role encoded: entry = 2 bond + (block is j).
   csr_offset_ = topo.bond_offset;
@@ -103,7 +163,13 @@ Engine::Engine(const Topology& topo, const Scene& scene, const EngineOptions& op
   top_fs_.assign(nb, 0.0), bottom_fs_.assign(nb, 0.0);
   // Platen stiffness: the platen acts as the mirror image of the block, d = 2 x inradius.
   platen_kn_.resize(nb);
-  for (std::size_t b = 0; b < nb; ++b) platen_kn_[b] = modulus_[0] / (2.0 * B.inradius[b]);
+  for (std::size_t b = 0; b < nb; ++b) platen_kn_[b] = kinds_[0].modulus / (2.0 * B.inradius[b]);
+  // L_ref of a platen contact: the block's edge on the platen, else the inradius-based length of a fresh contact.
+  platen_lref_.resize(nb);
+  for (std::size_t b = 0; b < nb; ++b) platen_lref_[b] = 2.0 * std::sqrt(3.0) * B.inradius[b];
+  for (std::size_t e = 0; e < topo.boundary.size(); ++e)
+    if (topo.boundary.side[e] == Side::top || topo.boundary.side[e] == Side::bottom)
+      platen_lref_[topo.boundary.block[e]] = topo.boundary.length[e];
   top_y_ = top_y0_ = topo.ymax;
   bottom_y_ = topo.ymin;
 
@@ -112,11 +178,33 @@ Engine::Engine(const Topology& topo, const Scene& scene, const EngineOptions& op
   mean_length = nbond ? mean_length / double(nbond) : 1e-3;
   skin_ = 0.2 * mean_length;
 
-  const int threads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
-  thread_breaks_.assign(std::size_t(std::max(threads, 1)), {});
+  const int nthreads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
+  thread_breaks_.assign(std::size_t(std::max(nthreads, 1)), {});
   rebuild_active();
   rebuild_ = true;
   dt_ = critical_step();
+}
+
+BondStiffness Engine::stiffness(int b) const {
+  const BondFrame& f = bonds.frame[std::size_t(b)];
+  const KindParams& kp = kinds_[int(bonds.kind[std::size_t(b)])];
+  const double A = f.L * thickness_;
+  return {f.kA, f.kA / kp.kappa, f.kA * f.L * f.L / 12.0, f.kA, f.kA / kp.kappa, kp.mu, A, A * f.L * f.L / 12.0, f.L};
+}
+
+BondForces Engine::bond_forces(int b) const {
+  BondForces out;
+  if (bonds.broken[std::size_t(b)]) return out;
+  const std::size_t k = std::size_t(b);
+  const KindParams& kp = kinds_[int(bonds.kind[k])];
+  BondEval ev;
+  eval_bond(bonds.frame[k], blocks.state[std::size_t(bonds.i[k])], blocks.state[std::size_t(bonds.j[k])], kp, 0.0,
+            bonds.fs_lin[k], ev);
+  out.fn_b = ev.fnb, out.fs_b = ev.fsb, out.m_b = ev.mb, out.fn_lin = ev.fnl, out.fs_lin = ev.fsl;
+  const double A = bonds.frame[k].L * thickness_;
+  kp.strength.check(ev.fnb, ev.fsb, ev.mb, A, A * bonds.frame[k].L * bonds.frame[k].L / 12.0, 0.5 * bonds.frame[k].L,
+                    out.sigma, out.tau);
+  return out;
 }
 
 void Engine::refresh() {
@@ -142,20 +230,20 @@ bool Engine::bonded(int i, int j) const {
 double Engine::critical_step() const {
   // THEORY.md 5: dt_crit = min over blocks of sqrt(m / k_trans) and sqrt(I / k_rot), with k the sums of the
   // normal and shear stiffnesses acting on the block (parallel bond + linear part in compression; platens).
-  const std::size_t nb = blocks.x.size();
+  const std::size_t nb = blocks.size();
   std::vector<double> kt(nb, 0.0), kr(nb, 0.0);
   const auto& D = bonds;
-  for (std::size_t b = 0; b < D.i.size(); ++b) {
-    if (D.broken[b]) continue;
-    const double knA = D.kbnA[b] + D.linear[b].kn * D.A[b];
-    const double ksA = D.kbsA[b] + D.linear[b].ks * D.A[b];
-    const double nx = D.n0x[b], ny = D.n0y[b];
+  for (std::size_t b = 0; b < D.size(); ++b) {
+    const BondStiffness k = stiffness(int(b));
+    const double bond = D.broken[b] ? 0.0 : 1.0;  // a broken bond's pair keeps its linear part as a contact
+    const double knA = bond * k.kbnA + k.knA, ksA = bond * k.kbsA + k.ksA;
+    const BondFrame& f = D.frame[b];
     for (int side = 0; side < 2; ++side) {
       const int blk = side == 0 ? D.i[b] : D.j[b];
-      const double rx = side == 0 ? D.rix[b] : D.rjx[b], ry = side == 0 ? D.riy[b] : D.rjy[b];
-      const double rn = cross(rx, ry, nx, ny), rt = rx * nx + ry * ny;  // r x n and r x t (t = perp n)
+      const double rx = side == 0 ? f.rix : f.rjx, ry = side == 0 ? f.riy : f.rjy;
+      const double rn = cross(rx, ry, f.n0x, f.n0y), rt = rx * f.n0x + ry * f.n0y;  // r x n and r x t
       kt[blk] += knA + ksA;
-      kr[blk] += D.kbnI[b] + knA * rn * rn + ksA * rt * rt;
+      kr[blk] += bond * k.kbnI + knA * rn * rn + ksA * rt * rt;
     }
   }
   if (options_.platens)
@@ -164,7 +252,7 @@ double Engine::critical_step() const {
       if (s != Side::top && s != Side::bottom) continue;
       const int blk = topo_.boundary.block[e];
       const double k = platen_kn_[blk] * thickness_ * topo_.boundary.length[e];
-      kt[blk] += k * (1.0 + 1.0 / kappa_[0]);
+      kt[blk] += k * (1.0 + 1.0 / kinds_[0].kappa);
       const double r = 0.5 * blocks.radius[blk];
       kr[blk] += k * r * r;
     }
@@ -177,26 +265,27 @@ double Engine::critical_step() const {
 }
 
 void Engine::update_rotations() {
-  const int n = int(blocks.x.size());
-#pragma omp parallel for schedule(static) num_threads(thread_breaks_.size())
+  const int n = int(blocks.size());
+  auto* st = blocks.state.data();
+#pragma omp parallel for schedule(static) num_threads(threads())
   for (int b = 0; b < n; ++b) {
-    blocks.cos_t[b] = std::cos(blocks.theta[b]);
-    blocks.sin_t[b] = std::sin(blocks.theta[b]);
+    st[b].cos_t = std::cos(st[b].theta);
+    st[b].sin_t = std::sin(st[b].theta);
   }
 }
 
 void Engine::block_vertices(int b, double* out) const {
-  const double c = blocks.cos_t[b], s = blocks.sin_t[b];
-  const auto& sh = blocks.shape[b];
+  const BlockState& s = blocks.state[std::size_t(b)];
+  const auto& sh = blocks.shape[std::size_t(b)];
   for (int v = 0; v < 3; ++v) {
-    out[2 * v] = blocks.x[b] + c * sh[2 * v] - s * sh[2 * v + 1];
-    out[2 * v + 1] = blocks.y[b] + s * sh[2 * v] + c * sh[2 * v + 1];
+    out[2 * v] = s.x + s.cos_t * sh[2 * v] - s.sin_t * sh[2 * v + 1];
+    out[2 * v + 1] = s.y + s.sin_t * sh[2 * v] + s.cos_t * sh[2 * v + 1];
   }
 }
 
 void Engine::step() {
   if (steps_ == 0) update_rotations();
-  bond_forces();
+  compute_bond_forces();
   process_breaks();
   broad_phase();
   contact_forces();
@@ -209,84 +298,58 @@ void Engine::step() {
 }
 
 // Stage: every intact bond computes its parallel bond and linear part and writes one slot. Pure per-bond work.
-void Engine::bond_forces() {
-  auto& D = bonds;
-  const auto& Bk = blocks;
+void Engine::compute_bond_forces() {
+  const BondFrame* frame = bonds.frame.data();
+  const int* bi = bonds.i.data();
+  const int* bj = bonds.j.data();
+  const BondKind* kind = bonds.kind.data();
+  double* fs_lin = bonds.fs_lin.data();
+  BondSlot* slot = bonds.slot.data();
+  const BlockState* st = blocks.state.data();
+  const int* active = active_.data();
   const double t = thickness_, dt = dt_;
   const int n = int(active_.size());
   const bool breakage = breakage_;
   for (auto& v : thread_breaks_) v.clear();
-#pragma omp parallel num_threads(thread_breaks_.size())
+#pragma omp parallel num_threads(threads())
   {
     auto& breaks = thread_breaks_[std::size_t(omp_get_thread_num())];
 #pragma omp for schedule(static)
     for (int k = 0; k < n; ++k) {
-      const int b = active_[k];
-      const int i = D.i[b], j = D.j[b];
-      const double ci = Bk.cos_t[i], si = Bk.sin_t[i], cj = Bk.cos_t[j], sj = Bk.sin_t[j];
-      // Material points of the bond on each block, and the co-rotated frame (bisector of the rotated normals).
-      const double rix = ci * D.rix[b] - si * D.riy[b], riy = si * D.rix[b] + ci * D.riy[b];
-      const double rjx = cj * D.rjx[b] - sj * D.rjy[b], rjy = sj * D.rjx[b] + cj * D.rjy[b];
-      const double gx = (Bk.x[j] + rjx) - (Bk.x[i] + rix), gy = (Bk.y[j] + rjy) - (Bk.y[i] + riy);
-      double nx = (ci + cj) * D.n0x[b] - (si + sj) * D.n0y[b];
-      double ny = (si + sj) * D.n0x[b] + (ci + cj) * D.n0y[b];
-      const double inv = 1.0 / std::sqrt(nx * nx + ny * ny);
-      nx *= inv, ny *= inv;
-      const double tx = -ny, ty = nx;
-      const double dn = gx * nx + gy * ny, ds = gx * tx + gy * ty;
-      const double dth = Bk.theta[j] - Bk.theta[i];
-      // Parallel bond (total, co-rotated).
-      const double fnb = -D.kbnA[b] * dn, fsb = -D.kbsA[b] * ds, mb = -D.kbnI[b] * dth;
-      // Linear part: overlap of the compressed part of the edge; incremental shear at the bond centre.
-      const EdgeOverlap eo = edge_overlap(D.L[b], dn, dth);
-      const double fnl = D.linear[b].normal_force(eo.area, t);
-      // contact point (centre of the two material points) relative to each centroid
-      const double cix = rix + 0.5 * gx, ciy = riy + 0.5 * gy;
-      const double cjx = rjx - 0.5 * gx, cjy = rjy - 0.5 * gy;
-      const double vrx = (Bk.vx[j] - Bk.omega[j] * cjy) - (Bk.vx[i] - Bk.omega[i] * ciy);
-      const double vry = (Bk.vy[j] + Bk.omega[j] * cjx) - (Bk.vy[i] + Bk.omega[i] * cix);
-      double fsl = D.fs_lin[b];
-      D.linear[b].update_shear(fnl, eo.chord, t, (vrx * tx + vry * ty) * dt, fsl);
-      D.fs_lin[b] = fsl;
-      D.fn_b[b] = fnb, D.fs_b[b] = fsb, D.m_b[b] = mb, D.fn_lin[b] = fnl;
-      if (breakage) {
-        double sigma, tau;
-        const BondStrength& st = strength_[int(D.kind[b])];
-        if (st.check(fnb, fsb, mb, D.A[b], D.I[b], 0.5 * D.L[b], sigma, tau) != BreakMode::none) breaks.push_back(b);
+      const int b = active[k];
+      const KindParams& kp = kinds_[int(kind[b])];
+      BondEval ev;
+      eval_bond(frame[b], st[bi[b]], st[bj[b]], kp, dt, fs_lin[b], ev);
+      fs_lin[b] = ev.fsl;
+      slot[b] = ev.slot;
+      if (!breakage) continue;
+      const double L = frame[b].L, A = L * t;
+      const BreakMode mode = bond_failure(ev, kp.strength, A);
+      if (mode != BreakMode::none) {
+        Crack c;
+        kp.strength.check(ev.fnb, ev.fsb, ev.mb, A, A * L * L / 12.0, 0.5 * L, c.sigma, c.tau);
+        c.mode = mode, c.bond = b, c.kind = kind[b], c.x = ev.px, c.y = ev.py;
+        breaks.push_back(c);
       }
-      // Force on j (on i the opposite); the linear part acts at s_c along the edge.
-      const double flx = fnl * nx + fsl * tx, fly = fnl * ny + fsl * ty;
-      const double fx = fnb * nx + fsb * tx + flx, fy = fnb * ny + fsb * ty + fly;
-      const double lever = cross(eo.s_c * tx, eo.s_c * ty, flx, fly);
-      D.sfx[b] = fx, D.sfy[b] = fy;
-      D.smj[b] = cross(cjx, cjy, fx, fy) + lever + mb;
-      D.smi[b] = -cross(cix, ciy, fx, fy) - lever - mb;
     }
   }
 }
 
 // Stage: breakage events in bond order (deterministic at any thread count).
 void Engine::process_breaks() {
-  pending_breaks_.clear();
-  for (const auto& v : thread_breaks_)
-    for (int b : v) pending_breaks_.push_back({b, BreakMode::none});
-  if (pending_breaks_.empty()) return;
-  std::sort(pending_breaks_.begin(), pending_breaks_.end());
-  auto& D = bonds;
-  for (auto& [b, mode] : pending_breaks_) {
-    double sigma, tau;
-    mode = strength_[int(D.kind[b])].check(D.fn_b[b], D.fs_b[b], D.m_b[b], D.A[b], D.I[b], 0.5 * D.L[b], sigma, tau);
-    const int i = D.i[b], j = D.j[b];
-    Crack c;
-    c.time = time_, c.strain = strain_for_log, c.bond = b, c.kind = D.kind[b], c.mode = mode;
-    c.sigma = sigma, c.tau = tau;
-    const double ci = blocks.cos_t[i], si = blocks.sin_t[i];
-    c.x = blocks.x[i] + ci * D.rix[b] - si * D.riy[b];
-    c.y = blocks.y[i] + si * D.rix[b] + ci * D.riy[b];
-    D.broken[b] = 1;
-    D.fn_b[b] = D.fs_b[b] = D.m_b[b] = D.fn_lin[b] = 0.0;
-    D.sfx[b] = D.sfy[b] = D.smi[b] = D.smj[b] = 0.0;  // the pair's contact carries the linear part from now on
-    blocks.free_face[i] = blocks.free_face[j] = 1;
+  std::size_t count = 0;
+  for (const auto& v : thread_breaks_) count += v.size();
+  if (count == 0) return;
+  std::vector<Crack> events;
+  events.reserve(count);
+  for (const auto& v : thread_breaks_) events.insert(events.end(), v.begin(), v.end());
+  std::sort(events.begin(), events.end(), [](const Crack& a, const Crack& b) { return a.bond < b.bond; });
+  for (Crack& c : events) {
+    const std::size_t b = std::size_t(c.bond);
+    c.time = time_, c.strain = strain_for_log;
+    bonds.broken[b] = 1;
+    bonds.slot[b] = BondSlot{0, 0, 0, 0};  // the pair's contact carries the linear part from now on
+    blocks.free_face[std::size_t(bonds.i[b])] = blocks.free_face[std::size_t(bonds.j[b])] = 1;
     cracks_.push_back(c);
     if (on_crack) on_crack(c);
   }
@@ -298,9 +361,9 @@ bool Engine::needs_rebuild() const {
   if (rebuild_) return true;
   if (std::abs(top_y_ - ref_top_) > 0.5 * skin_) return true;
   const double lim2 = 0.25 * skin_ * skin_;
-  for (std::size_t b = 0; b < blocks.x.size(); ++b) {
-    if (!blocks.free_face[b]) continue;
-    const double dx = blocks.x[b] - ref_x_[b], dy = blocks.y[b] - ref_y_[b];
+  for (std::size_t k = 0; k < eligible_.size(); ++k) {
+    const BlockState& s = blocks.state[std::size_t(eligible_[k])];
+    const double dx = s.x - ref_x_[k], dy = s.y - ref_y_[k];
     if (dx * dx + dy * dy > lim2) return true;
   }
   return false;
@@ -311,59 +374,62 @@ bool Engine::needs_rebuild() const {
 void Engine::broad_phase() {
   if (!needs_rebuild()) return;
   rebuild_ = false;
-  const std::size_t nb = blocks.x.size();
-  ref_x_ = blocks.x, ref_y_ = blocks.y, ref_top_ = top_y_;
-  std::vector<int> eligible;
+  const std::size_t nb = blocks.size();
+  const auto& S = blocks.state;
+  auto& eligible = eligible_;
+  eligible.clear();
   double rmax = 0;
   for (std::size_t b = 0; b < nb; ++b)
     if (blocks.free_face[b]) eligible.push_back(int(b)), rmax = std::max(rmax, blocks.radius[b]);
+  ref_x_.resize(eligible.size()), ref_y_.resize(eligible.size());
+  for (std::size_t k = 0; k < eligible.size(); ++k) ref_x_[k] = S[eligible[k]].x, ref_y_[k] = S[eligible[k]].y;
+  ref_top_ = top_y_;
 
   // Platen candidates (the platen may travel skin/2 before the next rebuild).
   top_candidates_.clear(), bottom_candidates_.clear();
   if (options_.platens)
     for (int b : eligible) {
-      if (blocks.y[b] + blocks.radius[b] > top_y_ - skin_) top_candidates_.push_back(b);
-      if (blocks.y[b] - blocks.radius[b] < bottom_y_ + skin_) bottom_candidates_.push_back(b);
+      if (S[b].y + blocks.radius[b] > top_y_ - skin_) top_candidates_.push_back(b);
+      if (S[b].y - blocks.radius[b] < bottom_y_ + skin_) bottom_candidates_.push_back(b);
     }
 
-  // Uniform grid over the eligible blocks.
-  const double cell = 2.0 * rmax + skin_;
-  double xmin = 1e300, ymin = 1e300;
-  for (int b : eligible) xmin = std::min(xmin, blocks.x[b]), ymin = std::min(ymin, blocks.y[b]);
-  std::vector<std::pair<std::uint64_t, int>> cells;
-  cells.reserve(eligible.size());
-  auto cell_of = [&](int b) {
-    return std::pair<long, long>{long((blocks.x[b] - xmin) / cell), long((blocks.y[b] - ymin) / cell)};
-  };
-  auto cell_key = [](long cx, long cy) { return (std::uint64_t(cx) << 32) | std::uint64_t(cy); };
-  for (int b : eligible) {
-    const auto [cx, cy] = cell_of(b);
-    cells.push_back({cell_key(cx, cy), b});
-  }
-  std::sort(cells.begin(), cells.end());
-  auto find_cell = [&](std::uint64_t key) {
-    auto it = std::lower_bound(cells.begin(), cells.end(), std::pair<std::uint64_t, int>{key, -1});
-    return it;
-  };
+  // Uniform grid over the eligible blocks; pairs from the 3 x 3 neighbourhood of each cell.
   std::vector<std::uint64_t> keys;
-  for (int a : eligible) {
-    const auto [cx, cy] = cell_of(a);
-    for (long dx = -1; dx <= 1; ++dx)
-      for (long dy = -1; dy <= 1; ++dy) {
-        if (cx + dx < 0 || cy + dy < 0) continue;
-        const std::uint64_t key = cell_key(cx + dx, cy + dy);
-        for (auto it = find_cell(key); it != cells.end() && it->first == key; ++it) {
-          const int b = it->second;
-          if (b <= a) continue;
-          const double rr = blocks.radius[a] + blocks.radius[b] + skin_;
-          const double ex = blocks.x[b] - blocks.x[a], ey = blocks.y[b] - blocks.y[a];
-          if (ex * ex + ey * ey > rr * rr) continue;
-          if (bonded(a, b)) continue;
-          keys.push_back(pair_key(a, b));
+  if (options_.contacts && !eligible.empty()) {
+    const double cell = 2.0 * rmax + skin_;
+    double xmin = 1e300, ymin = 1e300;
+    for (int b : eligible) xmin = std::min(xmin, S[b].x), ymin = std::min(ymin, S[b].y);
+    auto cell_of = [&](int b) {
+      return std::pair<long, long>{long((S[b].x - xmin) / cell), long((S[b].y - ymin) / cell)};
+    };
+    auto cell_key = [](long cx, long cy) { return (std::uint64_t(cx) << 32) | std::uint64_t(cy); };
+    std::vector<std::pair<std::uint64_t, int>> cells;
+    cells.reserve(eligible.size());
+    for (int b : eligible) {
+      const auto [cx, cy] = cell_of(b);
+      cells.push_back({cell_key(cx, cy), b});
+    }
+    std::sort(cells.begin(), cells.end());
+    for (int a : eligible) {
+      const auto [cx, cy] = cell_of(a);
+      for (long dx = -1; dx <= 1; ++dx)
+        for (long dy = -1; dy <= 1; ++dy) {
+          if (cx + dx < 0 || cy + dy < 0) continue;
+          const std::uint64_t key = cell_key(cx + dx, cy + dy);
+          auto it = std::lower_bound(cells.begin(), cells.end(), std::pair<std::uint64_t, int>{key, -1});
+          for (; it != cells.end() && it->first == key; ++it) {
+            const int b = it->second;
+            if (b <= a) continue;
+            const double rr = blocks.radius[a] + blocks.radius[b] + skin_;
+            const double ex = S[b].x - S[a].x, ey = S[b].y - S[a].y;
+            if (ex * ex + ey * ey > rr * rr) continue;
+            if (bonded(a, b)) continue;
+            keys.push_back(pair_key(a, b));
+          }
         }
-      }
+    }
+    std::sort(keys.begin(), keys.end());
   }
-  std::sort(keys.begin(), keys.end());
 
   ContactPairs next;
   const auto& old = contacts;
@@ -377,12 +443,13 @@ void Engine::broad_phase() {
       if (bonds.i[bb] == j || bonds.j[bb] == j) bond = bb;
     }
     LinearContact law;
-    if (bond >= 0) {
-      law = bonds.linear[bond];
-    } else {
-      const int kind = blocks.layer[i] == blocks.layer[j] ? 0 : 1;
-      const double kn = modulus_[kind] / (blocks.inradius[i] + blocks.inradius[j]);
-      law = {kn, kn / kappa_[kind], contact_law_[kind].mu};
+    if (bond >= 0) {  // a broken bond: the same linear law as its linear part had
+      const BondStiffness k = stiffness(bond);
+      law = {k.knA / k.A, k.ksA / k.A, k.mu, k.L};
+    } else {  // never neighbours: d and L_ref from the blocks' inradii (the bond's d and L for equilateral blocks)
+      const KindParams& kp = kinds_[blocks.layer[i] == blocks.layer[j] ? 0 : 1];
+      const double kn = kp.modulus / (blocks.inradius[i] + blocks.inradius[j]);
+      law = {kn, kn / kp.kappa, kp.mu, std::sqrt(3.0) * (blocks.inradius[i] + blocks.inradius[j])};
     }
     double fs = 0.0;
     if (o < old.key.size() && old.key[o] == key) fs = old.fs[o];
@@ -399,10 +466,12 @@ void Engine::contact_forces() {
   std::fill(cfy_.begin(), cfy_.end(), 0.0);
   std::fill(cm_.begin(), cm_.end(), 0.0);
   auto& C = contacts;
+  const auto& S = blocks.state;
   const double t = thickness_;
   for (std::size_t c = 0; c < C.i.size(); ++c) {
     const int i = C.i[c], j = C.j[c];
-    const double ex = blocks.x[j] - blocks.x[i], ey = blocks.y[j] - blocks.y[i];
+    const BlockState &si = S[std::size_t(i)], &sj = S[std::size_t(j)];
+    const double ex = sj.x - si.x, ey = sj.y - si.y;
     const double rr = blocks.radius[i] + blocks.radius[j];
     Overlap ov;
     double vi[6], vj[6];
@@ -418,11 +487,11 @@ void Engine::contact_forces() {
     }
     const double nx = -ov.nx, ny = -ov.ny;  // from i to j, as for bonds
     const double tx = -ny, ty = nx;
-    const double fn = C.law[c].normal_force(ov.area, t);
-    const double cix = ov.px - blocks.x[i], ciy = ov.py - blocks.y[i];
-    const double cjx = ov.px - blocks.x[j], cjy = ov.py - blocks.y[j];
-    const double vrx = (blocks.vx[j] - blocks.omega[j] * cjy) - (blocks.vx[i] - blocks.omega[i] * ciy);
-    const double vry = (blocks.vy[j] + blocks.omega[j] * cjx) - (blocks.vy[i] + blocks.omega[i] * cix);
+    const double fn = C.law[c].normal_force(ov.area, ov.chord, t);
+    const double cix = ov.px - si.x, ciy = ov.py - si.y;
+    const double cjx = ov.px - sj.x, cjy = ov.py - sj.y;
+    const double vrx = (sj.vx - sj.omega * cjy) - (si.vx - si.omega * ciy);
+    const double vry = (sj.vy + sj.omega * cjx) - (si.vy + si.omega * cix);
     const double ds = (vrx * tx + vry * ty) * dt_;
     double fs = C.fs[c];
     if (C.law[c].update_shear(fn, ov.chord, t, ds, fs)) e_friction_ += std::abs(fs * ds);
@@ -455,12 +524,13 @@ void Engine::platen_forces() {
         fs_hist[b] = 0.0;
         continue;
       }
-      const LinearContact law{platen_kn_[b], platen_kn_[b] / kappa_[0], mu};
-      const double fn = law.normal_force(ov.area, t);
+      const LinearContact law{platen_kn_[b], platen_kn_[b] / kinds_[0].kappa, mu, platen_lref_[b]};
+      const double fn = law.normal_force(ov.area, ov.chord, t);
+      const BlockState& s = blocks.state[std::size_t(b)];
       // Force on the block: -fn along the normal (out of the platen), shear along t = perp(n).
       const double nx = ov.nx, ny = ov.ny, tx = -ny, ty = nx;
-      const double rx = ov.px - blocks.x[b], ry = ov.py - blocks.y[b];
-      const double vrx = blocks.vx[b] - blocks.omega[b] * ry, vry = blocks.vy[b] + blocks.omega[b] * rx - wall_vy;
+      const double rx = ov.px - s.x, ry = ov.py - s.y;
+      const double vrx = s.vx - s.omega * ry, vry = s.vy + s.omega * rx - wall_vy;
       const double ds = (vrx * tx + vry * ty) * dt_;
       double fs = fs_hist[b];
       if (law.update_shear(fn, ov.chord, t, ds, fs)) e_friction_ += std::abs(fs * ds);
@@ -468,8 +538,8 @@ void Engine::platen_forces() {
       const double fx = -fn * nx + fs * tx, fy = -fn * ny + fs * ty;
       cfx_[b] += fx, cfy_[b] += fy, cm_[b] += cross(rx, ry, fx, fy);
       total += fn;
-      const double k = law.kn * t * ov.chord;
-      platen_energy_ += 0.5 * (fn * fn + fs * fs * kappa_[0]) / k;
+      platen_energy_ += 0.5 * (fn * fn * law.lref / (law.kn * t * ov.chord * ov.chord) +
+                               fs * fs / (law.ks * t * ov.chord));
     }
     (top ? top_force_ : bottom_force_) = total;
   }
@@ -479,41 +549,45 @@ void Engine::platen_forces() {
 // Stage: per-block gather in fixed CSR order, Cundall local damping, central difference update.
 void Engine::integrate() {
   auto& B = blocks;
-  const auto& D = bonds;
-  const int n = int(B.x.size());
+  BlockState* st = B.state.data();
+  const BondSlot* slot = bonds.slot.data();
+  const int* offset = csr_offset_.data();
+  const int* entry = csr_entry_.data();
+  const int n = int(B.size());
   const double dt = dt_, alpha = options_.damping;
   double e_damp = 0.0;
   bool finite = true;
-#pragma omp parallel for schedule(static) num_threads(thread_breaks_.size()) reduction(+ : e_damp) \
-    reduction(&& : finite)
+#pragma omp parallel for schedule(static) num_threads(threads()) reduction(+ : e_damp) reduction(&& : finite)
   for (int b = 0; b < n; ++b) {
-    double fx = cfx_[b], fy = cfy_[b], m = cm_[b];
-    for (int o = csr_offset_[b]; o < csr_offset_[b + 1]; ++o) {
-      const int e = csr_entry_[o], bond = e >> 1;
-      if (e & 1) fx += D.sfx[bond], fy += D.sfy[bond], m += D.smj[bond];
-      else fx -= D.sfx[bond], fy -= D.sfy[bond], m += D.smi[bond];
+    double fx = cfx_[b] + B.ext_fx[b], fy = cfy_[b] + B.ext_fy[b], m = cm_[b] + B.ext_m[b];
+    for (int o = offset[b]; o < offset[b + 1]; ++o) {
+      const int e = entry[o];
+      const BondSlot& s = slot[e >> 1];
+      if (e & 1) fx += s.fx, fy += s.fy, m += s.mj;
+      else fx -= s.fx, fy -= s.fy, m += s.mi;
     }
     B.fx[b] = fx, B.fy[b] = fy, B.moment[b] = m;
     if (B.fixed[b]) continue;
+    BlockState& s = st[b];
     // Cundall local damping: F_d = -alpha |F| sign(v), per degree of freedom.
-    const double dfx = -alpha * std::abs(fx) * ((B.vx[b] > 0) - (B.vx[b] < 0));
-    const double dfy = -alpha * std::abs(fy) * ((B.vy[b] > 0) - (B.vy[b] < 0));
-    const double dm = -alpha * std::abs(m) * ((B.omega[b] > 0) - (B.omega[b] < 0));
-    e_damp -= (dfx * B.vx[b] + dfy * B.vy[b] + dm * B.omega[b]) * dt;
-    B.vx[b] += dt * (fx + dfx) / B.mass[b];
-    B.vy[b] += dt * (fy + dfy) / B.mass[b];
-    B.omega[b] += dt * (m + dm) / B.inertia[b];
-    B.x[b] += dt * B.vx[b];
-    B.y[b] += dt * B.vy[b];
-    B.theta[b] += dt * B.omega[b];
-    finite = finite && std::isfinite(B.x[b]) && std::isfinite(B.y[b]) && std::isfinite(B.theta[b]);
+    const double dfx = -alpha * std::abs(fx) * double((s.vx > 0) - (s.vx < 0));
+    const double dfy = -alpha * std::abs(fy) * double((s.vy > 0) - (s.vy < 0));
+    const double dm = -alpha * std::abs(m) * double((s.omega > 0) - (s.omega < 0));
+    e_damp -= (dfx * s.vx + dfy * s.vy + dm * s.omega) * dt;
+    const double inv_m = 1.0 / B.mass[b];
+    s.vx += dt * (fx + dfx) * inv_m;
+    s.vy += dt * (fy + dfy) * inv_m;
+    s.omega += dt * (m + dm) / B.inertia[b];
+    s.x += dt * s.vx;
+    s.y += dt * s.vy;
+    s.theta += dt * s.omega;
+    finite = finite && std::isfinite(s.x) && std::isfinite(s.y) && std::isfinite(s.theta);
   }
   e_damping_ += e_damp;
   if (!finite)
     throw InstabilityError(fmt::format(
-        "the run diverged at step {} (t = {:.4g} s): positions are no longer finite. The time step {:.4g} s is "
-        "above the stability limit of this scene (critical step estimate {:.4g} s); lower numerics.dt or "
-        "numerics.dt_safety",
+        "the run diverged at step {} (t = {:.4g} s): positions are no longer finite. The time step {:.4g} s is too "
+        "large for this scene (block-wise critical step estimate {:.4g} s); lower numerics.dt or numerics.dt_safety",
         steps_, time_, dt_, critical_step()));
 }
 
@@ -523,24 +597,25 @@ std::size_t Engine::active_contacts() const {
 
 Energies Engine::energies() const {
   Energies e;
-  const auto& B = blocks;
-  for (std::size_t b = 0; b < B.x.size(); ++b)
-    e.kinetic += 0.5 * (B.mass[b] * (B.vx[b] * B.vx[b] + B.vy[b] * B.vy[b]) + B.inertia[b] * B.omega[b] * B.omega[b]);
-  const auto& D = bonds;
-  const double t = thickness_;
-  for (std::size_t b = 0; b < D.i.size(); ++b) {
-    if (D.broken[b]) continue;
-    e.strain += 0.5 * (D.fn_b[b] * D.fn_b[b] / D.kbnA[b] + D.fs_b[b] * D.fs_b[b] / D.kbsA[b] +
-                       D.m_b[b] * D.m_b[b] / D.kbnI[b]);
-    const double kl = D.linear[b].kn * t * D.L[b];
-    e.strain += 0.5 * (D.fn_lin[b] * D.fn_lin[b] / kl + D.fs_lin[b] * D.fs_lin[b] * D.linear[b].kn /
-                                                            (D.linear[b].ks * kl));
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    const BlockState& s = blocks.state[b];
+    e.kinetic += 0.5 * (blocks.mass[b] * (s.vx * s.vx + s.vy * s.vy) + blocks.inertia[b] * s.omega * s.omega);
   }
+  for (std::size_t b = 0; b < bonds.size(); ++b) {
+    if (bonds.broken[b]) continue;
+    const BondForces f = bond_forces(int(b));
+    const BondStiffness k = stiffness(int(b));
+    e.strain += 0.5 * (f.fn_b * f.fn_b / k.kbnA + f.fs_b * f.fs_b / k.kbsA + f.m_b * f.m_b / k.kbnI +
+                       f.fn_lin * f.fn_lin / k.knA + f.fs_lin * f.fs_lin / k.ksA);
+  }
+  const double t = thickness_;
   for (std::size_t c = 0; c < contacts.i.size(); ++c) {
     if (!(contacts.fn[c] > 0)) continue;
+    // w = kn t A^2 / (2 L_ref) = fn^2 L_ref / (2 kn t l_c^2); shear fs^2 / (2 ks t l_c)
     const auto& law = contacts.law[c];
-    const double k = law.kn * t * contacts.chord[c];
-    e.strain += 0.5 * (contacts.fn[c] * contacts.fn[c] / k + contacts.fs[c] * contacts.fs[c] * law.kn / (law.ks * k));
+    const double l = contacts.chord[c];
+    e.strain += 0.5 * (contacts.fn[c] * contacts.fn[c] * law.lref / (law.kn * t * l * l) +
+                       contacts.fs[c] * contacts.fs[c] / (law.ks * t * l));
   }
   e.strain += platen_energy_;
   e.damping = e_damping_;

@@ -1,9 +1,11 @@
 // The explicit RB-DEM engine: rigid triangular blocks (x, y, theta), linear parallel bonds on shared edges,
 // polygon contacts after breakage and between blocks that were never neighbours, two rigid platens, central
-// difference time integration with Cundall local damping. THEORY.md sections 4, 4b and 5.
+// difference time integration with Cundall local damping. THEORY.md sections 4, 4b and 5; docs/model.md.
 //
-// Data are structures of arrays (STYLE.md 1). One step runs stages with one job each (STYLE.md 3):
-//   rotations -> bond forces (parallel, one slot per bond) -> breakage events -> broad phase (when needed)
+// Data are plain arrays (STYLE.md 1). What the bond loop reads together is packed together: a block's kinematic
+// state is one 64-byte record (BlockState), a bond's constant frame another (BondFrame), and each bond writes its
+// forces into its own slot (BondSlot). One step runs stages with one job each (STYLE.md 3):
+//   bond forces (parallel, one slot per bond) -> breakage events -> broad phase (when needed)
 //   -> contact forces -> platen forces -> per-block gather in fixed order + damping + integration.
 // Forces are gathered per block over a CSR list in a fixed order, so results are bit-identical at any thread count.
 #pragma once
@@ -30,7 +32,7 @@ struct Crack {
   double sigma = 0, tau = 0;     // Pa, the bond stresses that broke it
 };
 
-// Thrown when the run blows up (NaN or runaway velocities): the step is too large or the scene unphysical.
+// Thrown when the run blows up (positions no longer finite): the step is too large or the scene unphysical.
 class InstabilityError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
@@ -42,17 +44,54 @@ struct EngineOptions {
   double platen_velocity = 0.0;  // m/s, top platen moves down at this speed; bottom fixed
   double platen_friction = 0.0;  // Coulomb coefficient block-platen
   int threads = 0;               // 0 = all
-  bool platens = true;           // false: free blocks (for unit tests)
+  bool platens = true;           // false: free blocks (unit tests)
+  bool contacts = true;          // false: no block-block contacts (diagnostics)
 
   static EngineOptions from_scene(const Scene& scene);
 };
 
 struct Energies {
   double kinetic = 0;      // J
-  double strain = 0;       // J, stored in bonds and contacts
+  double strain = 0;       // J, stored in bonds, contacts and platen contacts
   double damping = 0;      // J, dissipated by local damping (cumulative)
-  double friction = 0;     // J, dissipated by sliding (cumulative, approximate)
-  double work_platen = 0;  // J, work done by the platens (cumulative)
+  double friction = 0;     // J, dissipated by sliding contacts (cumulative, approximate)
+  double work_platen = 0;  // J, work done by the top platen (cumulative)
+};
+
+// Kinematic state of one block, one cache line.
+struct BlockState {
+  double x, y, theta;        // centroid (m) and rotation (rad)
+  double vx, vy, omega;      // velocities (m/s, rad/s) at the half step
+  double cos_t, sin_t;       // of theta
+};
+
+// Constant data of one bond, one cache line: lever arms from each centroid to the edge midpoint and the
+// reference normal (i -> j) in the blocks' reference frames, the edge length, and k A = (E*/d) L t, the normal
+// stiffness of the parallel bond and of the linear part. Everything else derives from these and the bond kind:
+// A = L t, I = t L^3/12, kb_s A = k A / kappa, kb_n I = k A L^2/12.
+struct BondFrame {
+  double rix, riy, rjx, rjy;
+  double n0x, n0y;
+  double L;
+  double kA;  // N/m
+};
+
+// Forces a bond writes each step: force on block j (on i the opposite) and the moments on i and j.
+struct BondSlot {
+  double fx, fy, mi, mj;
+};
+
+// The forces of one bond in its co-rotated frame (diagnostics, static comparisons, energies).
+struct BondForces {
+  double fn_b = 0, fs_b = 0, m_b = 0;  // parallel bond: normal (compression positive), shear, moment on j
+  double fn_lin = 0, fs_lin = 0;       // linear part
+  double sigma = 0, tau = 0;           // parallel bond peripheral stresses (tension positive)
+};
+
+struct BondStiffness {
+  double kbnA, kbsA, kbnI;  // parallel bond: N/m, N/m, N m
+  double knA, ksA, mu;      // linear part (closed edge): N/m, N/m, -
+  double A, I, L;           // m^2, m^4, m
 };
 
 class Engine {
@@ -60,11 +99,10 @@ class Engine {
   Engine(const Topology& topo, const Scene& scene, const EngineOptions& options);
 
   // --- time step ---
-  // Critical step of THEORY.md 5 from every block's actual translational and rotational stiffness.
+  // Critical step estimate of THEORY.md 5 from every block's own translational and rotational stiffness,
+  // min over blocks of sqrt(m / k_trans) and sqrt(I / k_rot). About half the exact limit of the lattice
+  // (stability_limit() in static_solve.hpp), which the UCS driver uses.
   double critical_step() const;
-  // The exact stability limit of the undamped linearised system, 2 / sqrt(lambda_max(M^-1 K)), by power
-  // iteration on the intact bonded stiffness (all linear parts in compression). For checks and reports.
-  double stability_limit(int iterations = 200) const;
   void set_dt(double dt) { dt_ = dt; }
   double dt() const { return dt_; }
 
@@ -74,34 +112,29 @@ class Engine {
     for (long k = 0; k < steps; ++k) step();
   }
 
-  // --- state (public arrays: plain data) ---
+  // --- state (plain data) ---
   struct Blocks {
-    std::vector<double> x, y, theta, vx, vy, omega;
+    std::vector<BlockState> state;
     std::vector<double> fx, fy, moment;          // total force of the last step (without damping)
     std::vector<double> mass, inertia;           // scaled by mass_scaling
-    std::vector<double> cos_t, sin_t;
     std::vector<double> x0, y0;                  // reference centroid
     std::vector<double> radius, inradius;
     std::vector<std::array<double, 6>> shape;    // body-frame vertices
     std::vector<int> layer;
     std::vector<std::uint8_t> free_face;         // has a broken bond or a boundary edge
     std::vector<std::uint8_t> fixed;             // kinematically fixed (tests)
+    std::vector<double> ext_fx, ext_fy, ext_m;   // external loads (N, N m)
+    std::size_t size() const { return state.size(); }
   } blocks;
 
   struct Bonds {
     std::vector<int> i, j;
-    std::vector<double> rix, riy, rjx, rjy;      // lever arms, body frame
-    std::vector<double> n0x, n0y;                // reference normal, i -> j
-    std::vector<double> L, A, I;                 // edge length, area L t, inertia t L^3/12
-    std::vector<double> kbnA, kbsA, kbnI;        // parallel bond stiffness, N/m, N/m, N m
-    std::vector<LinearContact> linear;           // linear part (kn, ks per area, mu)
-    std::vector<double> d;                       // centroid distance along the normal
+    std::vector<BondFrame> frame;
     std::vector<BondKind> kind;
     std::vector<std::uint8_t> broken;
-    // state and output of the last step
-    std::vector<double> fs_lin;                  // linear part shear force (history)
-    std::vector<double> fn_b, fs_b, m_b, fn_lin; // parallel bond force, moment; linear normal force
-    std::vector<double> sfx, sfy, smi, smj;      // force on j, moments on i and j (the per-bond slot)
+    std::vector<double> fs_lin;                  // linear part shear force (history), N
+    std::vector<BondSlot> slot;
+    std::size_t size() const { return i.size(); }
   } bonds;
 
   struct ContactPairs {
@@ -111,6 +144,10 @@ class Engine {
     std::vector<std::uint64_t> key;              // (i << 32) | j, sorted
   } contacts;
 
+  BondStiffness stiffness(int bond) const;
+  // The forces of a bond in the current state (without advancing its shear history).
+  BondForces bond_forces(int bond) const;
+
   // Platens: top at y = top_y() moving down, bottom at y = bottom_y() fixed.
   double top_y() const { return top_y_; }
   double bottom_y() const { return bottom_y_; }
@@ -118,6 +155,7 @@ class Engine {
   double bottom_force() const { return bottom_force_; }  // N, compression positive
   double platen_displacement() const { return top_y0_ - top_y_; }
   void set_platen_velocity(double v) { options_.platen_velocity = v; }
+  void set_platen_displacement(double d) { top_y_ = top_y0_ - d; }
 
   double time() const { return time_; }
   long steps() const { return steps_; }
@@ -139,9 +177,23 @@ class Engine {
   // Rebuild internal lists after the caller changed positions or bond states directly (tests, elastic start).
   void refresh();
 
+  // Model data the static solver and writers read.
+  const Topology& topology() const { return topo_; }
+  const BondStrength& strength(BondKind k) const { return kinds_[int(k)].strength; }
+  double platen_stiffness(int block) const { return platen_kn_[std::size_t(block)]; }  // Pa/m
+  double platen_friction() const { return options_.platen_friction; }
+  bool has_platens() const { return options_.platens; }
+  double kappa(BondKind k) const { return kinds_[int(k)].kappa; }
+
+  // Per-kind parameters (rock = 0, joint = 1).
+  struct KindParams {
+    double modulus = 0, kappa = 1, inv_kappa = 1, mu = 0;
+    BondStrength strength;
+  };
+
  private:
   void update_rotations();
-  void bond_forces();
+  void compute_bond_forces();
   void process_breaks();
   void broad_phase();
   void contact_forces();
@@ -152,6 +204,7 @@ class Engine {
   void block_vertices(int b, double* out) const;
   std::uint64_t pair_key(int i, int j) const { return (std::uint64_t(std::uint32_t(i)) << 32) | std::uint32_t(j); }
   bool bonded(int i, int j) const;
+  int threads() const { return int(thread_breaks_.size()); }
 
   const Topology& topo_;
   EngineOptions options_;
@@ -160,24 +213,23 @@ class Engine {
   long steps_ = 0;
   bool breakage_ = true;
 
-  std::array<BondStrength, 2> strength_;     // by BondKind
-  std::array<LinearContact, 2> contact_law_;  // by kind, per-area stiffness set per pair from d
-  std::array<double, 2> modulus_{}, kappa_{};
+  std::array<KindParams, 2> kinds_;
   std::vector<int> active_;                  // intact bonds
   std::vector<int> csr_offset_, csr_entry_;  // per block: 2 * bond + (1 if block is j)
-  std::vector<std::vector<int>> thread_breaks_;
-  std::vector<std::pair<int, BreakMode>> pending_breaks_;
+  std::vector<std::vector<Crack>> thread_breaks_;
 
   // contact accumulators (serial stages)
   std::vector<double> cfx_, cfy_, cm_;
   // broad phase
   double skin_ = 0;
-  std::vector<double> ref_x_, ref_y_;        // positions at the last rebuild
+  std::vector<int> eligible_;                // blocks with a free face at the last rebuild
+  std::vector<double> ref_x_, ref_y_;        // their positions at the last rebuild
   double ref_top_ = 0;
   bool rebuild_ = true;
   std::vector<int> top_candidates_, bottom_candidates_;
   std::vector<double> top_fs_, bottom_fs_;   // per block platen shear history
   std::vector<double> platen_kn_;            // per block platen stiffness per area
+  std::vector<double> platen_lref_;          // per block platen L_ref
   double top_y_ = 0, bottom_y_ = 0, top_y0_ = 0;
   double top_force_ = 0, bottom_force_ = 0;
   // energies (cumulative parts)

@@ -59,7 +59,7 @@ struct LoadingParams {
 
 struct NumericsParams {
   double damping = 0.7;         // -, Cundall local damping coefficient alpha
-  double dt_safety = 0.8;       // -, fraction of the critical time step used
+  double dt_safety = 0.5;       // -, fraction of the critical time step used
   double dt = 0.0;              // s, requested step; 0 = automatic (dt_safety x critical)
   double mass_scaling = 1.0;    // -, density multiplier (>= 1) for quasi-static runs; reported
   int threads = 0;              // -, OpenMP threads; 0 = all cores

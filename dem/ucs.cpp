@@ -1,6 +1,8 @@
 // Uniaxial compression driver. See ucs.hpp.
 #include "dem/ucs.hpp"
 
+#include "dem/static_solve.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -40,12 +42,13 @@ UcsResult run_ucs(const Scene& scene, const Topology& topo, const UcsOptions& op
   r.rock_bonds = topo.count(BondKind::rock);
   r.joint_bonds = topo.count(BondKind::joint);
   r.mass_scaling = scene.numerics.mass_scaling;
-  r.dt_critical = engine.critical_step();
+  r.dt_critical = stability_limit(engine);
+  r.dt_block_estimate = engine.critical_step();
   if (scene.numerics.dt > 0.0) {
     if (scene.numerics.dt > r.dt_critical && !options.allow_supercritical_dt)
       throw SceneError(fmt::format("numerics.dt = {:.4g} s is above the critical time step {:.4g} s of this scene "
-                                   "({} blocks, smallest mass and largest stiffness): use numerics.dt <= {:.4g} s, "
-                                   "or 0 for automatic ({:.2g} x critical)",
+                                   "(2 / sqrt(lambda_max) of its {} blocks and their bonds): use numerics.dt <= "
+                                   "{:.4g} s, or 0 for automatic ({:.2g} x critical)",
                                    scene.numerics.dt, r.dt_critical, topo.blocks.size(), r.dt_critical,
                                    scene.numerics.dt_safety));
     r.dt = scene.numerics.dt;

@@ -46,7 +46,8 @@ struct UcsResult {
   std::string failure_mode;
   std::string stop_reason;      // "post_peak" | "max_strain"
   long steps = 0;
-  double dt = 0, dt_critical = 0;
+  double dt = 0, dt_critical = 0;   // s: the step used, the exact stability limit of the bonded lattice
+  double dt_block_estimate = 0;     // s: THEORY.md 5's block-wise estimate, for comparison
   double mass_scaling = 1.0;
   double wall_seconds = 0;
   double elastic_start_strain = 0;  // strain skipped by the static elastic start (0 if none)

@@ -28,6 +28,7 @@ nlohmann::json ucs_summary(const Scene& scene, const UcsResult& r) {
   j["steps"] = r.steps;
   j["dt_s"] = r.dt;
   j["dt_critical_s"] = r.dt_critical;
+  j["dt_block_estimate_s"] = r.dt_block_estimate;
   j["mass_scaling"] = r.mass_scaling;
   j["elastic_start_strain"] = r.elastic_start_strain;
   j["wall_seconds"] = r.wall_seconds;

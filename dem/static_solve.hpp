@@ -1,0 +1,51 @@
+// Static elastic solve of the intact bonded-block system (Eigen sparse), and the exact stability limit of the
+// explicit scheme.
+//
+// Before any bond breaks the model is piecewise linear: each bond is a parallel bond (normal, shear, rotation
+// springs kb_n A, kb_s A, kb_n I) plus the linear part, which acts only in compression ((k_n, k_s) A). Platens are
+// the same half-plane contacts the explicit run uses (normal stiffness k_p t L on the boundary edges), frictionless
+// unless loading.platen_friction > 0 (then the edges stick). With 3 dof per block (u_x, u_y, theta), the
+// stiffness of bond b is K_b = B^T (K_N n n^T + K_S t t^T) B + K_R g g^T, where B maps the dofs of the two
+// blocks to the relative displacement at the bond point and g picks theta_j - theta_i.
+// The linear part of each bond is open (centre in tension), sticking, or sliding (|F_s| = mu F_n); under a
+// proportional load every state keeps its ratio F_s/F_n, so a bond slides from the start or never, and the states
+// are found by an active-set iteration (a few solves; sliding makes the matrix non-symmetric: sparse LU).
+#pragma once
+
+#include <vector>
+
+#include "dem/engine.hpp"
+
+namespace rbdem {
+
+struct StaticResult {
+  double platen_displacement = 0;   // m, imposed closure of the top platen
+  double top_force = 0, bottom_force = 0;  // N, compression positive
+  double apparent_modulus = 0;      // Pa: (F / (W t)) / (displacement / H)
+  std::vector<double> ux, uy, rotation;  // per block, m and rad
+  std::vector<double> fn_b, fs_b, m_b;   // per bond: parallel bond force and moment (compression positive)
+  enum LinearState : std::uint8_t { open = 0, stick = 1, slip_positive = 2, slip_negative = 3 };
+  std::vector<std::uint8_t> linear_state;  // per bond
+  std::size_t open_bonds = 0, sliding_bonds = 0;
+  int active_set_iterations = 0;
+  std::size_t dofs = 0;
+  double seconds = 0;
+  // Load factor at which the first bond reaches its strength (1 = this displacement), and that bond.
+  double first_break_factor = 0;
+  int first_break_bond = -1;
+};
+
+struct StaticOptions {
+  double platen_displacement = 1e-6;  // m
+  bool linear_parts_always_closed = false;  // every linear part closed and sticking (no active-set iteration)
+  int max_iterations = 30;
+};
+
+// Static solve for the engine's current (reference) configuration; uses its bonds, materials and platens.
+StaticResult solve_static(const Engine& engine, const StaticOptions& options = {});
+
+// 2 / sqrt(lambda_max(M^-1 K)) of the intact system with every linear part closed (its stiffest state), by power
+// iteration: the largest stable step of the undamped central difference scheme.
+double stability_limit(const Engine& engine, int iterations = 300);
+
+}  // namespace rbdem

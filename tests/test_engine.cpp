@@ -1,0 +1,251 @@
+// The explicit engine against closed forms: objectivity, oscillation frequency, energy in impact, Coulomb
+// sliding, the bond-to-contact hand-over, and numerical stability at and above the computed time step.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "dem/engine.hpp"
+#include "dem/specimen_mesh.hpp"
+#include "dem/static_solve.hpp"
+#include "dem/topology.hpp"
+#include "dem/ucs.hpp"
+
+namespace rbdem {
+namespace {
+
+// A rhombus of two isosceles triangles sharing the edge (-a, 0)-(a, 0): block 0 below, block 1 above.
+// Both centroids lie on the y axis, so a normal force at the edge midpoint makes no moment.
+TriMesh rhombus(double a, double b, int layer0 = 0, int layer1 = 0) {
+  TriMesh m;
+  m.nodes = {{-a, 0}, {a, 0}, {0, -b}, {0, b}};
+  m.triangles = {{0, 2, 1}, {0, 1, 3}};
+  m.layer = {layer0, layer1};
+  m.layer_names = {"layer_0", "layer_1"};
+  return m;
+}
+
+Scene elastic_scene() {
+  Scene s;
+  s.numerics.damping = 0.0;
+  s.rock.tensile_strength = s.rock.cohesion = s.joint.tensile_strength = s.joint.cohesion = 1e15;
+  return s;
+}
+
+EngineOptions free_blocks(const Scene& s) {
+  EngineOptions o = EngineOptions::from_scene(s);
+  o.platens = false;
+  o.threads = 1;
+  return o;
+}
+
+TEST(Engine, RigidTranslationAndRotationCreateNoForce) {
+  const Scene scene = elastic_scene();
+  SpecimenGeometry g;
+  const Topology topo = build_topology(mesh_specimen(g, 0.005), 1.0, 2700.0);
+  Engine e(topo, scene, free_blocks(scene));
+  const double q = 1.0, c = std::cos(q), s = std::sin(q), tx = 0.3, ty = -0.2;
+  for (auto& st : e.blocks.state) {
+    const double x = st.x, y = st.y;
+    st.x = tx + c * x - s * y;
+    st.y = ty + s * x + c * y;
+    st.theta = q;
+  }
+  e.refresh();
+  e.set_dt(1e-12);
+  e.step();
+  double fmax = 0;
+  for (std::size_t b = 0; b < e.bonds.size(); ++b) {
+    const BondForces f = e.bond_forces(int(b));
+    fmax = std::max({fmax, std::abs(f.fn_b), std::abs(f.fs_b), std::abs(f.m_b), std::abs(f.fn_lin)});
+  }
+  // A strain of 1e-6 would give forces of order E* L t 1e-6 = 1e5 N here; round-off of 1 rad rotations is ~1e-16.
+  EXPECT_LT(fmax, 1e-3);
+  EXPECT_TRUE(e.cracks().empty());
+}
+
+// Period of block 1 against a fixed block 0, preloaded into compression so the linear part stays closed:
+// stiffness (kb_n + k_n) A, omega = sqrt(k / m).
+TEST(Engine, BondedPairOscillatesAtSqrtKOverM) {
+  const Scene scene = elastic_scene();
+  const double a = 1e-3, b = 0.8e-3;
+  const Topology topo = build_topology(rhombus(a, b), 1.0, 2700.0);
+  Engine e(topo, scene, free_blocks(scene));
+  e.blocks.fixed[0] = 1;
+  const double k = e.stiffness(0).kbnA + e.stiffness(0).knA;
+  const double m = e.blocks.mass[1];
+  const double preload = 1e3;  // N
+  e.blocks.ext_fy[1] = -preload;
+  const double y_eq = e.blocks.state[1].y - preload / k;
+  e.blocks.state[1].y = y_eq + 0.3 * preload / k;  // amplitude 30 % of the preload: the edge stays compressed
+  e.refresh();
+  const double period = 2 * std::numbers::pi * std::sqrt(m / k);
+  e.set_dt(period / 2000);
+  // Time the upward zero crossings of y - y_eq over 10 periods.
+  std::vector<double> crossings;
+  double prev = e.blocks.state[1].y - y_eq;
+  while (crossings.size() < 11 && e.time() < 20 * period) {
+    e.step();
+    const double now = e.blocks.state[1].y - y_eq;
+    if (prev < 0 && now >= 0) crossings.push_back(e.time() - e.dt() * now / (now - prev));
+    prev = now;
+  }
+  ASSERT_EQ(crossings.size(), 11u);
+  const double measured = (crossings.back() - crossings.front()) / 10.0;
+  EXPECT_NEAR(measured / period, 1.0, 0.01);
+  EXPECT_NEAR(e.blocks.state[1].x, 0.0, 1e-12);  // symmetric: no sideways motion
+}
+
+// Two separate blocks (no bond) meet face to face and bounce apart: no damping, no friction.
+TEST(Engine, FrictionlessElasticImpactConservesEnergy) {
+  for (double angle_deg : {0.0, 20.0}) {
+    Scene scene = elastic_scene();
+    scene.rock.contact_friction = scene.joint.contact_friction = 0.0;
+    const double a = 1e-3;
+    TriMesh m;  // two right triangles with their hypotenuses facing each other, 0.1 a apart
+    m.nodes = {{0, 0}, {a, a}, {0, a}, {0.1 * a, 0}, {1.1 * a, 0}, {1.1 * a, a}};
+    m.triangles = {{0, 1, 2}, {3, 4, 5}};
+    m.layer = {0, 0};
+    m.layer_names = {"a", "b"};
+    const Topology topo = build_topology(m, 1.0, 2700.0);
+    ASSERT_EQ(topo.bonds.size(), 0u);
+    Engine e(topo, scene, free_blocks(scene));
+    const double v = 1.0, q = angle_deg * std::numbers::pi / 180;
+    e.blocks.state[0].vx = v * std::cos(q), e.blocks.state[0].vy = -v * std::sin(q);  // oblique for 20 deg
+    e.blocks.state[1].vx = -v * std::cos(q);
+    e.refresh();
+    const double k = scene.rock.effective_modulus / (e.blocks.inradius[0] + e.blocks.inradius[1]) * a * std::sqrt(2.0);
+    e.set_dt(0.02 * std::sqrt(e.blocks.mass[0] / k));
+    const double e0 = e.energies().kinetic;
+    bool touched = false;
+    for (int s = 0; s < 200000; ++s) {
+      e.step();
+      if (e.active_contacts() > 0) touched = true;
+      if (touched && e.active_contacts() == 0) break;
+    }
+    ASSERT_TRUE(touched);
+    EXPECT_EQ(e.active_contacts(), 0u);
+    EXPECT_NEAR(e.energies().kinetic / e0, 1.0, 0.005) << "impact angle " << angle_deg;
+  }
+}
+
+// Block 1 rests on block 0 across a broken joint bond under a normal load F_n; a tangential load ramps up slowly.
+// It must hold until F_t = mu F_n and slide right after.
+TEST(Engine, BlockSlidesOnAJointStartingExactlyAtMuFn) {
+  Scene scene = elastic_scene();
+  scene.numerics.damping = 0.7;
+  const double mu = std::tan(30.0 * std::numbers::pi / 180);
+  scene.joint.contact_friction = mu;
+  const double a = 1e-3, b = 0.8e-3;
+  const Topology topo = build_topology(rhombus(a, b, 0, 1), 1.0, 2700.0);
+  ASSERT_EQ(topo.bonds.kind[0], BondKind::joint);
+  Engine e(topo, scene, free_blocks(scene));
+  e.bonds.broken[0] = 1;
+  e.blocks.free_face[0] = e.blocks.free_face[1] = 1;
+  e.blocks.fixed[0] = 1;
+  e.blocks.inertia[1] *= 1e6;  // keep it from tipping: a pure sliding test
+  const double fn = 1e4;
+  e.blocks.ext_fy[1] = -fn;
+  e.refresh();
+  e.set_dt(0.2 * e.critical_step());
+  e.run(20000);  // settle under the normal load
+  const double x_settled = e.blocks.state[1].x;
+  const long ramp_steps = 500000;
+  double slip_at = -1;
+  for (long s = 1; s <= ramp_steps; ++s) {
+    e.blocks.ext_fx[1] = 1.2 * mu * fn * double(s) / double(ramp_steps);
+    e.step();
+    if (std::abs(e.blocks.state[1].x - x_settled) > 3e-7) {  // several times the elastic shear displacement (5e-8 m)
+      slip_at = e.blocks.ext_fx[1];
+      break;
+    }
+  }
+  ASSERT_GT(slip_at, 0);
+  EXPECT_NEAR(slip_at / (mu * fn), 1.0, 0.01);
+}
+
+// The linear part of an intact bond and the clipped contact that replaces it carry the same force.
+TEST(Engine, CompressedBondBreaksWithoutForceJumpInTheLinearPart) {
+  const Scene scene = elastic_scene();
+  const double a = 1e-3, b = 0.8e-3;
+  const Topology topo = build_topology(rhombus(a, b), 1.0, 2700.0);
+  Engine e(topo, scene, free_blocks(scene));
+  e.blocks.state[1].y -= 1e-6;  // compress, with a little shear and rotation
+  e.blocks.state[1].x += 2e-7;
+  e.blocks.state[1].theta = 1e-4;
+  e.refresh();
+  e.set_dt(1e-15);
+  e.step();
+  const double fn_bond = e.bond_forces(0).fn_lin;
+  ASSERT_GT(fn_bond, 0);
+  e.bonds.broken[0] = 1;
+  e.blocks.free_face[0] = e.blocks.free_face[1] = 1;
+  e.refresh();
+  e.step();
+  ASSERT_EQ(e.contacts.i.size(), 1u);
+  EXPECT_NEAR(e.contacts.fn[0] / fn_bond, 1.0, 0.01);
+}
+
+// Undamped elastic lattice between the platens (breakage off): bounded at the computed step for 1e5 steps; at 2.2
+// times that step the run diverges and stops with a clear error instead of producing NaN.
+TEST(Engine, StableAtComputedStepAndStopsCleanlyWhenTooLarge) {
+  Scene scene = elastic_scene();
+  scene.loading.platen_velocity = 0.01;
+  SpecimenGeometry g;
+  g.width = 0.02, g.height = 0.04, g.spacing = 0.01;
+  const Topology topo = build_topology(mesh_specimen(g, 0.004), 1.0, 2700.0);
+  auto make = [&](double factor) {
+    EngineOptions o = EngineOptions::from_scene(scene);
+    o.threads = 1;
+    auto e = std::make_unique<Engine>(topo, scene, o);
+    e->set_breakage(false);
+    e->set_dt(factor * scene.numerics.dt_safety * stability_limit(*e));
+    return e;
+  };
+  auto stable = make(1.0);
+  EXPECT_NO_THROW(stable->run(100000));
+  const Energies en = stable->energies();
+  EXPECT_TRUE(std::isfinite(en.kinetic));
+  EXPECT_LT(en.kinetic + en.strain, 1.01 * en.work_platen);  // no energy from nowhere
+  EXPECT_GT(stable->top_force(), 0.0);
+  auto unstable = make(2.2);
+  try {
+    unstable->run(100000);
+    FAIL() << "did not diverge at 2.2 x the computed step";
+  } catch (const InstabilityError& err) {
+    EXPECT_NE(std::string(err.what()).find("numerics.dt"), std::string::npos) << err.what();
+  }
+}
+
+TEST(Ucs, SmallSpecimenSmokeRunBreaksAndWritesACurve) {
+  Scene scene;
+  scene.mesh.size = 0.004;
+  scene.joint_set.dip_deg = 60;
+  scene.numerics.threads = 1;
+  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  const UcsResult r = run_ucs(scene, topo);
+  EXPECT_GT(r.peak_stress, 1e6);
+  EXPECT_GT(r.youngs_modulus, 1e9);
+  EXPECT_EQ(r.stop_reason, "post_peak");
+  EXPECT_GT(r.crack_counts.total(), 0);
+  EXPECT_GT(r.curve.size(), 10u);
+  EXPECT_LT(r.platen_force_mismatch, 0.05);
+}
+
+TEST(Ucs, TimeStepAboveCriticalIsRefusedWithTheNumbers) {
+  Scene scene;
+  scene.mesh.size = 0.005;
+  scene.numerics.dt = 1e-3;
+  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  try {
+    run_ucs(scene, topo);
+    FAIL();
+  } catch (const SceneError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("numerics.dt = 0.001 s is above the critical time step"), std::string::npos) << m;
+  }
+}
+
+}  // namespace
+}  // namespace rbdem
