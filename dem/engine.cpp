@@ -207,6 +207,11 @@ BondForces Engine::bond_forces(int b) const {
   return out;
 }
 
+void Engine::set_platen_shear(int block, double fs) {
+  const std::size_t b = std::size_t(block);
+  (blocks.state[b].y > 0.5 * (top_y_ + bottom_y_) ? top_fs_ : bottom_fs_)[b] = fs;
+}
+
 void Engine::refresh() {
   rebuild_active();
   update_rotations();

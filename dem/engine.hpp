@@ -156,6 +156,9 @@ class Engine {
   double platen_displacement() const { return top_y0_ - top_y_; }
   void set_platen_velocity(double v) { options_.platen_velocity = v; }
   void set_platen_displacement(double d) { top_y_ = top_y0_ - d; }
+  // Shear history of a block's platen contact (the platen it touches is found from its position).
+  void set_platen_shear(int block, double fs);
+  void set_time(double t) { time_ = t; }
 
   double time() const { return time_; }
   long steps() const { return steps_; }

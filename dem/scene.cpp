@@ -136,6 +136,9 @@ std::vector<Entry> make_registry() {
   e.push_back(boolean("numerics.elastic_start",
                       "start failure runs from the static elastic state just below the first bond failure",
                       [](Scene& s) -> bool& { return s.numerics.elastic_start; }));
+  e.push_back(real("numerics.elastic_start_fraction", "-", 0.0, 0.99,
+                   "fraction of the first-break load at which the explicit run takes over from the static state",
+                   [](Scene& s) -> double& { return s.numerics.elastic_start_fraction; }, true));
   // [elastic]
   e.push_back(positive("elastic.tolerance", "-", 1.0,
                        "elastic gate: largest relative difference of DEM and Amadei moduli accepted",

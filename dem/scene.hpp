@@ -64,6 +64,7 @@ struct NumericsParams {
   double mass_scaling = 1.0;    // -, density multiplier (>= 1) for quasi-static runs; reported
   int threads = 0;              // -, OpenMP threads; 0 = all cores
   bool elastic_start = true;    // start failure runs from the static elastic state below first break
+  double elastic_start_fraction = 0.9;  // -, of the first-break load at which the explicit run takes over
 };
 
 struct ElasticGateParams {

@@ -184,16 +184,22 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
 
   r.ux.resize(nb), r.uy.resize(nb), r.rotation.resize(nb);
   for (std::size_t b = 0; b < nb; ++b) r.ux[b] = u[3 * b], r.uy[b] = u[3 * b + 1], r.rotation[b] = u[3 * b + 2];
+  r.platen_fs.assign(nb, 0.0);
   for (const auto& p : platens) {
     const double uyp = u[3 * p.block + 1] + p.rx * u[3 * p.block + 2];
     if (p.top) r.top_force += p.k * (uyp + delta);
     else r.bottom_force += -p.k * uyp;
+    if (e.platen_friction() > 0.0) {  // sticking platen: shear along t = perp(n), n = +-y into the platen
+      const double uxp = u[3 * p.block] - p.ry * u[3 * p.block + 2];
+      const double tx = p.top ? -1.0 : 1.0;
+      r.platen_fs[p.block] += -(p.k / e.kappa(BondKind::rock)) * uxp * tx;
+    }
   }
   const double H = e.specimen_height(), W = e.specimen_width(), t = e.thickness();
   r.apparent_modulus = (r.top_force / (W * t)) / (delta / H);
 
   // Bond forces and the load factor of the first bond failure (all forces scale with the displacement).
-  r.fn_b.resize(nbond), r.fs_b.resize(nbond), r.m_b.resize(nbond);
+  r.fn_b.resize(nbond), r.fs_b.resize(nbond), r.m_b.resize(nbond), r.fs_lin.assign(nbond, 0.0);
   r.first_break_factor = std::numeric_limits<double>::infinity();
   for (std::size_t b = 0; b < nbond; ++b) {
     if (D.broken[b]) continue;
@@ -203,6 +209,9 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
     const BondStiffness k = e.stiffness(int(b));
     const double fn = -k.kbnA * dn, fs = -k.kbsA * ds, m = -k.kbnI * dr;
     r.fn_b[b] = fn, r.fs_b[b] = fs, r.m_b[b] = m;
+    const std::uint8_t ls = r.linear_state[b];
+    if (ls == StaticResult::stick) r.fs_lin[b] = -k.ksA * ds;
+    else if (ls != StaticResult::open) r.fs_lin[b] = (ls == StaticResult::slip_positive ? -1.0 : 1.0) * k.mu * (-k.knA * dn);
     const BondStrength& st = e.strength(D.kind[b]);
     const double A = k.A, I = k.I, R = 0.5 * k.L;
     const double sn = -fn / A, sigma = sn + st.beta_m * std::abs(m) * R / I, tau = std::abs(fs) / A;
@@ -222,6 +231,24 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
+}
+
+void apply_static_state(Engine& e, const StaticResult& st, double factor, double velocity) {
+  const double rate = velocity / st.platen_displacement;  // displacement per second per unit of the static field
+  for (std::size_t b = 0; b < e.blocks.size(); ++b) {
+    BlockState& s = e.blocks.state[b];
+    s.x = e.blocks.x0[b] + factor * st.ux[b];
+    s.y = e.blocks.y0[b] + factor * st.uy[b];
+    s.theta = factor * st.rotation[b];
+    s.vx = rate * st.ux[b], s.vy = rate * st.uy[b], s.omega = rate * st.rotation[b];
+  }
+  for (std::size_t b = 0; b < e.bonds.size(); ++b) e.bonds.fs_lin[b] = factor * st.fs_lin[b];
+  for (std::size_t b = 0; b < e.blocks.size(); ++b)
+    if (st.platen_fs[b] != 0.0) e.set_platen_shear(int(b), factor * st.platen_fs[b]);
+  const double d = factor * st.platen_displacement;
+  e.set_platen_displacement(d);
+  e.set_time(d / velocity);
+  e.refresh();
 }
 
 double stability_limit(const Engine& e, int iterations) {

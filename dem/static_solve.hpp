@@ -24,6 +24,8 @@ struct StaticResult {
   double apparent_modulus = 0;      // Pa: (F / (W t)) / (displacement / H)
   std::vector<double> ux, uy, rotation;  // per block, m and rad
   std::vector<double> fn_b, fs_b, m_b;   // per bond: parallel bond force and moment (compression positive)
+  std::vector<double> fs_lin;            // per bond: linear part shear force (stick: elastic; slip: -+ mu F_n)
+  std::vector<double> platen_fs;         // per block: platen shear force (sticking platens; 0 if frictionless)
   enum LinearState : std::uint8_t { open = 0, stick = 1, slip_positive = 2, slip_negative = 3 };
   std::vector<std::uint8_t> linear_state;  // per bond
   std::size_t open_bonds = 0, sliding_bonds = 0;
@@ -43,6 +45,12 @@ struct StaticOptions {
 
 // Static solve for the engine's current (reference) configuration; uses its bonds, materials and platens.
 StaticResult solve_static(const Engine& engine, const StaticOptions& options = {});
+
+// Puts the engine into the static state scaled by `factor` (displacements, rotations, the top platen, the linear
+// parts' and platens' shear history), with the quasi-static velocity field of a platen closing at `velocity`.
+// The engine's clock is set to the time the platen needs to get there. Used to start failure runs just below the
+// first bond failure instead of integrating the linear ramp.
+void apply_static_state(Engine& engine, const StaticResult& state, double factor, double velocity);
 
 // 2 / sqrt(lambda_max(M^-1 K)) of the intact system with every linear part closed (its stiffest state), by power
 // iteration: the largest stable step of the undamped central difference scheme.

@@ -79,11 +79,35 @@ UcsResult run_ucs(const Scene& scene, const Topology& topo, const UcsOptions& op
   };
   r.curve.push_back(sample());
 
+  // Elastic start: the model is linear until the first bond breaks, so solve that part statically and hand over
+  // to the explicit run at a fraction of the first-break load (model only what the scene needs).
+  if (scene.numerics.elastic_start) {
+    const StaticResult st = solve_static(engine, {1e-6 * H, false, 30});
+    const double max_factor = scene.loading.max_strain * H / st.platen_displacement;
+    const double factor = std::min(scene.numerics.elastic_start_fraction * st.first_break_factor, 0.5 * max_factor);
+    if (factor > 0 && std::isfinite(factor)) {
+      const int n = 20;
+      for (int k = 1; k <= n; ++k) {
+        const double f = factor * double(k) / double(n);
+        CurvePoint p;
+        p.step = -1;
+        p.strain = f * st.platen_displacement / H;
+        p.time = f * st.platen_displacement / v;
+        p.stress_top = f * st.top_force / area;
+        p.stress_bottom = f * st.bottom_force / area;
+        r.curve.push_back(p);
+      }
+      apply_static_state(engine, st, factor, v);
+      r.elastic_start_strain = factor * st.platen_displacement / H;
+    }
+  }
+
   double peak = 0;
   long peak_step = 0;
   CurvePoint at_peak = r.curve.front();
   r.stop_reason = "max_strain";
-  while (engine.steps() < max_steps) {
+  const long max_explicit = long(std::ceil((scene.loading.max_strain - r.elastic_start_strain) * H / (v * r.dt)));
+  while (engine.steps() < max_explicit) {
     engine.strain_for_log = engine.platen_displacement() / H;
     engine.step();
     const double stress = 0.5 * (engine.top_force() + engine.bottom_force()) / area;
@@ -103,8 +127,8 @@ UcsResult run_ucs(const Scene& scene, const Topology& topo, const UcsOptions& op
       options.progress({engine.steps(), engine.platen_displacement() / H, stress, peak, int(engine.cracks().size())});
   }
   // Keep the peak sample in the curve, in order.
-  auto pos = std::lower_bound(r.curve.begin(), r.curve.end(), at_peak.step,
-                              [](const CurvePoint& p, long s) { return p.step < s; });
+  auto pos = std::lower_bound(r.curve.begin(), r.curve.end(), at_peak.strain,
+                              [](const CurvePoint& p, double e) { return p.strain < e; });
   if (pos == r.curve.end() || pos->step != at_peak.step) r.curve.insert(pos, at_peak);
 
   r.peak_stress = peak;
@@ -113,7 +137,7 @@ UcsResult run_ucs(const Scene& scene, const Topology& topo, const UcsOptions& op
   r.platen_force_mismatch = mean_force > 0 ? std::abs(at_peak.stress_top - at_peak.stress_bottom) / mean_force : 0.0;
   r.kinetic_to_strain_at_peak = at_peak.strain_energy > 0 ? at_peak.kinetic / at_peak.strain_energy : 0.0;
   // Secant modulus at 50 % of the peak, interpolated on the pre-peak curve.
-  for (std::size_t k = 1; k < r.curve.size() && r.curve[k].step <= at_peak.step; ++k) {
+  for (std::size_t k = 1; k < r.curve.size() && r.curve[k].strain <= at_peak.strain; ++k) {
     const double s0 = r.curve[k - 1].stress(), s1 = r.curve[k].stress();
     if (s1 >= 0.5 * peak && s0 < 0.5 * peak) {
       const double f = (0.5 * peak - s0) / (s1 - s0);

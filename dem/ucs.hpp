@@ -15,7 +15,7 @@
 namespace rbdem {
 
 struct CurvePoint {
-  long step = 0;
+  long step = 0;                            // explicit step; -1 for the points of the static elastic start
   double time = 0, strain = 0;              // s, axial strain = platen displacement / height
   double stress_top = 0, stress_bottom = 0;  // Pa, compression positive, platen force / (width x thickness)
   double kinetic = 0, strain_energy = 0;    // J
