@@ -1,9 +1,587 @@
-// deal.II transversely isotropic elastic model. See fe_model.hpp.
+// deal.II transversely isotropic elastic model on a TriMesh. See fe_model.hpp for the model and its boundary
+// conditions, THEORY.md 1 for the constants, NOTES-dealii-gmsh.md for the deal.II traps avoided here.
+//
+// Stages, each a function below: check inputs -> triangulation straight from the arrays -> DoFs, sparsity and
+// platen DoFs -> assemble K per unit thickness -> keep the platen rows of K, impose the platen displacements ->
+// solve -> reactions from the kept rows (the unconstrained residual K u; there is no body force) -> centroid fields.
 #include "continuum/fe_model.hpp"
 
 #include <deal.II/base/config.h>
+#include <deal.II/base/index_set.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/symmetric_tensor.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_simplex_p.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping_fe.h>
+#include <deal.II/grid/tria.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/solver_cg.h>
+#include <deal.II/lac/solver_control.h>
+#include <deal.II/lac/sparse_direct.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
+#include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/vector.h>
+#include <deal.II/numerics/matrix_tools.h>
+
+#include <Epetra_MultiVector.h>
+#include <Teuchos_ParameterList.hpp>
+#include <mpi.h>
+
+#include <algorithm>
+#include <cassert>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <stdexcept>
+#include <utility>
 
 namespace rbdem::continuum {
+
+namespace {
+
+using namespace dealii;
+constexpr int dim = 2;
+constexpr types::boundary_id side_id = 0, bottom_id = 1, top_id = 2;
+
+class Stopwatch {
+ public:
+  double lap() {
+    const auto now = std::chrono::steady_clock::now();
+    const double s = std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+    return s;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+// ---- MPI: Trilinos needs it even serially (NOTES trap 4) --------------------------------------------------------
+
+// Trilinos runs under MPI_THREAD_SERIALIZED: one CG+AMG stage at a time across threads.
+std::mutex trilinos_mutex;
+
+void ensure_mpi() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    int initialized = 0;
+    MPI_Initialized(&initialized);
+    if (initialized) return;  // the application (e.g. under mpirun) owns MPI: leave it alone
+    int finalized = 0;
+    MPI_Finalized(&finalized);
+    if (finalized)
+      throw std::runtime_error(
+          "solve_elastic: MPI has already been finalised, but the CG+AMG solver (Trilinos) needs it; "
+          "solve before MPI_Finalize or use FeOptions::solver = Solver::direct");
+    int provided = 0;
+    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);
+    std::atexit([] {
+      int done = 0;
+      MPI_Finalized(&done);
+      if (!done) MPI_Finalize();
+    });
+  });
+}
+
+// ---- Inputs ------------------------------------------------------------------------------------------------------
+
+struct Box {
+  double xmin = 0, xmax = 0, ymin = 0, ymax = 0;
+  double width() const { return xmax - xmin; }
+  double height() const { return ymax - ymin; }
+};
+
+std::string constants_text(const theory::TIConstants& c) {
+  std::ostringstream s;
+  s << "E = " << c.E << " Pa, nu = " << c.nu << ", E' = " << c.E_prime << " Pa, nu' = " << c.nu_prime
+    << ", G' = " << c.G_prime << " Pa";
+  return s.str();
+}
+
+void check_inputs(const TriMesh& mesh, const theory::TIConstants& c, double bedding_deg, double thickness,
+                  const FeOptions& o) {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("solve_elastic: " + what); };
+  if (mesh.triangles.empty() || mesh.nodes.empty())
+    fail("the mesh has no triangles; mesh the specimen first (rbdem::mesh_specimen or rbdem::read_msh)");
+  if (!c.admissible())
+    fail("the transversely isotropic constants (" + constants_text(c) +
+         ") are not admissible: they need E, E', G' > 0, -1 < nu < 1 and 1 - nu - 2 nu'^2 E/E' > 0 "
+         "(THEORY.md 1); check the units (Pa) and the pairing of E with nu and E' with nu'");
+  if (!std::isfinite(bedding_deg)) fail("bedding_deg is not a finite angle; give the bedding dip in degrees");
+  if (!(thickness > 0) || !std::isfinite(thickness))
+    fail("thickness = " + std::to_string(thickness) + " m; give the positive out-of-plane thickness in m");
+  if (o.degree != 1 && o.degree != 2)
+    fail("FeOptions::degree = " + std::to_string(o.degree) + "; only 1 (P1) and 2 (P2) are supported");
+  if (!(o.platen_displacement > 0) || !std::isfinite(o.platen_displacement))
+    fail("FeOptions::platen_displacement = " + std::to_string(o.platen_displacement) +
+         " m; give the positive downward displacement of the top platen in m (compression)");
+  if (!(o.cg_tolerance > 0 && o.cg_tolerance < 1))
+    fail("FeOptions::cg_tolerance = " + std::to_string(o.cg_tolerance) + "; give a relative residual in (0, 1)");
+  const int n = int(mesh.nodes.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (int v : mesh.triangles[t])
+      if (v < 0 || v >= n)
+        fail("triangle " + std::to_string(t) + " refers to node " + std::to_string(v) + " but the mesh has " +
+             std::to_string(n) + " nodes");
+    const double a = signed_area(mesh, t);
+    if (!(a > 0))
+      fail("triangle " + std::to_string(t) + " has signed area " + std::to_string(a) +
+           " m^2; triangles must be counter-clockwise and non-degenerate (swap two nodes of clockwise triangles, "
+           "as rbdem::mesh_specimen does)");
+  }
+}
+
+Box bounding_box(const TriMesh& mesh) {
+  Box b{std::numeric_limits<double>::max(), std::numeric_limits<double>::lowest(), std::numeric_limits<double>::max(),
+        std::numeric_limits<double>::lowest()};
+  for (const auto& tri : mesh.triangles)
+    for (int v : tri) {
+      const auto& p = mesh.nodes[v];
+      b.xmin = std::min(b.xmin, p[0]), b.xmax = std::max(b.xmax, p[0]);
+      b.ymin = std::min(b.ymin, p[1]), b.ymax = std::max(b.ymax, p[1]);
+    }
+  return b;
+}
+
+// ---- Material ----------------------------------------------------------------------------------------------------
+
+Stiffness3 invert(const theory::Compliance3& S) {
+  const double det = S[0][0] * (S[1][1] * S[2][2] - S[1][2] * S[2][1]) -
+                     S[0][1] * (S[1][0] * S[2][2] - S[1][2] * S[2][0]) +
+                     S[0][2] * (S[1][0] * S[2][1] - S[1][1] * S[2][0]);
+  Stiffness3 C{};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      // cofactor of S[j][i]
+      const int r0 = (j + 1) % 3, r1 = (j + 2) % 3, c0 = (i + 1) % 3, c1 = (i + 2) % 3;
+      C[i][j] = (S[r0][c0] * S[r1][c1] - S[r0][c1] * S[r1][c0]) / det;
+    }
+  return C;
+}
+
+// Voigt [xx, yy, xy] with engineering shear -> the tensor with sigma = C : eps.
+SymmetricTensor<4, dim> stiffness_tensor(const Stiffness3& C) {
+  constexpr unsigned voigt[3][2] = {{0, 0}, {1, 1}, {0, 1}};
+  SymmetricTensor<4, dim> t;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) t[voigt[a][0]][voigt[a][1]][voigt[b][0]][voigt[b][1]] = C[a][b];
+  return t;
+}
+
+// ---- Triangulation and DoFs --------------------------------------------------------------------------------------
+
+// Triangles in the order of a Morton (Z) curve through their centroids: neighbouring cells, and hence the DoFs that
+// distribute_dofs numbers cell by cell, end up close in memory, which keeps the matrix-vector products of CG and
+// AMG cache friendly (gmsh numbers nodes curve by curve and surface by surface). Returns the triangle of each cell.
+std::vector<unsigned> morton_order(const TriMesh& mesh, const Box& box) {
+  const std::size_t n = mesh.triangles.size();
+  std::vector<std::pair<std::uint64_t, unsigned>> key(n);
+  const double sx = 65535.0 / std::max(box.width(), 1e-300), sy = 65535.0 / std::max(box.height(), 1e-300);
+  auto spread = [](std::uint64_t v) {  // 16 bits -> every other of 32 bits
+    v = (v | (v << 8)) & 0x00FF00FFu;
+    v = (v | (v << 4)) & 0x0F0F0F0Fu;
+    v = (v | (v << 2)) & 0x33333333u;
+    v = (v | (v << 1)) & 0x55555555u;
+    return v;
+  };
+  for (std::size_t t = 0; t < n; ++t) {
+    double x = 0, y = 0;
+    for (int v : mesh.triangles[t]) x += mesh.nodes[v][0], y += mesh.nodes[v][1];
+    const auto ix = std::uint64_t(std::clamp((x / 3 - box.xmin) * sx, 0.0, 65535.0));
+    const auto iy = std::uint64_t(std::clamp((y / 3 - box.ymin) * sy, 0.0, 65535.0));
+    key[t] = {spread(ix) | (spread(iy) << 1), unsigned(t)};
+  }
+  std::sort(key.begin(), key.end());
+  std::vector<unsigned> order(n);
+  for (std::size_t k = 0; k < n; ++k) order[k] = key[k].second;
+  return order;
+}
+
+// One level-0 cell per triangle, cell k being triangle cell_triangle[k], with the vertices in the triangle's
+// (counter-clockwise) order. Nodes no triangle uses are left out.
+void make_triangulation(const TriMesh& mesh, const std::vector<unsigned>& cell_triangle, Triangulation<dim>& tria) {
+  std::vector<unsigned> vertex_of(mesh.nodes.size(), numbers::invalid_unsigned_int);
+  std::vector<Point<dim>> vertices;
+  vertices.reserve(mesh.nodes.size());
+  std::vector<CellData<dim>> cells(cell_triangle.size(), CellData<dim>(3));  // 3: see NOTES trap 2
+  for (std::size_t k = 0; k < cell_triangle.size(); ++k)
+    for (unsigned i = 0; i < 3; ++i) {
+      const int v = mesh.triangles[cell_triangle[k]][i];
+      if (vertex_of[v] == numbers::invalid_unsigned_int) {
+        vertex_of[v] = unsigned(vertices.size());
+        vertices.emplace_back(mesh.nodes[v][0], mesh.nodes[v][1]);
+      }
+      cells[k].vertices[i] = vertex_of[v];
+    }
+  tria.create_triangulation(vertices, cells, SubCellData());
+}
+
+// Boundary ids by coordinate: faces with both ends on y = ymin are the bottom platen, on y = ymax the top one.
+void mark_platens(Triangulation<dim>& tria, const Box& box, double tol) {
+  for (const auto& cell : tria.active_cell_iterators())
+    for (const unsigned f : cell->face_indices()) {
+      if (!cell->face(f)->at_boundary()) continue;
+      const double y0 = cell->face(f)->vertex(0)[1], y1 = cell->face(f)->vertex(1)[1];
+      if (std::abs(y0 - box.ymax) < tol && std::abs(y1 - box.ymax) < tol)
+        cell->face(f)->set_boundary_id(top_id);
+      else if (std::abs(y0 - box.ymin) < tol && std::abs(y1 - box.ymin) < tol)
+        cell->face(f)->set_boundary_id(bottom_id);
+      else
+        cell->face(f)->set_boundary_id(side_id);
+    }
+}
+
+// Coordinates and vector component of every DoF (the support points of the affine cells).
+struct DofGeometry {
+  std::vector<Point<dim>> point;
+  std::vector<unsigned char> component;
+};
+
+DofGeometry dof_geometry(const DoFHandler<dim>& dof) {
+  const FiniteElement<dim>& fe = dof.get_fe();
+  DofGeometry g;
+  g.point.resize(dof.n_dofs());
+  g.component.resize(dof.n_dofs());
+  std::vector<types::global_dof_index> local(fe.n_dofs_per_cell());
+  for (const auto& cell : dof.active_cell_iterators()) {
+    cell->get_dof_indices(local);
+    const Point<dim> v0 = cell->vertex(0);
+    const Tensor<1, dim> e1 = cell->vertex(1) - v0, e2 = cell->vertex(2) - v0;
+    for (unsigned i = 0; i < local.size(); ++i) {
+      const Point<dim>& xi = fe.unit_support_point(i);
+      g.point[local[i]] = v0 + xi[0] * e1 + xi[1] * e2;
+      g.component[local[i]] = static_cast<unsigned char>(fe.system_to_component_index(i).first);
+    }
+  }
+  return g;
+}
+
+// The u_x DoF of the bottom-left node (the frictionless pin).
+types::global_dof_index corner_ux_dof(const DoFHandler<dim>& dof, const Box& box, double tol) {
+  const FiniteElement<dim>& fe = dof.get_fe();
+  types::global_dof_index best = numbers::invalid_dof_index;
+  double best_x = std::numeric_limits<double>::max();
+  for (const auto& cell : dof.active_cell_iterators())
+    for (const unsigned v : cell->vertex_indices()) {
+      const Point<dim>& p = cell->vertex(v);
+      if (std::abs(p[1] - box.ymin) >= tol || p[0] >= best_x) continue;
+      for (unsigned k = 0; k < fe.n_dofs_per_vertex(); ++k)
+        if (fe.system_to_component_index(v * fe.n_dofs_per_vertex() + k).first == 0) {
+          best = cell->vertex_dof_index(v, k);
+          best_x = p[0];
+        }
+    }
+  return best;
+}
+
+// ---- Assembly ----------------------------------------------------------------------------------------------------
+
+// Element matrices of straight-sided (affine) triangles. With grad phi = J^-T ghat and a constant J,
+//   K_ij = sum_q eps(phi_i) : C : eps(phi_j) JxW_q = |det J| sum_mn R_{b_i b_j}[m][n] D_{c_i c_j}[m][n],
+//   R_ab[m][n] = sum_q w_q ghat_a[m] ghat_b[n]       (reference cell, computed once),
+//   D_cd[m][n] = sum_kl Jinv[m][k] C_ckdl Jinv[n][l]  (per cell, 16 numbers),
+// with c_i the vector component and b_i the scalar shape function of DoF i. This is the eps : C : eps contraction
+// of the fe_values path regrouped so that the quadrature loop runs once on the reference cell.
+class AffineElementMatrix {
+ public:
+  AffineElementMatrix(const FiniteElement<dim>& fe, const Quadrature<dim>& q, const SymmetricTensor<4, dim>& C)
+      : n_(fe.n_dofs_per_cell()), nb_(fe.base_element(0).n_dofs_per_cell()), C_(C) {
+    const FiniteElement<dim>& base = fe.base_element(0);
+    const unsigned nb = nb_;
+    R_.assign(nb * nb * dim * dim, 0.0);
+    for (unsigned qp = 0; qp < q.size(); ++qp)
+      for (unsigned a = 0; a < nb; ++a) {
+        const Tensor<1, dim> ga = base.shape_grad(a, q.point(qp));
+        for (unsigned b = 0; b < nb; ++b) {
+          const Tensor<1, dim> gb = base.shape_grad(b, q.point(qp));
+          for (unsigned m = 0; m < dim; ++m)
+            for (unsigned n = 0; n < dim; ++n) R_[((a * nb + b) * dim + m) * dim + n] += q.weight(qp) * ga[m] * gb[n];
+        }
+      }
+    comp_.resize(n_);
+    shape_.resize(n_);
+    for (unsigned i = 0; i < n_; ++i) {
+      comp_[i] = fe.system_to_component_index(i).first;
+      shape_[i] = fe.system_to_component_index(i).second;
+    }
+  }
+
+  // Fills K (n x n, row-major) for the triangle with vertices v0, v1, v2 (counter-clockwise).
+  void compute(const Point<dim>& v0, const Point<dim>& v1, const Point<dim>& v2, double* K) const {
+    const double J00 = v1[0] - v0[0], J01 = v2[0] - v0[0], J10 = v1[1] - v0[1], J11 = v2[1] - v0[1];
+    const double det = J00 * J11 - J01 * J10;
+    const double inv[2][2] = {{J11 / det, -J01 / det}, {-J10 / det, J00 / det}};  // Jinv[m][k]
+    double D[2][2][2][2];
+    for (unsigned c = 0; c < dim; ++c)
+      for (unsigned d = 0; d < dim; ++d) {
+        double CJ[2][2];  // CJ[k][n] = sum_l C_ckdl Jinv[n][l]
+        for (unsigned k = 0; k < dim; ++k)
+          for (unsigned n = 0; n < dim; ++n) CJ[k][n] = C_[c][k][d][0] * inv[n][0] + C_[c][k][d][1] * inv[n][1];
+        for (unsigned m = 0; m < dim; ++m)
+          for (unsigned n = 0; n < dim; ++n) D[c][d][m][n] = det * (inv[m][0] * CJ[0][n] + inv[m][1] * CJ[1][n]);
+      }
+    for (unsigned i = 0; i < n_; ++i)
+      for (unsigned j = i; j < n_; ++j) {
+        const double* R = &R_[(shape_[i] * nb_ + shape_[j]) * dim * dim];
+        const double(&Dc)[2][2] = D[comp_[i]][comp_[j]];
+        K[i * n_ + j] = K[j * n_ + i] = R[0] * Dc[0][0] + R[1] * Dc[0][1] + R[2] * Dc[1][0] + R[3] * Dc[1][1];
+      }
+  }
+
+ private:
+  unsigned n_ = 0, nb_ = 0;
+  SymmetricTensor<4, dim> C_;
+  std::vector<double> R_;  // [a][b][m][n]
+  std::vector<unsigned> comp_, shape_;
+};
+
+void assemble_affine(const DoFHandler<dim>& dof, const Quadrature<dim>& q, const SymmetricTensor<4, dim>& C,
+                     SparseMatrix<double>& K) {
+  const FiniteElement<dim>& fe = dof.get_fe();
+  const AffineElementMatrix element(fe, q, C);
+  const unsigned n = fe.n_dofs_per_cell();
+  FullMatrix<double> Ke(n, n);
+  std::vector<types::global_dof_index> local(n);
+  for (const auto& cell : dof.active_cell_iterators()) {
+    element.compute(cell->vertex(0), cell->vertex(1), cell->vertex(2), &Ke(0, 0));
+    cell->get_dof_indices(local);
+    K.add(local, Ke);
+  }
+}
+
+void assemble_fe_values(const DoFHandler<dim>& dof, const Mapping<dim>& mapping, const Quadrature<dim>& q,
+                        const SymmetricTensor<4, dim>& C, SparseMatrix<double>& K) {
+  const FiniteElement<dim>& fe = dof.get_fe();
+  FEValues<dim> fev(mapping, fe, q, update_gradients | update_JxW_values);
+  const FEValuesExtractors::Vector u(0);
+  const unsigned n = fe.n_dofs_per_cell();
+  FullMatrix<double> Ke(n, n);
+  std::vector<SymmetricTensor<2, dim>> eps(n);
+  std::vector<types::global_dof_index> local(n);
+  for (const auto& cell : dof.active_cell_iterators()) {
+    fev.reinit(cell);
+    Ke = 0;
+    for (unsigned qp = 0; qp < q.size(); ++qp) {
+      for (unsigned i = 0; i < n; ++i) eps[i] = fev[u].symmetric_gradient(i, qp);
+      for (unsigned i = 0; i < n; ++i) {
+        const SymmetricTensor<2, dim> C_eps_i = C * eps[i];
+        for (unsigned j = 0; j < n; ++j) Ke(i, j) += scalar_product(C_eps_i, eps[j]) * fev.JxW(qp);
+      }
+    }
+    cell->get_dof_indices(local);
+    K.add(local, Ke);
+  }
+}
+
+// ---- Platens -----------------------------------------------------------------------------------------------------
+
+// Rows of the unconstrained K for the platen u_y DoFs: their product with u is the reaction (residual K u - f,
+// f = 0), per unit thickness. Kept before the boundary conditions overwrite them.
+struct ReactionRows {
+  std::vector<types::global_dof_index> column;
+  std::vector<double> value;
+
+  void keep(const SparseMatrix<double>& K, const IndexSet& rows) {
+    for (const auto row : rows)
+      for (auto it = K.begin(row); it != K.end(row); ++it) {
+        column.push_back(it->column());
+        value.push_back(it->value());
+      }
+  }
+  // Sum over the kept rows of (K u)_row.
+  double sum(const Vector<double>& u) const {
+    double s = 0;
+    for (std::size_t k = 0; k < column.size(); ++k) s += value[k] * u[column[k]];
+    return s;
+  }
+};
+
+// ---- Solvers -----------------------------------------------------------------------------------------------------
+
+void solve_direct(const SparseMatrix<double>& K, const Vector<double>& b, Vector<double>& u,
+                  double& factorise_seconds) {
+  Stopwatch clock;
+  SparseDirectUMFPACK umfpack;
+  umfpack.initialize(K);
+  factorise_seconds = clock.lap();
+  umfpack.vmult(u, b);
+}
+
+// Smoothed-aggregation AMG (Trilinos ML, deal.II's elliptic defaults: Chebyshev smoother of degree 2, KLU on the
+// coarsest level) with the three rigid-body modes of plane elasticity as near null space, preconditioning CG on the
+// deal.II matrix. The DoFs of a node are consecutive (FESystem numbering), which ML's "PDE equations" = 2 needs.
+// Trilinos runs on MPI_COMM_SELF: serial on each rank under mpirun. Returns the CG iterations.
+unsigned solve_cg_amg(const SparseMatrix<double>& K, const Vector<double>& b, Vector<double>& u,
+                      const DofGeometry& geometry, const Box& box, int degree, double tolerance,
+                      double& precondition_seconds) {
+  Stopwatch clock;
+  std::lock_guard<std::mutex> lock(trilinos_mutex);
+  ensure_mpi();
+  const auto n = K.m();
+  TrilinosWrappers::SparseMatrix K_epetra;
+  K_epetra.reinit(complete_index_set(n), complete_index_set(n), K, MPI_COMM_SELF, 0.0, true);
+
+  TrilinosWrappers::PreconditionAMG::AdditionalData data;
+  data.elliptic = true;
+  data.higher_order_elements = degree > 1;
+  Teuchos::ParameterList parameters;
+  std::unique_ptr<Epetra_MultiVector> no_modes;  // deal.II's constant modes would give translations only
+  data.set_parameters(parameters, no_modes, K_epetra);
+
+  // Rigid-body modes about the specimen centre: u = (1, 0), (0, 1), (-(y - yc), x - xc). With the rotation ML
+  // needs a third fewer CG iterations than with the two translations of DoFTools::extract_constant_modes (P2 at
+  // 1e5 DoFs: 30 instead of 44).
+  Epetra_MultiVector modes(K_epetra.trilinos_matrix().OperatorDomainMap(), 3);
+  const double xc = 0.5 * (box.xmin + box.xmax), yc = 0.5 * (box.ymin + box.ymax);
+  for (types::global_dof_index i = 0; i < n; ++i) {
+    const bool x = geometry.component[i] == 0;
+    assert(x == (i % 2 == 0));  // node-wise (u_x, u_y) pairs, as "PDE equations" = 2 assumes
+    modes[0][i] = x ? 1.0 : 0.0;
+    modes[1][i] = x ? 0.0 : 1.0;
+    modes[2][i] = x ? -(geometry.point[i][1] - yc) : geometry.point[i][0] - xc;
+  }
+  parameters.set("null space: type", "pre-computed");
+  parameters.set("null space: dimension", modes.NumVectors());
+  parameters.set("null space: vectors", modes.Values());
+  parameters.set("PDE equations", dim);
+
+  TrilinosWrappers::PreconditionAMG amg;
+  amg.initialize(K_epetra, parameters);
+  precondition_seconds = clock.lap();
+
+  SolverControl control(10000, tolerance * b.l2_norm());
+  SolverCG<Vector<double>> cg(control);
+  try {
+    cg.solve(K, u, b, amg);
+  } catch (const SolverControl::NoConvergence& e) {
+    throw std::runtime_error("solve_elastic: CG+AMG did not reach FeOptions::cg_tolerance in " +
+                             std::to_string(e.last_step) + " iterations (residual " + std::to_string(e.last_residual) +
+                             "); try Solver::direct or a looser tolerance");
+  }
+  return control.last_step();
+}
+
+// ---- Fields ------------------------------------------------------------------------------------------------------
+
+void centroid_fields(const DoFHandler<dim>& dof, const Mapping<dim>& mapping, const SymmetricTensor<4, dim>& C,
+                     const std::vector<unsigned>& cell_triangle, const Vector<double>& u, FeResult& r) {
+  const std::size_t n = dof.get_triangulation().n_active_cells();
+  r.ux.resize(n), r.uy.resize(n), r.sxx.resize(n), r.syy.resize(n), r.sxy.resize(n);
+  const Quadrature<dim> centroid(Point<dim>(1.0 / 3.0, 1.0 / 3.0));
+  FEValues<dim> fev(mapping, dof.get_fe(), centroid, update_values | update_gradients);
+  const FEValuesExtractors::Vector disp(0);
+  std::vector<Tensor<1, dim>> value(1);
+  std::vector<SymmetricTensor<2, dim>> strain(1);
+  for (const auto& cell : dof.active_cell_iterators()) {
+    fev.reinit(cell);
+    fev[disp].get_function_values(u, value);
+    fev[disp].get_function_symmetric_gradients(u, strain);
+    const SymmetricTensor<2, dim> stress = C * strain[0];
+    const std::size_t t = cell_triangle[cell->index()];
+    r.ux[t] = value[0][0], r.uy[t] = value[0][1];
+    r.sxx[t] = stress[0][0], r.syy[t] = stress[1][1], r.sxy[t] = stress[0][1];
+  }
+}
+
+}  // namespace
+
+// ---- Public ------------------------------------------------------------------------------------------------------
+
+Stiffness3 stiffness_voigt(const theory::TIConstants& c, double bedding_deg, theory::Plane plane) {
+  return invert(theory::rotated_compliance(theory::reduced_compliance(c, plane), bedding_deg));
+}
+
+FeResult solve_elastic(const TriMesh& mesh, const theory::TIConstants& c, double bedding_deg, double thickness,
+                       const FeOptions& options) {
+  check_inputs(mesh, c, bedding_deg, thickness, options);
+  FeResult result;
+  Stopwatch clock;
+
+  // Setup: triangulation, DoFs, sparsity, platen DoFs.
+  const Box box = bounding_box(mesh);
+  const double tol = 1e-6 * std::max(box.width(), box.height());
+  const std::vector<unsigned> cell_triangle = morton_order(mesh, box);
+  Triangulation<dim> tria;
+  make_triangulation(mesh, cell_triangle, tria);
+  mark_platens(tria, box, tol);
+  const FESystem<dim> fe(FE_SimplexP<dim>(options.degree), dim);
+  const MappingFE<dim> mapping(FE_SimplexP<dim>(1));
+  const QGaussSimplex<dim> quadrature(options.degree + 1);
+  DoFHandler<dim> dof(tria);
+  dof.distribute_dofs(fe);
+  const auto n_dofs = dof.n_dofs();
+  result.dofs = n_dofs;
+  result.cells = tria.n_active_cells();
+
+  SparsityPattern pattern;
+  {
+    DynamicSparsityPattern dsp(n_dofs, n_dofs);
+    DoFTools::make_sparsity_pattern(dof, dsp);
+    pattern.copy_from(dsp);
+  }
+  const ComponentMask ux_mask = fe.component_mask(FEValuesExtractors::Scalar(0));
+  const ComponentMask uy_mask = fe.component_mask(FEValuesExtractors::Scalar(1));
+  const IndexSet top_uy = DoFTools::extract_boundary_dofs(dof, uy_mask, {top_id});
+  const IndexSet bottom_uy = DoFTools::extract_boundary_dofs(dof, uy_mask, {bottom_id});
+  if (top_uy.n_elements() == 0 || bottom_uy.n_elements() == 0)
+    throw std::invalid_argument("solve_elastic: no mesh edge lies on the " +
+                                std::string(top_uy.n_elements() == 0 ? "top (y = ymax)" : "bottom (y = ymin)") +
+                                " of the mesh's bounding box; the specimen must be a rectangle loaded along y");
+  std::map<types::global_dof_index, double> fixed;
+  for (const auto i : top_uy) fixed[i] = -options.platen_displacement;
+  for (const auto i : bottom_uy) fixed[i] = 0.0;
+  if (options.platens == Platens::bonded)
+    for (const auto i : DoFTools::extract_boundary_dofs(dof, ux_mask, {top_id, bottom_id})) fixed[i] = 0.0;
+  else
+    fixed[corner_ux_dof(dof, box, tol)] = 0.0;  // the one pin: rigid x-translation only
+  const DofGeometry geometry = dof_geometry(dof);
+  result.setup_seconds = clock.lap();
+
+  // Assembly per unit thickness; the platen rows are kept before the boundary values overwrite them.
+  const SymmetricTensor<4, dim> C = stiffness_tensor(stiffness_voigt(c, bedding_deg, options.plane));
+  SparseMatrix<double> K(pattern);
+  if (options.assembly == Assembly::affine)
+    assemble_affine(dof, quadrature, C, K);
+  else
+    assemble_fe_values(dof, mapping, quadrature, C, K);
+  ReactionRows top_rows, bottom_rows;
+  top_rows.keep(K, top_uy);
+  bottom_rows.keep(K, bottom_uy);
+  Vector<double> u(n_dofs), b(n_dofs);
+  MatrixTools::apply_boundary_values(fixed, K, u, b, true);  // symmetric: eliminates the columns too
+  result.assemble_seconds = clock.lap();
+
+  // Solve.
+  const bool direct =
+      options.solver == Solver::direct || (options.solver == Solver::automatic && n_dofs < options.direct_dof_limit);
+  result.solver_used = direct ? Solver::direct : Solver::cg_amg;
+  if (direct)
+    solve_direct(K, b, u, result.precondition_seconds);
+  else
+    result.iterations =
+        solve_cg_amg(K, b, u, geometry, box, options.degree, options.cg_tolerance, result.precondition_seconds);
+  result.solve_seconds = clock.lap();
+
+  // Reactions (compression positive) and fields.
+  result.top_force = -top_rows.sum(u) * thickness;
+  result.bottom_force = bottom_rows.sum(u) * thickness;
+  result.apparent_modulus =
+      (result.top_force / (box.width() * thickness)) / (options.platen_displacement / box.height());
+  if (options.fields) centroid_fields(dof, mapping, C, cell_triangle, u, result);
+  result.fields_seconds = clock.lap();
+  return result;
+}
 
 std::string dealii_version() { return DEAL_II_PACKAGE_VERSION; }
 
