@@ -120,6 +120,9 @@ std::vector<Entry> make_registry() {
                    [](Scene& s) -> double& { return s.loading.stop_fraction; }, true));
   e.push_back(positive("loading.max_strain", "-", 1.0, "stop at this axial strain in any case",
                        [](Scene& s) -> double& { return s.loading.max_strain; }));
+  e.push_back(positive("loading.post_peak_strain", "-", 1000.0,
+                       "stop when the strain exceeds (1 + this) x the strain at the peak (residual phase reached)",
+                       [](Scene& s) -> double& { return s.loading.post_peak_strain; }));
   // [numerics]
   e.push_back(real("numerics.damping", "-", 0.0, 0.99, "Cundall local damping coefficient alpha",
                    [](Scene& s) -> double& { return s.numerics.damping; }));

@@ -55,6 +55,7 @@ struct LoadingParams {
   double platen_friction = 0.0;   // -, Coulomb coefficient between platens and blocks
   double stop_fraction = 0.7;     // -, stop when the stress falls below this fraction of the peak
   double max_strain = 0.01;       // -, stop at this axial strain whatever happens
+  double post_peak_strain = 1.0;  // -, stop when the strain exceeds (1 + this) x the strain at the peak
 };
 
 struct NumericsParams {

@@ -111,6 +111,7 @@ UcsResult run_ucs(const Scene& scene, const Topology& topo, const UcsOptions& op
     engine.strain_for_log = engine.platen_displacement() / H;
     engine.step();
     const double stress = 0.5 * (engine.top_force() + engine.bottom_force()) / area;
+    const double strain = engine.platen_displacement() / H;
     if (stress > peak) {
       peak = stress;
       peak_step = engine.steps();
@@ -118,10 +119,14 @@ UcsResult run_ucs(const Scene& scene, const Topology& topo, const UcsOptions& op
     }
     const bool record = engine.steps() % sample_every == 0;
     if (record) r.curve.push_back(sample());
-    if (!engine.cracks().empty() && stress < scene.loading.stop_fraction * peak && engine.steps() > peak_step) {
-      if (!record) r.curve.push_back(sample());
-      r.stop_reason = "post_peak";
-      break;
+    if (!engine.cracks().empty() && engine.steps() > peak_step) {
+      const bool dropped = stress < scene.loading.stop_fraction * peak;
+      const bool residual = strain > (1.0 + scene.loading.post_peak_strain) * at_peak.strain;
+      if (dropped || residual) {
+        if (!record) r.curve.push_back(sample());
+        r.stop_reason = dropped ? "post_peak" : "post_peak_strain";
+        break;
+      }
     }
     if (options.progress && engine.steps() % 1000 == 0)
       options.progress({engine.steps(), engine.platen_displacement() / H, stress, peak, int(engine.cracks().size())});

@@ -44,7 +44,7 @@ struct UcsResult {
   std::vector<Crack> cracks;
   CrackCounts crack_counts;
   std::string failure_mode;
-  std::string stop_reason;      // "post_peak" | "max_strain"
+  std::string stop_reason;      // "post_peak" (stress dropped) | "post_peak_strain" | "max_strain"
   long steps = 0;
   double dt = 0, dt_critical = 0;   // s: the step used, the exact stability limit of the bonded lattice
   double dt_block_estimate = 0;     // s: THEORY.md 5's block-wise estimate, for comparison
