@@ -77,6 +77,20 @@ bool finish(const Integrals& I, double ox, double oy, Overlap& out) {
   return true;
 }
 
+// True when an edge of `p` separates it from `q` (all of q strictly outside the edge's half-plane). For convex
+// polygons in 2D an edge normal always separates disjoint shapes, so this is an exact early exit.
+inline bool separated_by_edge_of(const double* p, int np, const double* q, int nq) {
+  for (int k = 0; k < np; ++k) {
+    const int k1 = (k + 1) % np;
+    const double ax = p[2 * k], ay = p[2 * k + 1];
+    const double ex = p[2 * k1] - ax, ey = p[2 * k1 + 1] - ay;
+    bool all_out = true;
+    for (int v = 0; v < nq && all_out; ++v) all_out = cross(ex, ey, q[2 * v] - ax, q[2 * v + 1] - ay) < 0.0;
+    if (all_out) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 bool overlap_polygons(const double* a, int na, const double* b, int nb, Overlap& out) {
@@ -85,6 +99,7 @@ bool overlap_polygons(const double* a, int na, const double* b, int nb, Overlap&
   double A[16], B[16];
   for (int k = 0; k < na; ++k) A[2 * k] = a[2 * k] - ox, A[2 * k + 1] = a[2 * k + 1] - oy;
   for (int k = 0; k < nb; ++k) B[2 * k] = b[2 * k] - ox, B[2 * k + 1] = b[2 * k + 1] - oy;
+  if (separated_by_edge_of(A, na, B, nb) || separated_by_edge_of(B, nb, A, na)) return false;
   Integrals I;
   double t0, t1;
   for (int k = 0; k < nb; ++k) {  // B's boundary inside A
