@@ -146,6 +146,10 @@ std::vector<Entry> make_registry() {
   e.push_back(positive("elastic.tolerance", "-", 1.0,
                        "elastic gate: largest relative difference of DEM and Amadei moduli accepted",
                        [](Scene& s) -> double& { return s.elastic.tolerance; }));
+  // [output]
+  e.push_back(positive("output.frame_strain_interval", "-", 1.0,
+                       "save block positions every this much axial strain (plus the peak and the last state)",
+                       [](Scene& s) -> double& { return s.output.frame_strain_interval; }));
   return e;
 }
 
@@ -391,7 +395,7 @@ Scene parse_scene(std::string_view toml_text, std::string_view origin) {
     const auto* table = node.as_table();
     if (!table)
       throw SceneError(fmt::format("{}: top-level key '{}' must be a [section] table (sections: specimen, "
-                                   "joint_set, mesh, rock, joint, loading, numerics, elastic)",
+                                   "joint_set, mesh, rock, joint, loading, numerics, elastic, output)",
                                    origin, section.str()));
     for (const auto& [name, value] : *table) {
       const std::string key = std::string(section.str()) + "." + std::string(name.str());

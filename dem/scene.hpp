@@ -68,6 +68,10 @@ struct NumericsParams {
   double elastic_start_fraction = 0.9;  // -, of the first-break load at which the explicit run takes over
 };
 
+struct OutputParams {
+  double frame_strain_interval = 2.5e-5;  // -, block positions are saved every this much axial strain
+};
+
 struct ElasticGateParams {
   double tolerance = 0.05;  // -, largest relative DEM/Amadei modulus difference accepted
 };
@@ -81,6 +85,7 @@ struct Scene {
   LoadingParams loading;
   NumericsParams numerics;
   ElasticGateParams elastic;
+  OutputParams output;
 
   Scene();  // the paper's specimen with the calibrated defaults
 };

@@ -1,10 +1,14 @@
 // Static elastic solve and stability limit. See static_solve.hpp.
 #include "dem/static_solve.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <limits>
 
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <Eigen/SparseLU>
 #include <fmt/format.h>
@@ -13,14 +17,8 @@ namespace rbdem {
 
 namespace {
 
-using Triplets = std::vector<Eigen::Triplet<double>>;
-
-// Adds k (a . u)^2 / 2 for a linear functional a over up to 6 dofs.
-void add_rank_one(Triplets& T, const int* dof, const double* a, int n, double k) {
-  for (int p = 0; p < n; ++p)
-    for (int q = 0; q < n; ++q)
-      if (a[p] != 0.0 && a[q] != 0.0) T.emplace_back(dof[p], dof[q], k * a[p] * a[q]);
-}
+using SpMat = Eigen::SparseMatrix<double>;
+using Ldlt = Eigen::SimplicialLDLT<SpMat, Eigen::Lower, Eigen::AMDOrdering<int>>;
 
 struct BondRows {
   int dof[6];
@@ -51,7 +49,7 @@ struct PlatenRow {
   int block;
   bool top;
   double k;      // N/m
-  double rx, ry; // contact point (edge midpoint) relative to the centroid
+  double rx, ry; // contact point (the boundary edge's midpoint) relative to the centroid
 };
 
 std::vector<PlatenRow> platen_rows(const Engine& e) {
@@ -62,62 +60,140 @@ std::vector<PlatenRow> platen_rows(const Engine& e) {
   for (std::size_t k = 0; k < E.size(); ++k) {
     if (E.side[k] != Side::top && E.side[k] != Side::bottom) continue;
     const int b = E.block[k];
-    const auto& shape = topo.blocks.shape[b];
-    // the edge's end points relative to the centroid: find the vertices on the platen line
-    double mx = 0, my = 0;
-    int found = 0;
-    const double y_line = E.side[k] == Side::top ? topo.ymax : topo.ymin;
-    for (int v = 0; v < 3; ++v)
-      if (std::abs(topo.blocks.cy[b] + shape[2 * v + 1] - y_line) < 1e-9 * topo.height())
-        mx += shape[2 * v], my += shape[2 * v + 1], ++found;
-    if (found != 2) continue;
-    rows.push_back({b, E.side[k] == Side::top, e.platen_stiffness(b) * e.thickness() * E.length[k], 0.5 * mx, 0.5 * my});
+    rows.push_back({b, E.side[k] == Side::top, e.platen_stiffness(b) * e.thickness() * E.length[k],
+                    E.mx[k] - topo.blocks.cx[b], E.my[k] - topo.blocks.cy[b]});
   }
   return rows;
 }
 
-// Adds k a b^T (a non-symmetric rank one term: force along a driven by the displacement measure b).
-void add_outer(Triplets& T, const int* dof, const double* a, const double* b, int n, double k) {
-  for (int p = 0; p < n; ++p)
-    for (int q = 0; q < n; ++q)
-      if (a[p] != 0.0 && b[q] != 0.0) T.emplace_back(dof[p], dof[q], k * a[p] * b[q]);
-}
+// The stiffness on one fixed sparsity pattern: every intact bond's 6 x 6 block, every platen row's 3 x 3 block
+// and the pin. Each bond knows where its 36 entries live in the value array, so a new set of linear-part states
+// costs one pass over the bonds, and the symmetric factorisation's ordering and elimination tree are computed once.
+//   K_sym:  parallel bond + linear part in its state (closed: normal; sticking: shear) + platens + pin.
+//   K_full: K_sym + the sliding linear parts' F_s = -+ mu k_n A delta_n (a shear force driven by the normal
+//           closure: non-symmetric, one rank-one term per sliding bond, inside the bond's own block).
+class Stiffness {
+ public:
+  Stiffness(const Engine& e, const std::vector<PlatenRow>& platens, double pin) : e_(e), platens_(platens), pin_(pin) {
+    const auto& D = e.bonds;
+    const std::size_t nbond = D.size();
+    rows_.resize(nbond);
+    k_.resize(nbond);
+    std::vector<Eigen::Triplet<double>> T;
+    T.reserve(nbond * 36 + platens.size() * 9 + 1);
+    for (std::size_t b = 0; b < nbond; ++b) {
+      rows_[b] = bond_rows(e, b);
+      k_[b] = e.stiffness(int(b));
+      if (D.broken[b]) continue;
+      for (int p = 0; p < 6; ++p)
+        for (int q = 0; q < 6; ++q) T.emplace_back(rows_[b].dof[p], rows_[b].dof[q], 1.0);
+    }
+    for (const auto& pr : platens)
+      for (int p = 0; p < 3; ++p)
+        for (int q = 0; q < 3; ++q) T.emplace_back(3 * pr.block + p, 3 * pr.block + q, 1.0);
+    T.emplace_back(0, 0, 1.0);
+    const long n = long(3 * e.blocks.size());
+    pattern_.resize(n, n);
+    pattern_.setFromTriplets(T.begin(), T.end());
+    pattern_.makeCompressed();
+    slots_.assign(nbond * 36, -1);
+    for (std::size_t b = 0; b < nbond; ++b) {
+      if (D.broken[b]) continue;
+      for (int p = 0; p < 6; ++p)
+        for (int q = 0; q < 6; ++q) slots_[36 * b + 6 * p + q] = slot(rows_[b].dof[p], rows_[b].dof[q]);
+    }
+    platen_slots_.resize(9 * platens.size());
+    for (std::size_t k = 0; k < platens.size(); ++k)
+      for (int p = 0; p < 3; ++p)
+        for (int q = 0; q < 3; ++q) platen_slots_[9 * k + 3 * p + q] = slot(3 * platens[k].block + p, 3 * platens[k].block + q);
+    pin_slot_ = slot(0, 0);
+  }
 
-Eigen::SparseMatrix<double> assemble(const Engine& e, const std::vector<std::uint8_t>& state,
-                                     const std::vector<PlatenRow>& platens, double pin) {
-  const auto& D = e.bonds;
-  const std::size_t n = 3 * e.blocks.size();
-  Triplets T;
-  T.reserve(D.i.size() * 144 + platens.size() * 18 + 1);
-  for (std::size_t b = 0; b < D.i.size(); ++b) {
-    if (D.broken[b]) continue;
-    const BondRows r = bond_rows(e, b);
-    const BondStiffness k = e.stiffness(int(b));
-    const std::uint8_t st = state[b];
-    add_rank_one(T, r.dof, r.an, 6, k.kbnA + (st != StaticResult::open ? k.knA : 0.0));
-    add_rank_one(T, r.dof, r.as, 6, k.kbsA + (st == StaticResult::stick ? k.ksA : 0.0));
-    add_rank_one(T, r.dof, r.ar, 6, k.kbnI);
-    if (st == StaticResult::slip_positive || st == StaticResult::slip_negative) {
-      // sliding: F_s = sign(delta_s) mu k_n A delta_n, a shear force driven by the normal closure
-      const double sign = st == StaticResult::slip_positive ? 1.0 : -1.0;
-      add_outer(T, r.dof, r.as, r.an, 6, -sign * k.mu * k.knA);
+  const BondRows& rows(std::size_t b) const { return rows_[b]; }
+  const BondStiffness& k(std::size_t b) const { return k_[b]; }
+  const SpMat& pattern() const { return pattern_; }
+
+  // Fills sym with K_sym and full with K_full for the given linear-part states (both on the pattern). Returns
+  // whether any linear part slides (else full = sym).
+  bool assemble(const std::vector<std::uint8_t>& state, SpMat& sym, SpMat* full) const {
+    sym = pattern_;
+    double* v = sym.valuePtr();
+    std::fill(v, v + sym.nonZeros(), 0.0);
+    const auto& D = e_.bonds;
+    bool slides = false;
+    for (std::size_t b = 0; b < D.size(); ++b) {
+      if (D.broken[b]) continue;
+      const BondRows& r = rows_[b];
+      const BondStiffness& k = k_[b];
+      const std::uint8_t st = state[b];
+      const double kn = k.kbnA + (st != StaticResult::open ? k.knA : 0.0);
+      const double ks = k.kbsA + (st == StaticResult::stick ? k.ksA : 0.0);
+      const int* s = &slots_[36 * b];
+      for (int p = 0; p < 6; ++p)
+        for (int q = 0; q < 6; ++q)
+          v[s[6 * p + q]] += kn * r.an[p] * r.an[q] + ks * r.as[p] * r.as[q] + k.kbnI * r.ar[p] * r.ar[q];
+      slides = slides || st == StaticResult::slip_positive || st == StaticResult::slip_negative;
     }
-  }
-  const bool sticky = e.platen_friction() > 0.0;
-  for (const auto& p : platens) {
-    const int dof[3] = {3 * p.block, 3 * p.block + 1, 3 * p.block + 2};
-    const double ay[3] = {0.0, 1.0, p.rx};   // u_y at the contact point
-    add_rank_one(T, dof, ay, 3, p.k);
-    if (sticky) {
-      const double ax[3] = {1.0, 0.0, -p.ry};  // u_x at the contact point
-      add_rank_one(T, dof, ax, 3, p.k / e.kappa(BondKind::rock));
+    const bool sticky = e_.platen_friction() > 0.0;
+    for (std::size_t m = 0; m < platens_.size(); ++m) {
+      const PlatenRow& p = platens_[m];
+      const double ay[3] = {0.0, 1.0, p.rx};    // u_y at the contact point
+      const double ax[3] = {1.0, 0.0, -p.ry};   // u_x at the contact point (sticking platens)
+      const double ks = sticky ? p.k / e_.kappa(BondKind::rock) : 0.0;
+      for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 3; ++c) v[platen_slots_[9 * m + 3 * a + c]] += p.k * ay[a] * ay[c] + ks * ax[a] * ax[c];
     }
+    v[pin_slot_] += pin_;
+    if (!full) return slides;
+    *full = sym;
+    if (!slides) return false;
+    double* w = full->valuePtr();
+    for (std::size_t b = 0; b < D.size(); ++b) {
+      const std::uint8_t st = state[b];
+      if (D.broken[b] || (st != StaticResult::slip_positive && st != StaticResult::slip_negative)) continue;
+      // sliding: F_s = sign(delta_s) mu k_n A delta_n
+      const double c = -(st == StaticResult::slip_positive ? 1.0 : -1.0) * k_[b].mu * k_[b].knA;
+      const BondRows& r = rows_[b];
+      const int* s = &slots_[36 * b];
+      for (int p = 0; p < 6; ++p)
+        for (int q = 0; q < 6; ++q) w[s[6 * p + q]] += c * r.as[p] * r.an[q];
+    }
+    return true;
   }
-  if (pin > 0) T.emplace_back(0, 0, pin);  // removes the free x translation of frictionless platens
-  Eigen::SparseMatrix<double> K{long(n), long(n)};
-  K.setFromTriplets(T.begin(), T.end());
-  return K;
-}
+
+ private:
+  int slot(int row, int col) const {
+    const int* inner = pattern_.innerIndexPtr();
+    const int* begin = inner + pattern_.outerIndexPtr()[col];
+    const int* end = inner + pattern_.outerIndexPtr()[col + 1];
+    return int(std::lower_bound(begin, end, row) - inner);
+  }
+
+  const Engine& e_;
+  const std::vector<PlatenRow>& platens_;
+  double pin_;
+  std::vector<BondRows> rows_;
+  std::vector<BondStiffness> k_;
+  std::vector<int> slots_, platen_slots_;
+  int pin_slot_ = 0;
+  SpMat pattern_;
+};
+
+// A preconditioner for Eigen's Krylov solvers that applies an existing factorisation of K_sym.
+class FactorPreconditioner {
+ public:
+  FactorPreconditioner() = default;
+  template <typename M> explicit FactorPreconditioner(const M&) {}
+  template <typename M> FactorPreconditioner& analyzePattern(const M&) { return *this; }
+  template <typename M> FactorPreconditioner& factorize(const M&) { return *this; }
+  template <typename M> FactorPreconditioner& compute(const M&) { return *this; }
+  template <typename Rhs> Eigen::VectorXd solve(const Rhs& b) const { return factor_->solve(b); }
+  Eigen::ComputationInfo info() const { return Eigen::Success; }
+  void use(const Ldlt& factor) { factor_ = &factor; }
+
+ private:
+  const Ldlt* factor_ = nullptr;
+};
 
 }  // namespace
 
@@ -144,30 +220,54 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
       f[3 * p.block + 1] -= p.k * delta;
       f[3 * p.block + 2] -= p.k * delta * p.rx;
     }
+  const Stiffness stiffness(e, platens, pin);
+  SpMat K_sym, K_full;
+  Ldlt factor;
+  factor.analyzePattern(stiffness.pattern());
+  Eigen::BiCGSTAB<SpMat, FactorPreconditioner> krylov;
+  krylov.setTolerance(options.krylov_tolerance);
+  krylov.setMaxIterations(200);
+  const bool refactor = std::getenv("RBDEM_REFACTOR") != nullptr;
   Eigen::VectorXd u;
   // Bonds whose state flips back and forth between iterations are few and near a state boundary, where both
   // states give nearly the same forces; stop when at most this many change.
   const std::size_t settled = nbond / 10000;
   for (int it = 0; it < options.max_iterations; ++it) {
     r.active_set_iterations = it + 1;
-    const auto K = assemble(e, r.linear_state, platens, pin);
-    Eigen::SparseLU<Eigen::SparseMatrix<double>> solver;
-    solver.analyzePattern(K);
-    solver.factorize(K);
-    if (solver.info() != Eigen::Success)
-      throw std::runtime_error("static solve: the bonded-block stiffness is singular (a block without bonds or "
-                               "platen contact? check the mesh)");
-    u = solver.solve(f);
+    const bool slides = stiffness.assemble(r.linear_state, K_sym, &K_full);
+    if (it == 0 || refactor) {
+      factor.factorize(K_sym);
+      if (factor.info() != Eigen::Success)
+        throw std::runtime_error("static solve: the bonded-block stiffness is singular (a block without bonds or "
+                                 "platen contact? check the mesh)");
+    }
+    if (it == 0 || (refactor && !slides)) {
+      u = factor.solve(f);
+    } else {
+      krylov.compute(K_full);
+      krylov.preconditioner().use(factor);
+      u = krylov.solveWithGuess(f, u);
+      r.krylov_iterations += int(krylov.iterations());
+      if (krylov.info() != Eigen::Success) {
+        Eigen::SparseLU<SpMat> lu;
+        lu.compute(K_full);
+        if (lu.info() != Eigen::Success)
+          throw std::runtime_error("static solve: the bonded-block stiffness is singular (a block without bonds or "
+                                   "platen contact? check the mesh)");
+        u = lu.solve(f);
+        ++r.direct_fallbacks;
+      }
+    }
     if (options.linear_parts_always_closed) break;
     std::size_t changed = 0;
     for (std::size_t b = 0; b < nbond; ++b) {
       if (D.broken[b]) continue;
-      const BondRows row = bond_rows(e, b);
+      const BondRows& row = stiffness.rows(b);
       double dn = 0, ds = 0;
       for (int k = 0; k < 6; ++k) dn += row.an[k] * u[row.dof[k]], ds += row.as[k] * u[row.dof[k]];
       std::uint8_t st = StaticResult::open;
       if (dn < 0.0) {
-        const BondStiffness k = e.stiffness(int(b));
+        const BondStiffness& k = stiffness.k(b);
         st = std::abs(k.ksA * ds) <= k.mu * (-k.knA * dn)
                  ? StaticResult::stick
                  : (ds > 0 ? StaticResult::slip_positive : StaticResult::slip_negative);
@@ -254,7 +354,9 @@ void apply_static_state(Engine& e, const StaticResult& st, double factor, double
 double stability_limit(const Engine& e, int iterations) {
   const std::size_t nb = e.blocks.size();
   std::vector<std::uint8_t> sticking(e.bonds.size(), StaticResult::stick);
-  const auto K = assemble(e, sticking, platen_rows(e), 0.0);
+  const auto platens = platen_rows(e);
+  SpMat K;
+  Stiffness(e, platens, 0.0).assemble(sticking, K, nullptr);
   Eigen::VectorXd inv_sqrt_m(long(3 * nb));
   for (std::size_t b = 0; b < nb; ++b) {
     inv_sqrt_m[3 * b] = inv_sqrt_m[3 * b + 1] = 1.0 / std::sqrt(e.blocks.mass[b]);

@@ -30,6 +30,8 @@ struct StaticResult {
   std::vector<std::uint8_t> linear_state;  // per bond
   std::size_t open_bonds = 0, sliding_bonds = 0;
   int active_set_iterations = 0;
+  int krylov_iterations = 0;        // BiCGSTAB iterations over all active-set iterations
+  int direct_fallbacks = 0;         // solves that fell back to sparse LU (BiCGSTAB did not converge)
   std::size_t dofs = 0;
   double seconds = 0;
   // Load factor at which the first bond reaches its strength (1 = this displacement), and that bond.
@@ -41,6 +43,7 @@ struct StaticOptions {
   double platen_displacement = 1e-6;  // m
   bool linear_parts_always_closed = false;  // every linear part closed and sticking (no active-set iteration)
   int max_iterations = 30;
+  double krylov_tolerance = 1e-10;  // relative residual of the BiCGSTAB solves (states with sliding linear parts)
 };
 
 // Static solve for the engine's current (reference) configuration; uses its bonds, materials and platens.

@@ -7,7 +7,8 @@
 //        along the normal, d = n . (c_j - c_i). With k_n = E*/d a uniform normal strain eps across the edge gives
 //        the normal stress E* eps, so E* is the modulus of the chain of blocks and bonds along n.
 //        kind = rock when both triangles lie in one layer, joint otherwise.
-// Boundary: every edge with one triangle, tagged bottom / right / top / left by the specimen's bounding box.
+// Boundary: every edge with one triangle, tagged bottom / right / top / left by the specimen's bounding box, with
+//        its midpoint (where a platen touches a block that has this edge on it).
 // CSR adjacency: the bonds of block b are bond_of[bond_offset[b] .. bond_offset[b+1]).
 #pragma once
 
@@ -47,6 +48,7 @@ struct BondGeometry {
 struct BoundaryEdges {
   std::vector<int> block;
   std::vector<int> node_a, node_b;
+  std::vector<double> mx, my;          // edge midpoint, m (the contact point of a platen on this edge)
   std::vector<double> length;
   std::vector<Side> side;
   std::size_t size() const { return block.size(); }

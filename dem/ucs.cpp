@@ -21,16 +21,36 @@ CrackCounts count_cracks(const std::vector<Crack>& cracks) {
   return c;
 }
 
-std::string classify_failure(const std::vector<Crack>& cracks, const Topology& topo) {
-  double rock = 0, joint_t = 0, joint_s = 0;
+std::string classify_failure(const std::vector<Crack>& cracks, const Topology& topo, double dip_deg) {
+  double rock_t = 0, rock_s = 0, joint_t = 0, joint_s = 0;
   for (const auto& k : cracks) {
-    const double L = topo.bonds.length[k.bond];
-    if (k.kind == BondKind::rock) rock += L;
-    else (k.mode == BreakMode::shear ? joint_s : joint_t) += L;
+    const double L = topo.bonds.length[std::size_t(k.bond)];
+    const bool shear = k.mode == BreakMode::shear;
+    if (k.kind == BondKind::rock) (shear ? rock_s : rock_t) += L;
+    else (shear ? joint_s : joint_t) += L;
   }
-  if (rock + joint_t + joint_s == 0) return "intact";
-  if (joint_t + joint_s >= rock) return joint_s >= joint_t ? "shear_slip_along_joints" : "splitting_along_layers";
-  return "splitting_across_layers";
+  if (rock_t + rock_s + joint_t + joint_s == 0) return "intact";
+  if (joint_t + joint_s >= rock_t + rock_s)
+    return joint_s >= joint_t ? "shear_slip_along_joints" : "splitting_along_layers";
+  if (rock_t >= rock_s) return dip_deg >= 60.0 ? "splitting_along_layers" : "splitting_across_layers";
+  return "shear_through_rock";
+}
+
+double crack_band_angle_deg(const std::vector<Crack>& cracks, const Topology& topo) {
+  double w = 0, mx = 0, my = 0;
+  for (const auto& k : cracks) {
+    const double L = topo.bonds.length[std::size_t(k.bond)];
+    w += L, mx += L * k.x, my += L * k.y;
+  }
+  if (w <= 0) return 0.0;
+  mx /= w, my /= w;
+  double sxx = 0, syy = 0, sxy = 0;
+  for (const auto& k : cracks) {
+    const double L = topo.bonds.length[std::size_t(k.bond)];
+    sxx += L * (k.x - mx) * (k.x - mx), syy += L * (k.y - my) * (k.y - my), sxy += L * (k.x - mx) * (k.y - my);
+  }
+  const double angle = 0.5 * std::atan2(2.0 * sxy, sxx - syy) * 180.0 / 3.14159265358979323846;  // major axis
+  return std::abs(angle);
 }
 
 UcsResult run_ucs(const Scene& scene, const Topology& topo, const UcsOptions& options) {
@@ -78,6 +98,23 @@ UcsResult run_ucs(const Scene& scene, const Topology& topo, const UcsOptions& op
     return p;
   };
   r.curve.push_back(sample());
+  auto frame = [&](const char* label) {
+    Frame f;
+    f.step = engine.steps(), f.time = engine.time(), f.strain = engine.platen_displacement() / H;
+    f.stress = 0.5 * (engine.top_force() + engine.bottom_force()) / area;
+    f.label = label;
+    f.x.resize(engine.blocks.size()), f.y.resize(engine.blocks.size()), f.theta.resize(engine.blocks.size());
+    for (std::size_t b = 0; b < engine.blocks.size(); ++b) {
+      const BlockState& s = engine.blocks.state[b];
+      f.x[b] = s.x, f.y[b] = s.y, f.theta[b] = s.theta;
+    }
+    f.cracks = engine.cracks().size();
+    return f;
+  };
+  const double frame_interval = scene.output.frame_strain_interval;
+  double next_frame = 0.0;
+  r.frames.push_back(frame(""));
+  next_frame = frame_interval;
 
   // Elastic start: the model is linear until the first bond breaks, so solve that part statically and hand over
   // to the explicit run at a fraction of the first-break load (model only what the scene needs).
@@ -99,11 +136,14 @@ UcsResult run_ucs(const Scene& scene, const Topology& topo, const UcsOptions& op
       }
       apply_static_state(engine, st, factor, v);
       r.elastic_start_strain = factor * st.platen_displacement / H;
+      r.frames.push_back(frame("elastic_start"));
+      next_frame = (std::floor(r.elastic_start_strain / frame_interval) + 1.0) * frame_interval;
     }
   }
 
   double peak = 0;
-  long peak_step = 0;
+  long peak_step = 0, peak_detail_step = -1000;
+  Frame peak_frame;
   CurvePoint at_peak = r.curve.front();
   r.stop_reason = "max_strain";
   const long max_explicit = long(std::ceil((scene.loading.max_strain - r.elastic_start_strain) * H / (v * r.dt)));
@@ -115,7 +155,20 @@ UcsResult run_ucs(const Scene& scene, const Topology& topo, const UcsOptions& op
     if (stress > peak) {
       peak = stress;
       peak_step = engine.steps();
-      at_peak = sample();
+      // Energies and block positions cost a pass over every bond and block: refresh them at most every 100 steps
+      // of a rising curve (the stored peak state is then at most 100 steps before the peak).
+      if (engine.steps() - peak_detail_step >= 100) {
+        at_peak = sample();
+        peak_frame = frame("peak");
+        peak_detail_step = engine.steps();
+      } else {
+        at_peak.step = engine.steps(), at_peak.time = engine.time(), at_peak.strain = strain;
+        at_peak.stress_top = engine.top_force() / area, at_peak.stress_bottom = engine.bottom_force() / area;
+      }
+    }
+    if (strain >= next_frame) {
+      r.frames.push_back(frame(""));
+      next_frame += frame_interval;
     }
     const bool record = engine.steps() % sample_every == 0;
     if (record) r.curve.push_back(sample());
@@ -130,6 +183,13 @@ UcsResult run_ucs(const Scene& scene, const Topology& topo, const UcsOptions& op
     }
     if (options.progress && engine.steps() % 1000 == 0)
       options.progress({engine.steps(), engine.platen_displacement() / H, stress, peak, int(engine.cracks().size())});
+  }
+  // The peak and final frames, in order of strain.
+  r.frames.push_back(frame("final"));
+  if (!peak_frame.x.empty()) {
+    auto at = std::lower_bound(r.frames.begin(), r.frames.end(), peak_frame.strain,
+                               [](const Frame& f, double e) { return f.strain < e; });
+    r.frames.insert(at, std::move(peak_frame));
   }
   // Keep the peak sample in the curve, in order.
   auto pos = std::lower_bound(r.curve.begin(), r.curve.end(), at_peak.strain,
@@ -153,7 +213,17 @@ UcsResult run_ucs(const Scene& scene, const Topology& topo, const UcsOptions& op
   }
   r.cracks = engine.cracks();
   r.crack_counts = count_cracks(r.cracks);
-  r.failure_mode = classify_failure(r.cracks, topo);
+  r.failure_mode = classify_failure(r.cracks, topo, scene.joint_set.dip_deg);
+  r.crack_band_angle_deg = crack_band_angle_deg(r.cracks, topo);
+  {
+    double t_len = 0, all = 0;
+    for (const auto& k : r.cracks) {
+      const double L = topo.bonds.length[std::size_t(k.bond)];
+      all += L;
+      if (k.mode == BreakMode::tensile) t_len += L;
+    }
+    r.tensile_fraction = all > 0 ? t_len / all : 0.0;
+  }
   r.steps = engine.steps();
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return r;

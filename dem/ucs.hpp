@@ -23,16 +23,32 @@ struct CurvePoint {
   double stress() const { return 0.5 * (stress_top + stress_bottom); }
 };
 
+// Block positions at one instant (for crack maps on the deformed specimen and ParaView animations).
+struct Frame {
+  long step = 0;
+  double time = 0, strain = 0, stress = 0;
+  std::string label;                  // "", "peak" or "final"
+  std::vector<double> x, y, theta;    // per block: centroid (m) and rotation (rad)
+  std::size_t cracks = 0;             // cracks logged by then (a prefix of the crack log)
+};
+
 struct CrackCounts {
   int rock_tensile = 0, rock_shear = 0, joint_tensile = 0, joint_shear = 0;
   int total() const { return rock_tensile + rock_shear + joint_tensile + joint_shear; }
 };
 CrackCounts count_cracks(const std::vector<Crack>& cracks);
 
-// Failure mode from the crack log, weighted by crack length: "splitting_across_layers" (rock cracks dominate),
-// "shear_slip_along_joints" (joint cracks dominate, mostly shear), "splitting_along_layers" (joint cracks
-// dominate, mostly tensile), or "intact" when nothing broke.
-std::string classify_failure(const std::vector<Crack>& cracks, const Topology& topo);
+// Failure mode from the crack log, weighted by crack (bond) length, in the paper's three classes plus one:
+//   joint cracks dominate:  mostly shear -> "shear_slip_along_joints", mostly tensile -> "splitting_along_layers"
+//   rock cracks dominate:   mostly tensile -> splitting, "splitting_along_layers" when the layers are steep
+//                           (dip >= 60 deg, cracks parallel to them) else "splitting_across_layers";
+//                           mostly shear -> "shear_through_rock"
+// and "intact" when nothing broke.
+std::string classify_failure(const std::vector<Crack>& cracks, const Topology& topo, double dip_deg);
+
+// Dip (0..90 deg from the horizontal) of the principal axis of the crack positions, weighted by crack length:
+// near 90 for axial splitting, near 45 + phi/2 for a shear band, the joint dip for slip along a joint.
+double crack_band_angle_deg(const std::vector<Crack>& cracks, const Topology& topo);
 
 struct UcsResult {
   double peak_stress = 0;       // Pa (mean of the two platens)
@@ -42,7 +58,10 @@ struct UcsResult {
   double kinetic_to_strain_at_peak = 0;
   std::vector<CurvePoint> curve;
   std::vector<Crack> cracks;
+  std::vector<Frame> frames;    // every output.frame_strain_interval, plus the peak and the final state
   CrackCounts crack_counts;
+  double crack_band_angle_deg = 0;  // principal direction of the crack positions, from the horizontal
+  double tensile_fraction = 0;      // tensile share of the crack length
   std::string failure_mode;
   std::string stop_reason;      // "post_peak" (stress dropped) | "post_peak_strain" | "max_strain"
   long steps = 0;
