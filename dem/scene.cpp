@@ -338,18 +338,18 @@ void assign_toml(Scene& scene, const Entry& e, const toml::node& node, std::stri
 Scene::Scene() {
   rock.effective_modulus = 160e9;
   rock.stiffness_ratio = 1.5;
-  rock.tensile_strength = 60e6;
-  rock.cohesion = 60e6;
+  rock.tensile_strength = 6.5e6;
+  rock.cohesion = 13.0e6;
   rock.friction_deg = 40.0;
-  rock.contact_friction = std::tan(40.0 * std::numbers::pi / 180.0);
+  rock.contact_friction = 0.5;
   rock.moment_factor = 1.0;
   rock.density = 2700.0;
   joint.effective_modulus = 50e9;
   joint.stiffness_ratio = 1.5;
-  joint.tensile_strength = 15e6;
-  joint.cohesion = 15e6;
+  joint.tensile_strength = 7.24e6;
+  joint.cohesion = 7.24e6;
   joint.friction_deg = 30.0;
-  joint.contact_friction = std::tan(30.0 * std::numbers::pi / 180.0);
+  joint.contact_friction = 0.5;
   joint.moment_factor = 1.0;
 }
 

@@ -150,6 +150,8 @@ UcsResult run_ucs(const Scene& scene, const Topology& topo, const UcsOptions& op
   while (engine.steps() < max_explicit) {
     engine.strain_for_log = engine.platen_displacement() / H;
     engine.step();
+    if (options.cancel && (engine.steps() & 255) == 0 && options.cancel->load(std::memory_order_relaxed))
+      throw RunCancelled();
     const double stress = 0.5 * (engine.top_force() + engine.bottom_force()) / area;
     const double strain = engine.platen_displacement() / H;
     if (stress > peak) {

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <array>
+#include <atomic>
+#include <stdexcept>
 #include <functional>
 #include <string>
 #include <vector>
@@ -79,10 +81,16 @@ struct UcsProgress {
   int cracks;
 };
 
+// Thrown by run_ucs when UcsOptions::cancel was set (SIGINT in a sweep): no result exists for the run.
+struct RunCancelled : std::runtime_error {
+  RunCancelled() : std::runtime_error("run cancelled") {}
+};
+
 struct UcsOptions {
   std::function<void(const UcsProgress&)> progress;  // called about every 1000 steps
   int curve_points = 2000;                           // about this many samples up to max_strain
   bool allow_supercritical_dt = false;               // tests only: accept numerics.dt above the critical step
+  const std::atomic<bool>* cancel = nullptr;         // checked every 256 steps; set -> RunCancelled
 };
 
 // Runs the test. Throws SceneError for a refused time step, InstabilityError if the run diverges.

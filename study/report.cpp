@@ -1,0 +1,163 @@
+// Study report and figures. See report.hpp.
+#include "study/report.hpp"
+
+#include <chrono>
+#include <cstdlib>
+#include <ctime>
+#include <map>
+
+#include <fmt/format.h>
+
+#include "compare/theory/elasticity.hpp"
+#include "io/results.hpp"
+
+#ifndef RBDEM_SOURCE_DIR
+#define RBDEM_SOURCE_DIR ""
+#endif
+#ifndef RBDEM_INSTALL_DATADIR
+#define RBDEM_INSTALL_DATADIR ""
+#endif
+
+namespace rbdem::study {
+
+namespace {
+
+std::string quote(const std::filesystem::path& p) {
+  std::string s = "'";
+  for (char c : p.string()) s += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return s + "'";
+}
+
+bool run(const std::string& command) { return std::system((command + " > /dev/null 2>&1").c_str()) == 0; }
+
+}  // namespace
+
+std::filesystem::path figure_script() {
+  std::vector<std::filesystem::path> candidates;
+  if (const char* env = std::getenv("RBDEM_PYTHON_DIR")) candidates.push_back(std::filesystem::path(env));
+  if (*RBDEM_INSTALL_DATADIR) candidates.push_back(std::filesystem::path(RBDEM_INSTALL_DATADIR) / "python");
+  if (*RBDEM_SOURCE_DIR) candidates.push_back(std::filesystem::path(RBDEM_SOURCE_DIR) / "python");
+  for (const auto& dir : candidates)
+    if (std::filesystem::exists(dir / "rbdem_figures.py")) return dir / "rbdem_figures.py";
+  return {};
+}
+
+std::vector<std::filesystem::path> make_figures(const StudySpec& spec, const std::vector<CaseResult>& results,
+                                                const std::filesystem::path& out, std::string* note) {
+  std::vector<std::filesystem::path> made;
+  const auto script = figure_script();
+  const std::string python = "/usr/bin/python3";
+  if (script.empty() || !run(python + " -c 'import matplotlib, h5py, numpy'")) {
+    if (note)
+      *note = "figures skipped: " + std::string(script.empty() ? "python/rbdem_figures.py not found"
+                                                               : "/usr/bin/python3 lacks matplotlib, h5py or numpy "
+                                                                 "(apt-get install python3-matplotlib python3-h5py)");
+    return made;
+  }
+  const std::string cmd = python + " " + quote(script);
+  // Strength versus dip with Jaeger, one curve per group.
+  const auto strength = out / "strength.png";
+  if (run(cmd + " strength " + quote(strength) + " " + quote(out / "table.csv") + " --group group"))
+    made.push_back(strength);
+  // Stress-strain curves and crack maps per group.
+  std::map<std::string, std::vector<const CaseResult*>> groups;
+  std::vector<std::string> order;
+  for (const auto& r : results) {
+    if (!groups.count(r.c.group)) order.push_back(r.c.group);
+    groups[r.c.group].push_back(&r);
+  }
+  for (const auto& g : order) {
+    std::string safe;
+    if (!g.empty()) safe.push_back('_');
+    for (char c : g) safe.push_back((std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_') ? c : '_');
+    std::string dirs, labels;
+    for (const auto* r : groups[g]) {
+      dirs += fmt::format(" {}", quote(out / r->c.id));
+      labels += fmt::format(" '{:g} deg'", r->c.beta);
+    }
+    const auto curves = out / ("stress_strain" + safe + ".png");
+    if (run(cmd + " stress-strain " + quote(curves) + dirs + " --labels" + labels)) made.push_back(curves);
+    const auto cracks = out / ("cracks" + safe + ".png");
+    if (run(cmd + " crack-grid " + quote(cracks) + dirs)) made.push_back(cracks);
+  }
+  (void)spec;
+  if (note && made.empty()) *note = "figures failed: run `" + cmd + " --help` to check the script";
+  return made;
+}
+
+std::filesystem::path write_report(const StudySpec& spec, const std::vector<CaseResult>& results,
+                                   const std::vector<GroupSummary>& groups, const std::filesystem::path& out,
+                                   const ReportExtras& extras) {
+  std::string note;
+  const auto figures = make_figures(spec, results, out, &note);
+  std::string md;
+  const std::time_t now = std::time(nullptr);
+  char date[64];
+  std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+  md += fmt::format("# rbdem study: {}\n\n{}\n\nRun {} with {} worker(s); {} cases, {:.1f} s wall in all.\n\n",
+                    spec.name, spec.description, date, extras.workers, results.size(), extras.wall_seconds);
+  const Scene& b = spec.base;
+  md += "## Scene\n\n";
+  md += fmt::format("Specimen {:g} x {:g} mm, joint spacing {:g} mm, mesh {:g} mm. Rock bonds: E* {:g} GPa, "
+                    "kn/ks {:g}, tensile {:g} MPa, cohesion {:g} MPa, friction {:g} deg, contact friction {:g}. "
+                    "Joint bonds: E* {:g} GPa, kn/ks {:g}, tensile {:g} MPa, cohesion {:g} MPa, friction {:g} deg, "
+                    "contact friction {:g}. Platen speed {:g} m/s, local damping {:g}. The full scene of every case "
+                    "is in its folder (scene.toml, summary.json).\n\n",
+                    b.specimen.width * 1e3, b.specimen.height * 1e3, b.joint_set.spacing * 1e3, b.mesh.size * 1e3,
+                    b.rock.effective_modulus / 1e9, b.rock.stiffness_ratio, b.rock.tensile_strength / 1e6,
+                    b.rock.cohesion / 1e6, b.rock.friction_deg, b.rock.contact_friction,
+                    b.joint.effective_modulus / 1e9, b.joint.stiffness_ratio, b.joint.tensile_strength / 1e6,
+                    b.joint.cohesion / 1e6, b.joint.friction_deg, b.joint.contact_friction,
+                    b.loading.platen_velocity, b.numerics.damping);
+  if (!extras.elastic_gate_markdown.empty()) md += "## Elastic gate\n\n" + extras.elastic_gate_markdown + "\n\n";
+
+  md += "## Peak strength versus joint dip\n\n";
+  md += "Jaeger: sliding on the joint with the joint bonds' cohesion and friction angle, capped by the group's "
+        "measured strength at beta = 90 deg (THEORY.md 3).\n\n";
+  md += "| case | beta (deg) | peak (MPa) | Jaeger (MPa) | strain at peak | E50 (GPa) | failure mode | cracks rock t/s "
+        "| cracks joint t/s | steps | wall (s) |\n|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|\n";
+  std::map<std::string, double> s90;
+  for (const auto& g : groups) s90[g.group] = g.strength_90_pa;
+  for (const auto& r : results) {
+    const auto& s = r.summary;
+    const auto& c = s["cracks"];
+    theory::JaegerInput in{r.c.scene.joint.cohesion, r.c.scene.joint.friction_deg, s90[r.c.group], 0.0};
+    md += fmt::format("| {} | {:g} | {:.2f} | {:.2f} | {:.3e} | {:.1f} | {} | {}/{} | {}/{} | {} | {:.1f} |\n",
+                      r.c.group.empty() ? "-" : r.c.group, r.c.beta, s["peak_stress_pa"].get<double>() / 1e6,
+                      theory::jaeger_strength(in, r.c.beta) / 1e6, s["strain_at_peak"].get<double>(),
+                      s["youngs_modulus_pa"].get<double>() / 1e9, s["failure_mode"].get<std::string>(),
+                      c["rock_tensile"].get<int>(), c["rock_shear"].get<int>(), c["joint_tensile"].get<int>(),
+                      c["joint_shear"].get<int>(), s["steps"].get<long>(), s.value("wall_seconds", 0.0));
+  }
+  md += "\n| group | min (MPa) at beta | Jaeger min (MPa) at beta | strength at 90 (MPa) | anisotropy ratio |\n"
+        "|---|---:|---:|---:|---:|\n";
+  for (const auto& g : groups)
+    md += fmt::format("| {} | {:.2f} at {:g} | {:.2f} at {:.0f} | {:.2f} | {:.2f} |\n", g.group.empty() ? "-" : g.group,
+                      g.min_strength_pa / 1e6, g.min_beta_deg, g.jaeger_min_pa / 1e6, g.jaeger_min_beta_deg,
+                      g.strength_90_pa / 1e6, g.anisotropy_ratio);
+  if (extras.paper_check && !groups.empty()) {
+    const auto& g = groups.front();
+    double s60 = 0;
+    for (const auto& r : results)
+      if (r.c.beta == 60.0) s60 = r.summary["peak_stress_pa"].get<double>();
+    md += "\n### Against the seed paper\n\n| quantity | paper | here | within |\n|---|---:|---:|---|\n";
+    md += fmt::format("| strength at 90 deg (MPa) | 50 | {:.1f} | {} (+-10 %) |\n", g.strength_90_pa / 1e6,
+                      std::abs(g.strength_90_pa / 50e6 - 1) <= 0.10 ? "yes" : "NO");
+    md += fmt::format("| strength at 60 deg (MPa) | 20 | {:.1f} | {} (+-15 %) |\n", s60 / 1e6,
+                      std::abs(s60 / 20e6 - 1) <= 0.15 ? "yes" : "NO");
+    md += fmt::format("| angle of the minimum (deg) | 60 | {:g} | {} (45, 60 or 75) |\n", g.min_beta_deg,
+                      (g.min_beta_deg >= 45 && g.min_beta_deg <= 75) ? "yes" : "NO");
+    md += fmt::format("| anisotropy ratio | 2.5 | {:.2f} | {} (2 to 3.5) |\n", g.anisotropy_ratio,
+                      (g.anisotropy_ratio >= 2 && g.anisotropy_ratio <= 3.5) ? "yes" : "NO");
+  }
+  md += "\n## Figures\n\n";
+  if (figures.empty()) md += note + "\n";
+  for (const auto& f : figures) md += fmt::format("![{}]({})\n\n", f.stem().string(), f.filename().string());
+  md += "How to read them: docs/outputs.md. Each case folder holds summary.json, curve.csv, cracks.csv, scene.toml "
+        "and result.h5 with result.xdmf for ParaView.\n";
+  const auto path = out / "report.md";
+  io::write_text_atomic(path, md);
+  return path;
+}
+
+}  // namespace rbdem::study

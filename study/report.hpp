@@ -1,0 +1,33 @@
+// The study report: a Markdown page with the tables, the theory beside them, the figures and the cost.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "study/study.hpp"
+
+namespace rbdem::study {
+
+struct ReportExtras {
+  std::string elastic_gate_markdown;  // the elastic gate's table, if it ran
+  double wall_seconds = 0;            // the whole study
+  int workers = 1;
+  bool paper_check = false;           // compare with the seed paper's headline numbers (default dip study)
+};
+
+// Runs the figure script (python/rbdem_figures.py with Debian's /usr/bin/python3) for the study: stress-strain
+// curves per group, strength versus dip with Jaeger's curve, crack maps. Returns the figure paths made (empty when
+// Python or matplotlib is missing: the report then says so).
+std::vector<std::filesystem::path> make_figures(const StudySpec& spec, const std::vector<CaseResult>& results,
+                                                const std::filesystem::path& out, std::string* note = nullptr);
+
+// Writes out/report.md and returns its path.
+std::filesystem::path write_report(const StudySpec& spec, const std::vector<CaseResult>& results,
+                                   const std::vector<GroupSummary>& groups, const std::filesystem::path& out,
+                                   const ReportExtras& extras);
+
+// The figure script, searched in $RBDEM_PYTHON_DIR, the install prefix and the source tree.
+std::filesystem::path figure_script();
+
+}  // namespace rbdem::study

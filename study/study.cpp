@@ -1,0 +1,380 @@
+// Parameter studies. See study.hpp.
+#include "study/study.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <toml++/toml.h>
+
+#include "compare/theory/elasticity.hpp"
+#include "dem/specimen_mesh.hpp"
+#include "dem/topology.hpp"
+#include "io/results.hpp"
+
+namespace rbdem::study {
+
+namespace {
+
+std::string value_text(const toml::node& node, const std::string& where) {
+  if (auto f = node.as_floating_point()) return fmt::format("{}", f->get());
+  if (auto i = node.as_integer()) return fmt::format("{}", i->get());
+  if (auto b = node.as_boolean()) return b->get() ? "true" : "false";
+  if (auto s = node.as_string()) return s->get();
+  throw SceneError(where + ": expected a number, a boolean or a string");
+}
+
+double number(const toml::node& node, const std::string& where) {
+  if (auto f = node.as_floating_point()) return f->get();
+  if (auto i = node.as_integer()) return double(i->get());
+  throw SceneError(where + ": expected a number");
+}
+
+void check_keys(const toml::table& t, std::initializer_list<std::string_view> allowed, const std::string& where) {
+  for (const auto& [k, v] : t) {
+    if (std::find(allowed.begin(), allowed.end(), k.str()) == allowed.end()) {
+      std::string list;
+      for (auto a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+      throw SceneError(fmt::format("{}: unknown key '{}' (allowed: {})", where, k.str(), list));
+    }
+  }
+}
+
+std::string case_value_label(const std::string& s) {
+  std::string out;
+  for (char c : s) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_') ? c : '_';
+  return out;
+}
+
+std::string beta_label(double beta) { return fmt::format("beta={:g}", beta); }
+
+}  // namespace
+
+StudySpec dip_study(const Scene& base, std::string name) {
+  StudySpec s;
+  s.name = std::move(name);
+  s.description = "peak strength versus joint dip on the scene's specimen";
+  s.base = base;
+  return s;
+}
+
+StudySpec load_study(const std::filesystem::path& path) {
+  const std::string where = path.string();
+  toml::table root;
+  try {
+    root = toml::parse_file(path.string());
+  } catch (const toml::parse_error& e) {
+    throw SceneError(fmt::format("{}:{}:{}: TOML syntax error: {}", where, e.source().begin.line,
+                                 e.source().begin.column, e.description()));
+  } catch (const std::exception&) {
+    throw SceneError(fmt::format("cannot read study file '{}': check the path (shipped studies are in scenes/)",
+                                 where));
+  }
+  check_keys(root, {"study", "axis"}, where);
+  StudySpec spec;
+  spec.source = path;
+  const toml::table* st = root["study"].as_table();
+  if (!st) throw SceneError(where + ": missing [study] table (name, base, dips, set)");
+  check_keys(*st, {"name", "description", "base", "dips", "set"}, where + " [study]");
+  spec.name = st->get_as<std::string>("name") ? st->get_as<std::string>("name")->get() : path.stem().string();
+  if (auto d = st->get_as<std::string>("description")) spec.description = d->get();
+  if (auto b = st->get_as<std::string>("base"); b && !b->get().empty()) {
+    const auto base_path = path.parent_path() / b->get();
+    spec.base = load_scene_file(base_path);
+  }
+  if (auto dips = st->get_as<toml::array>("dips")) {
+    spec.dips.clear();
+    for (const auto& d : *dips) {
+      const double beta = number(d, where + " study.dips");
+      if (!(beta >= 0 && beta <= 90))
+        throw SceneError(fmt::format("{}: study.dips holds {}: dips must lie in [0, 90] deg", where, beta));
+      spec.dips.push_back(beta);
+    }
+    if (spec.dips.empty()) throw SceneError(where + ": study.dips is empty: list at least one dip");
+  }
+  if (auto set = st->get_as<toml::table>("set"))
+    for (const auto& [k, v] : *set) set_parameter(spec.base, k.str(), value_text(v, where + " study.set." + std::string(k.str())));
+  validate(spec.base);
+
+  if (auto axes = root["axis"].as_array()) {
+    for (const auto& node : *axes) {
+      const toml::table* at = node.as_table();
+      if (!at) throw SceneError(where + ": every [[axis]] must be a table");
+      check_keys(*at, {"name", "labels", "set"}, where + " [[axis]]");
+      Axis axis;
+      if (auto n = at->get_as<std::string>("name")) axis.name = n->get();
+      else throw SceneError(where + ": an [[axis]] has no name");
+      const std::string aw = where + " axis '" + axis.name + "'";
+      if (auto labels = at->get_as<toml::array>("labels"))
+        for (const auto& l : *labels) axis.labels.push_back(value_text(l, aw + " labels"));
+      const toml::table* set = at->get_as<toml::table>("set");
+      if (!set || set->empty()) throw SceneError(aw + ": needs a set table of varied keys");
+      for (const auto& [k, v] : *set) {
+        const std::string key(k.str());
+        std::vector<std::string> values;
+        if (auto arr = v.as_array()) {
+          for (const auto& x : *arr) values.push_back(value_text(x, aw + " " + key));
+        } else if (auto tab = v.as_table()) {
+          check_keys(*tab, {"of", "factors"}, aw + " " + key);
+          auto of = tab->get_as<std::string>("of");
+          auto factors = tab->get_as<toml::array>("factors");
+          if (!of || !factors) throw SceneError(aw + " " + key + ": a scaled value needs `of` (a key) and `factors`");
+          const double ref = std::stod(parameter_text(spec.base, of->get()));
+          for (const auto& f : *factors) values.push_back(fmt::format("{}", ref * number(f, aw + " " + key)));
+        } else {
+          throw SceneError(aw + " " + key + ": give a list of values or { of = \"key\", factors = [...] }");
+        }
+        if (axis.labels.empty())
+          for (const auto& x : values) axis.labels.push_back(x);
+        if (values.size() != axis.labels.size())
+          throw SceneError(fmt::format("{} {}: {} values for {} labels; give one value per label", aw, key,
+                                       values.size(), axis.labels.size()));
+        // Validate every value now, not in the middle of a long run.
+        for (const auto& x : values) {
+          Scene probe = spec.base;
+          set_parameter(probe, key, x);
+        }
+        axis.values.push_back({key, values});
+      }
+      spec.axes.push_back(axis);
+    }
+  }
+  return spec;
+}
+
+std::vector<Case> expand(const StudySpec& spec) {
+  std::vector<Case> partial(1);
+  partial[0].scene = spec.base;
+  for (const auto& axis : spec.axes) {
+    std::vector<Case> next;
+    for (const auto& c : partial)
+      for (std::size_t l = 0; l < axis.labels.size(); ++l) {
+        Case d = c;
+        d.labels.push_back({axis.name, axis.labels[l]});
+        for (const auto& [key, values] : axis.values) set_parameter(d.scene, key, values[l]);
+        d.group += (d.group.empty() ? "" : "/") + axis.name + "=" + case_value_label(axis.labels[l]);
+        next.push_back(std::move(d));
+      }
+    partial = std::move(next);
+  }
+  std::vector<Case> cases;
+  for (const auto& c : partial)
+    for (double beta : spec.dips) {
+      Case d = c;
+      d.beta = beta;
+      set_parameter(d.scene, "joint_set.dip_deg", fmt::format("{}", beta));
+      validate(d.scene);
+      d.id = (d.group.empty() ? "" : d.group + "/") + beta_label(beta);
+      cases.push_back(std::move(d));
+    }
+  return cases;
+}
+
+namespace {
+
+bool read_summary(const std::filesystem::path& file, nlohmann::json& out) {
+  std::ifstream in(file);
+  if (!in) return false;
+  try {
+    in >> out;
+    return out.contains("peak_stress_pa") && out.contains("scene");
+  } catch (...) {
+    return false;
+  }
+}
+
+CaseResult run_one(const Case& c, const std::filesystem::path& dir, const std::atomic<bool>* cancel) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::filesystem::remove_all(dir);  // an interrupted run leaves partial files: start clean
+  std::filesystem::create_directories(dir);
+  Scene scene = c.scene;
+  scene.numerics.threads = 1;  // cases run side by side: one thread each
+  const TriMesh mesh = make_mesh(scene);
+  const Topology topo = build_topology(mesh, scene.specimen.thickness, scene.rock.density);
+  UcsOptions uo;
+  uo.cancel = cancel;
+  const UcsResult r = run_ucs(scene, topo, uo);
+  io::write_ucs(dir, c.scene, mesh, topo, r);
+  CaseResult cr;
+  cr.c = c;
+  cr.summary = io::ucs_summary(c.scene, r);
+  cr.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return cr;
+}
+
+}  // namespace
+
+std::vector<CaseResult> run_cases(const std::vector<Case>& cases, const std::filesystem::path& out,
+                                  const RunOptions& options, int mpi_rank, int mpi_size) {
+  std::filesystem::create_directories(out);
+  std::vector<std::size_t> mine;
+  for (std::size_t k = 0; k < cases.size(); ++k)
+    if (int(k % std::size_t(std::max(mpi_size, 1))) == mpi_rank) mine.push_back(k);
+  std::vector<CaseResult> results(cases.size());
+  std::vector<char> have(cases.size(), 0);
+  std::vector<std::size_t> todo;
+  for (std::size_t k : mine) {
+    nlohmann::json s;
+    if (read_summary(out / cases[k].id / "summary.json", s)) {
+      results[k].c = cases[k], results[k].summary = s, results[k].reused = true, have[k] = 1;
+    } else {
+      todo.push_back(k);
+    }
+  }
+  const int workers = std::max(1, std::min(int(todo.size()), options.workers > 0
+                                                                  ? options.workers
+                                                                  : int(std::thread::hardware_concurrency())));
+  std::atomic<std::size_t> next{0};
+  std::mutex lock;
+  std::string first_error;
+  bool cancelled = false;
+  std::size_t done = mine.size() - todo.size();
+  auto worker = [&]() {
+    while (true) {
+      if (options.cancel && options.cancel->load()) return;
+      const std::size_t n = next.fetch_add(1);
+      if (n >= todo.size()) return;
+      const std::size_t k = todo[n];
+      try {
+        CaseResult r = run_one(cases[k], out / cases[k].id, options.cancel);
+        std::lock_guard<std::mutex> g(lock);
+        results[k] = std::move(r);
+        have[k] = 1;
+        ++done;
+        if (options.progress)
+          fmt::print(stderr, "[{}/{}] {:<40} peak {:8.2f} MPa  {:<26} {:6.1f} s\n", done, mine.size(), cases[k].id,
+                     results[k].summary["peak_stress_pa"].get<double>() / 1e6,
+                     results[k].summary["failure_mode"].get<std::string>(), results[k].wall_seconds);
+        if (options.on_done) options.on_done(results[k]);
+      } catch (const RunCancelled&) {
+        std::lock_guard<std::mutex> g(lock);
+        cancelled = true;
+        std::filesystem::remove_all(out / cases[k].id);
+        return;
+      } catch (const std::exception& e) {
+        std::lock_guard<std::mutex> g(lock);
+        if (first_error.empty()) first_error = fmt::format("case {}: {}", cases[k].id, e.what());
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int w = 1; w < workers; ++w) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  if (cancelled || (options.cancel && options.cancel->load())) throw Cancelled();
+  if (!first_error.empty()) throw std::runtime_error(first_error);
+  std::vector<CaseResult> list;
+  for (std::size_t k = 0; k < cases.size(); ++k)
+    if (have[k]) list.push_back(results[k]);
+  return list;
+}
+
+std::vector<CaseResult> collect(const std::vector<Case>& cases, const std::filesystem::path& out) {
+  std::vector<CaseResult> list;
+  for (const auto& c : cases) {
+    CaseResult r;
+    if (read_summary(out / c.id / "summary.json", r.summary)) {
+      r.c = c, r.reused = true;
+      list.push_back(std::move(r));
+    }
+  }
+  return list;
+}
+
+namespace {
+
+double jaeger_for(const Scene& scene, double beta, double strength_90) {
+  theory::JaegerInput in{scene.joint.cohesion, scene.joint.friction_deg, strength_90, 0.0};
+  return scene.joint_set.enabled ? theory::jaeger_strength(in, beta) : strength_90;
+}
+
+}  // namespace
+
+std::vector<GroupSummary> write_tables(const std::vector<CaseResult>& results, const std::filesystem::path& out) {
+  // Group strengths at beta = 90 (Jaeger's intact strength) and minima.
+  std::map<std::string, std::vector<const CaseResult*>> groups;
+  std::vector<std::string> order;
+  for (const auto& r : results) {
+    if (!groups.count(r.c.group)) order.push_back(r.c.group);
+    groups[r.c.group].push_back(&r);
+  }
+  std::map<std::string, double> s90;
+  for (const auto& [g, list] : groups) {
+    double at90 = -1, best = 0;
+    for (const auto* r : list) {
+      const double p = r->summary["peak_stress_pa"].get<double>();
+      best = std::max(best, p);
+      if (r->c.beta == 90.0) at90 = p;
+    }
+    s90[g] = at90 > 0 ? at90 : best;
+  }
+
+  std::vector<std::string> axis_names;
+  if (!results.empty())
+    for (const auto& [a, l] : results.front().c.labels) axis_names.push_back(a);
+  std::string t = "id,group";
+  for (const auto& a : axis_names) t += "," + a;
+  t += ",beta_deg,peak_stress_pa,strain_at_peak,youngs_modulus_pa,failure_mode,crack_band_angle_deg,"
+       "tensile_fraction,cracks_rock_tensile,cracks_rock_shear,cracks_joint_tensile,cracks_joint_shear,steps,"
+       "stop_reason,platen_force_mismatch,jaeger_pa\n";
+  for (const auto& r : results) {
+    const auto& s = r.summary;
+    t += r.c.id + "," + r.c.group;
+    for (const auto& [a, l] : r.c.labels) t += "," + l;
+    const auto& c = s["cracks"];
+    t += fmt::format(",{:g},{:.9g},{:.9g},{:.9g},{},{:.4g},{:.4g},{},{},{},{},{},{},{:.4g},{:.9g}\n", r.c.beta,
+                     s["peak_stress_pa"].get<double>(), s["strain_at_peak"].get<double>(),
+                     s["youngs_modulus_pa"].get<double>(), s["failure_mode"].get<std::string>(),
+                     s.value("crack_band_angle_deg", 0.0), s.value("tensile_fraction", 0.0),
+                     c["rock_tensile"].get<int>(), c["rock_shear"].get<int>(), c["joint_tensile"].get<int>(),
+                     c["joint_shear"].get<int>(), s["steps"].get<long>(), s.value("stop_reason", std::string()),
+                     s.value("platen_force_mismatch", 0.0), jaeger_for(r.c.scene, r.c.beta, s90[r.c.group]));
+  }
+  io::write_text_atomic(out / "table.csv", t);
+
+  std::vector<GroupSummary> summaries;
+  std::string g = "group,min_beta_deg,min_strength_pa,jaeger_min_beta_deg,jaeger_min_pa,strength_90_pa,"
+                  "anisotropy_ratio\n";
+  for (const auto& name : order) {
+    GroupSummary gs;
+    gs.group = name;
+    gs.min_strength_pa = std::numeric_limits<double>::infinity();
+    const Scene* scene = nullptr;
+    for (const auto* r : groups[name]) {
+      const double p = r->summary["peak_stress_pa"].get<double>();
+      if (p < gs.min_strength_pa) gs.min_strength_pa = p, gs.min_beta_deg = r->c.beta;
+      scene = &r->c.scene;
+    }
+    gs.strength_90_pa = s90[name];
+    gs.anisotropy_ratio = gs.min_strength_pa > 0 ? gs.strength_90_pa / gs.min_strength_pa : 0.0;
+    if (scene && scene->joint_set.enabled) {
+      gs.jaeger_min_beta_deg = theory::jaeger_min_angle_deg(scene->joint.friction_deg);
+      gs.jaeger_min_pa = std::min(theory::jaeger_min_uniaxial_strength(scene->joint.cohesion, scene->joint.friction_deg),
+                                  gs.strength_90_pa);
+    }
+    g += fmt::format("{},{:g},{:.9g},{:g},{:.9g},{:.9g},{:.4g}\n", name, gs.min_beta_deg, gs.min_strength_pa,
+                     gs.jaeger_min_beta_deg, gs.jaeger_min_pa, gs.strength_90_pa, gs.anisotropy_ratio);
+    summaries.push_back(gs);
+  }
+  io::write_text_atomic(out / "groups.csv", g);
+  return summaries;
+}
+
+void write_timing(const std::vector<CaseResult>& results, const std::filesystem::path& out) {
+  std::string t = "id,reused,wall_seconds,run_wall_seconds,steps\n";
+  for (const auto& r : results)
+    t += fmt::format("{},{},{:.3f},{:.3f},{}\n", r.c.id, r.reused ? 1 : 0, r.wall_seconds,
+                     r.summary.value("wall_seconds", 0.0), r.summary["steps"].get<long>());
+  io::write_text_atomic(out / "timing.csv", t);
+}
+
+}  // namespace rbdem::study

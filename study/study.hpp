@@ -1,0 +1,109 @@
+// Parameter studies: many UCS cases (dips x parameter variations), run on all cores or over MPI ranks, resumable,
+// summarised in one table with Jaeger's plane-of-weakness strength beside the measured one.
+//
+// A study file (TOML) names a base scene, fixed overrides, the dips, and axes of variation; each axis gives one
+// label per case and, per varied key, either the values or factors of another key of the base scene:
+//
+//   [study]
+//   name = "joint_strength"
+//   base = "paper.toml"                       # relative to the study file; empty = built-in defaults
+//   dips = [0, 15, 30, 45, 60, 75, 90]
+//   [study.set]                               # overrides for every case
+//   "mesh.size" = 0.001
+//   [[axis]]
+//   name = "strength_ratio"
+//   labels = ["0.25", "0.5", "0.75", "1"]
+//   [axis.set]
+//   "joint.cohesion" = { of = "rock.cohesion", factors = [0.25, 0.5, 0.75, 1.0] }
+//   "joint.tensile_strength" = [3e6, 6e6, 9e6, 12e6]
+//
+// Cases are the product of the axes and the dips. Each case writes its own folder (summary.json last, so a folder
+// with a summary.json is complete); a rerun skips complete cases and reruns interrupted ones.
+#pragma once
+
+#include <atomic>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "dem/scene.hpp"
+#include "dem/ucs.hpp"
+
+namespace rbdem::study {
+
+struct Axis {
+  std::string name;
+  std::vector<std::string> labels;
+  // key -> one textual value per label (already resolved from factors)
+  std::vector<std::pair<std::string, std::vector<std::string>>> values;
+};
+
+struct StudySpec {
+  std::string name = "study";
+  std::string description;
+  Scene base;
+  std::vector<double> dips{0, 15, 30, 45, 60, 75, 90};
+  std::vector<Axis> axes;
+  std::filesystem::path source;  // the study file, for messages
+};
+
+struct Case {
+  std::string id;                 // folder name, e.g. "strength_ratio=0.5/beta=60"
+  std::string group;              // the case without its dip, e.g. "strength_ratio=0.5" ("" without axes)
+  std::vector<std::pair<std::string, std::string>> labels;  // axis name -> label
+  double beta = 0;
+  Scene scene;
+};
+
+// Reads a study file. Throws SceneError naming the file and the key for any problem.
+StudySpec load_study(const std::filesystem::path& path);
+// The study of the main job: the paper's dip study on a scene.
+StudySpec dip_study(const Scene& base, std::string name = "dips");
+// All cases in a fixed order: axes outermost (in file order), dips innermost.
+std::vector<Case> expand(const StudySpec& spec);
+
+struct CaseResult {
+  Case c;
+  nlohmann::json summary;   // the case's summary.json
+  bool reused = false;      // found complete on disk
+  double wall_seconds = 0;
+};
+
+struct RunOptions {
+  int workers = 0;                                  // concurrent cases in this process; 0 = all cores
+  bool progress = false;                            // progress lines on stderr (terminals only)
+  const std::atomic<bool>* cancel = nullptr;        // set to stop: running cases abort without a summary
+  std::function<void(const CaseResult&)> on_done;   // called from worker threads, serialised
+};
+
+// Runs the cases not yet complete under `out`, in parallel; returns the results of all cases (complete ones read
+// from disk). Under MPI (mpi_size > 1) each rank runs the cases with index % size == rank. Throws on a failed case
+// after the others finished; a cancelled run throws study::Cancelled.
+struct Cancelled : std::runtime_error {
+  Cancelled() : std::runtime_error("cancelled") {}
+};
+std::vector<CaseResult> run_cases(const std::vector<Case>& cases, const std::filesystem::path& out,
+                                  const RunOptions& options, int mpi_rank = 0, int mpi_size = 1);
+
+// Reads the results of all cases from their folders (after an MPI run, on rank 0); missing ones are skipped.
+std::vector<CaseResult> collect(const std::vector<Case>& cases, const std::filesystem::path& out);
+
+// Jaeger's uniaxial strength for one case: sliding on the joint (cohesion and friction of the joint bonds)
+// or, where sliding cannot govern, the group's measured strength at beta = 90.
+struct GroupSummary {
+  std::string group;
+  double min_strength_pa = 0, min_beta_deg = 0;          // measured
+  double jaeger_min_pa = 0, jaeger_min_beta_deg = 0;     // Jaeger (intact strength = measured beta = 90)
+  double strength_90_pa = 0, anisotropy_ratio = 0;       // sigma(90) / sigma_min
+};
+
+// Writes table.csv (deterministic: no timings) and groups.csv, returns the group summaries.
+std::vector<GroupSummary> write_tables(const std::vector<CaseResult>& results, const std::filesystem::path& out);
+// Writes timing.csv (wall seconds, steps per case).
+void write_timing(const std::vector<CaseResult>& results, const std::filesystem::path& out);
+
+}  // namespace rbdem::study
