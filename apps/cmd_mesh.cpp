@@ -70,9 +70,4 @@ Runner add_mesh_command(CLI::App& app) {
   return [opt]() { return run_mesh(*opt); };
 }
 
-int run_default_job() {
-  MeshOptions opt;
-  return run_mesh(opt);
-}
-
 }  // namespace rbdem::cli

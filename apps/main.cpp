@@ -2,7 +2,10 @@
 //
 // Usage:
 //   rbdem                                   the default study (paper specimen), table and report
+//   rbdem ucs --beta 60 --out runs/b60      one uniaxial compression test
+//   rbdem sweep study.toml --out runs/s     a parameter study (resumable; mpirun spreads the cases)
 //   rbdem mesh --beta 30 --out s.msh        the specimen mesh, for inspection in gmsh
+//   rbdem elastic --out runs/el             DEM vs FE vs Amadei elastic moduli and the elastic gate
 //   rbdem --help-scene                      every scene key with unit, range and default
 //   rbdem <command> --help                  the options of one command
 //
@@ -33,7 +36,12 @@ int main(int argc, char** argv) {
   runners[nullptr] = nullptr;
   auto add = [&](Runner r) { runners[app.get_subcommands({}).back()] = std::move(r); };
   add(add_ucs_command(app));
+  add(add_sweep_command(app));
+  add(add_calibrate_command(app));
   add(add_mesh_command(app));
+#ifdef RBDEM_HAVE_CONTINUUM
+  add(add_elastic_command(app));
+#endif
 
   try {
     app.parse(argc, argv);

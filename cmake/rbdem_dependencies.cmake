@@ -10,3 +10,4 @@ find_package(OpenMP REQUIRED)
 find_path(GMSH_INCLUDE_DIR gmsh.h REQUIRED)
 find_library(GMSH_LIBRARY NAMES gmsh REQUIRED)
 # gmsh is linked by full path (see dem/CMakeLists.txt), so the exported targets need no gmsh package.
+find_package(Threads REQUIRED)

@@ -71,6 +71,21 @@ struct BondStrength {
   }
 };
 
+// The macroscopic Mohr-Coulomb envelope tau = c + sigma tan(phi) of a bonded interface (compression positive),
+// for comparing a joint of bonds with Jaeger's plane of weakness. In compression the linear part and the parallel
+// bond share the traction in proportion to their stiffnesses, which are equal here (same E* and kappa), so the
+// bond sees half of it. Sticking linear part: the bond fails at tau/2 = c + (sigma/2) tan(phi_b), i.e.
+// tau = 2c + sigma tan(phi_b). Linear part sliding at mu: it carries mu sigma/2 of the shear and the bond fails
+// at tau - mu sigma/2 = c + (sigma/2) tan(phi_b), i.e. tau = c + sigma (mu + tan(phi_b))/2.
+struct MohrCoulomb {
+  double cohesion = 0;  // Pa
+  double tan_phi = 0;
+};
+inline MohrCoulomb interface_envelope(double cohesion, double tan_phi_bond, double mu, bool slip_when_bonded) {
+  if (!slip_when_bonded) return {2.0 * cohesion, tan_phi_bond};
+  return {cohesion, 0.5 * (mu + tan_phi_bond)};
+}
+
 // Overlap of the linear part of an intact bond from its kinematics: the edge of length L, centre opening
 // delta_n (positive when opening) and relative rotation dtheta. Along the edge s in [-L/2, L/2] the overlap is
 // u(s) = -delta_n + s dtheta; A_o is the integral of max(u, 0), the chord the compressed interval, and

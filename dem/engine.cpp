@@ -72,8 +72,10 @@ inline void eval_bond(const BondFrame& f, const BlockState& bi, const BlockState
     const double vrx = (bj.vx - bj.omega * cjy) - (bi.vx - bi.omega * ciy);
     const double vry = (bj.vy + bj.omega * cjx) - (bi.vy + bi.omega * cix);
     fs -= f.kA * kp.inv_kappa * (eo.chord * inv_L) * (vrx * tx + vry * ty) * dt;  // k_s t l_c ds
-    const double limit = kp.mu * out.fnl;
-    if (std::abs(fs) > limit) fs = std::copysign(limit, fs);
+    if (kp.slip_bonded) {
+      const double limit = kp.mu * out.fnl;
+      if (std::abs(fs) > limit) fs = std::copysign(limit, fs);
+    }
   } else {
     fs = 0.0;
   }
@@ -132,6 +134,7 @@ Engine::Engine(const Topology& topo, const Scene& scene, const EngineOptions& op
     kinds_[k].kappa = mat[k]->stiffness_ratio;
     kinds_[k].inv_kappa = 1.0 / mat[k]->stiffness_ratio;
     kinds_[k].mu = mat[k]->contact_friction;
+    kinds_[k].slip_bonded = mat[k]->slip_when_bonded;
     kinds_[k].strength = {mat[k]->tensile_strength, mat[k]->cohesion, std::tan(mat[k]->friction_deg * deg),
                           mat[k]->moment_factor};
   }
@@ -189,7 +192,8 @@ BondStiffness Engine::stiffness(int b) const {
   const BondFrame& f = bonds.frame[std::size_t(b)];
   const KindParams& kp = kinds_[int(bonds.kind[std::size_t(b)])];
   const double A = f.L * thickness_;
-  return {f.kA, f.kA / kp.kappa, f.kA * f.L * f.L / 12.0, f.kA, f.kA / kp.kappa, kp.mu, A, A * f.L * f.L / 12.0, f.L};
+  return {f.kA, f.kA / kp.kappa, f.kA * f.L * f.L / 12.0, f.kA, f.kA / kp.kappa, kp.mu, kp.slip_bonded,
+          A, A * f.L * f.L / 12.0, f.L};
 }
 
 BondForces Engine::bond_forces(int b) const {

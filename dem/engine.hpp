@@ -91,6 +91,7 @@ struct BondForces {
 struct BondStiffness {
   double kbnA, kbsA, kbnI;  // parallel bond: N/m, N/m, N m
   double knA, ksA, mu;      // linear part (closed edge): N/m, N/m, -
+  bool slip_bonded;         // the linear part slides while the bond is intact
   double A, I, L;           // m^2, m^4, m
 };
 
@@ -191,6 +192,7 @@ class Engine {
   // Per-kind parameters (rock = 0, joint = 1).
   struct KindParams {
     double modulus = 0, kappa = 1, inv_kappa = 1, mu = 0;
+    bool slip_bonded = false;  // the linear part of an intact bond slides at mu F_n
     BondStrength strength;
   };
 

@@ -75,6 +75,10 @@ void add_material(std::vector<Entry>& e, const std::string& section, std::functi
   e.push_back(real(p + "moment_factor", "-", 0.0, 1.0,
                    "moment contribution factor beta_m in the bond tensile stress of " + what,
                    [m](Scene& s) -> double& { return m(s).moment_factor; }));
+  e.push_back(boolean(p + "slip_when_bonded",
+                      "true: the linear part slides at mu F_n even while the parallel bond is intact (PFC's linear "
+                      "parallel bond); false: a bonded interface sticks until its bond breaks, " + what,
+                      [m](Scene& s) -> bool& { return m(s).slip_when_bonded; }));
 }
 
 std::vector<Entry> make_registry() {
@@ -338,16 +342,16 @@ void assign_toml(Scene& scene, const Entry& e, const toml::node& node, std::stri
 Scene::Scene() {
   rock.effective_modulus = 160e9;
   rock.stiffness_ratio = 1.5;
-  rock.tensile_strength = 6.5e6;
-  rock.cohesion = 13.0e6;
+  rock.tensile_strength = 3.5e6;
+  rock.cohesion = 7.0e6;
   rock.friction_deg = 40.0;
   rock.contact_friction = 0.5;
   rock.moment_factor = 1.0;
   rock.density = 2700.0;
   joint.effective_modulus = 50e9;
   joint.stiffness_ratio = 1.5;
-  joint.tensile_strength = 7.24e6;
-  joint.cohesion = 7.24e6;
+  joint.tensile_strength = 3.45e6;
+  joint.cohesion = 3.45e6;
   joint.friction_deg = 30.0;
   joint.contact_friction = 0.5;
   joint.moment_factor = 1.0;

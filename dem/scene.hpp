@@ -44,6 +44,7 @@ struct MaterialParams {
   double friction_deg = 0;       // deg, parallel bond friction angle phi_b (shear strength)
   double contact_friction = 0;   // -, Coulomb coefficient mu of the linear part and later contacts
   double moment_factor = 1.0;    // -, beta_m, moment contribution to the bond's tensile stress
+  bool slip_when_bonded = false; // linear part may slide while its parallel bond is intact (PFC's LPB)
 };
 
 struct RockParams : MaterialParams {

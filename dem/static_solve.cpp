@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <cmath>
 #include <limits>
 
@@ -103,9 +102,11 @@ class Stiffness {
         for (int q = 0; q < 6; ++q) slots_[36 * b + 6 * p + q] = slot(rows_[b].dof[p], rows_[b].dof[q]);
     }
     platen_slots_.resize(9 * platens.size());
-    for (std::size_t k = 0; k < platens.size(); ++k)
+    for (std::size_t k = 0; k < platens.size(); ++k) {
+      const int d0 = 3 * platens[k].block;
       for (int p = 0; p < 3; ++p)
-        for (int q = 0; q < 3; ++q) platen_slots_[9 * k + 3 * p + q] = slot(3 * platens[k].block + p, 3 * platens[k].block + q);
+        for (int q = 0; q < 3; ++q) platen_slots_[9 * k + 3 * p + q] = slot(d0 + p, d0 + q);
+    }
     pin_slot_ = slot(0, 0);
   }
 
@@ -113,14 +114,12 @@ class Stiffness {
   const BondStiffness& k(std::size_t b) const { return k_[b]; }
   const SpMat& pattern() const { return pattern_; }
 
-  // Fills sym with K_sym and full with K_full for the given linear-part states (both on the pattern). Returns
-  // whether any linear part slides (else full = sym).
-  bool assemble(const std::vector<std::uint8_t>& state, SpMat& sym, SpMat* full) const {
+  // Fills sym with K_sym and, when given, full with K_full for the given linear-part states (both on the pattern).
+  void assemble(const std::vector<std::uint8_t>& state, SpMat& sym, SpMat* full) const {
     sym = pattern_;
     double* v = sym.valuePtr();
     std::fill(v, v + sym.nonZeros(), 0.0);
     const auto& D = e_.bonds;
-    bool slides = false;
     for (std::size_t b = 0; b < D.size(); ++b) {
       if (D.broken[b]) continue;
       const BondRows& r = rows_[b];
@@ -132,7 +131,6 @@ class Stiffness {
       for (int p = 0; p < 6; ++p)
         for (int q = 0; q < 6; ++q)
           v[s[6 * p + q]] += kn * r.an[p] * r.an[q] + ks * r.as[p] * r.as[q] + k.kbnI * r.ar[p] * r.ar[q];
-      slides = slides || st == StaticResult::slip_positive || st == StaticResult::slip_negative;
     }
     const bool sticky = e_.platen_friction() > 0.0;
     for (std::size_t m = 0; m < platens_.size(); ++m) {
@@ -144,9 +142,8 @@ class Stiffness {
         for (int c = 0; c < 3; ++c) v[platen_slots_[9 * m + 3 * a + c]] += p.k * ay[a] * ay[c] + ks * ax[a] * ax[c];
     }
     v[pin_slot_] += pin_;
-    if (!full) return slides;
+    if (!full) return;
     *full = sym;
-    if (!slides) return false;
     double* w = full->valuePtr();
     for (std::size_t b = 0; b < D.size(); ++b) {
       const std::uint8_t st = state[b];
@@ -158,7 +155,6 @@ class Stiffness {
       for (int p = 0; p < 6; ++p)
         for (int q = 0; q < 6; ++q) w[s[6 * p + q]] += c * r.as[p] * r.an[q];
     }
-    return true;
   }
 
  private:
@@ -220,35 +216,45 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
       f[3 * p.block + 1] -= p.k * delta;
       f[3 * p.block + 2] -= p.k * delta * p.rx;
     }
+  // Each active-set iteration solves K_full(states) u = f. The first state (every linear part closed and
+  // sticking) is symmetric: one sparse LDLT (AMD ordering) solves it exactly. Later states differ by the bonds
+  // that opened or slide, so BiCGSTAB preconditioned by that factorisation converges in a few iterations from
+  // the previous solution; if it does not, the current K_sym is factorised (same symbolic analysis) and BiCGSTAB
+  // retried, and sparse LU of K_full is the last resort.
   const Stiffness stiffness(e, platens, pin);
   SpMat K_sym, K_full;
   Ldlt factor;
   factor.analyzePattern(stiffness.pattern());
+  auto factorise = [&]() {
+    factor.factorize(K_sym);
+    if (factor.info() != Eigen::Success)
+      throw std::runtime_error("static solve: the bonded-block stiffness is singular (a block without bonds or "
+                               "platen contact? check the mesh)");
+  };
   Eigen::BiCGSTAB<SpMat, FactorPreconditioner> krylov;
   krylov.setTolerance(options.krylov_tolerance);
-  krylov.setMaxIterations(200);
-  const bool refactor = std::getenv("RBDEM_REFACTOR") != nullptr;
+  krylov.setMaxIterations(100);
+  auto iterate = [&](Eigen::VectorXd& x) {
+    krylov.compute(K_full);
+    krylov.preconditioner().use(factor);
+    x = krylov.solveWithGuess(f, x);
+    r.krylov_iterations += int(krylov.iterations());
+    return krylov.info() == Eigen::Success;
+  };
   Eigen::VectorXd u;
   // Bonds whose state flips back and forth between iterations are few and near a state boundary, where both
   // states give nearly the same forces; stop when at most this many change.
   const std::size_t settled = nbond / 10000;
   for (int it = 0; it < options.max_iterations; ++it) {
     r.active_set_iterations = it + 1;
-    const bool slides = stiffness.assemble(r.linear_state, K_sym, &K_full);
-    if (it == 0 || refactor) {
-      factor.factorize(K_sym);
-      if (factor.info() != Eigen::Success)
-        throw std::runtime_error("static solve: the bonded-block stiffness is singular (a block without bonds or "
-                                 "platen contact? check the mesh)");
-    }
-    if (it == 0 || (refactor && !slides)) {
+    stiffness.assemble(r.linear_state, K_sym, &K_full);
+    if (it == 0) {
+      factorise();
       u = factor.solve(f);
-    } else {
-      krylov.compute(K_full);
-      krylov.preconditioner().use(factor);
-      u = krylov.solveWithGuess(f, u);
-      r.krylov_iterations += int(krylov.iterations());
-      if (krylov.info() != Eigen::Success) {
+    } else if (const Eigen::VectorXd guess = u; !iterate(u)) {
+      factorise();
+      u = guess;
+      if (!iterate(u)) {
         Eigen::SparseLU<SpMat> lu;
         lu.compute(K_full);
         if (lu.info() != Eigen::Success)
@@ -268,7 +274,7 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
       std::uint8_t st = StaticResult::open;
       if (dn < 0.0) {
         const BondStiffness& k = stiffness.k(b);
-        st = std::abs(k.ksA * ds) <= k.mu * (-k.knA * dn)
+        st = !k.slip_bonded || std::abs(k.ksA * ds) <= k.mu * (-k.knA * dn)
                  ? StaticResult::stick
                  : (ds > 0 ? StaticResult::slip_positive : StaticResult::slip_negative);
       }

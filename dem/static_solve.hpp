@@ -9,7 +9,9 @@
 // blocks to the relative displacement at the bond point and g picks theta_j - theta_i.
 // The linear part of each bond is open (centre in tension), sticking, or sliding (|F_s| = mu F_n); under a
 // proportional load every state keeps its ratio F_s/F_n, so a bond slides from the start or never, and the states
-// are found by an active-set iteration (a few solves; sliding makes the matrix non-symmetric: sparse LU).
+// are found by an active-set iteration (a few solves). Sliding makes the matrix non-symmetric; it is a small
+// perturbation of the symmetric part, so one sparse LDLT of the first (all closed, sticking) state preconditions
+// BiCGSTAB for the later states (static_solve.cpp); about 0.27 s for the 36k dofs of the 1 mm paper specimen.
 #pragma once
 
 #include <vector>

@@ -40,12 +40,13 @@ struct CrackCounts {
 };
 CrackCounts count_cracks(const std::vector<Crack>& cracks);
 
-// Failure mode from the crack log, weighted by crack (bond) length, in the paper's three classes plus one:
-//   joint cracks dominate:  mostly shear -> "shear_slip_along_joints", mostly tensile -> "splitting_along_layers"
-//   rock cracks dominate:   mostly tensile -> splitting, "splitting_along_layers" when the layers are steep
-//                           (dip >= 60 deg, cracks parallel to them) else "splitting_across_layers";
-//                           mostly shear -> "shear_through_rock"
-// and "intact" when nothing broke.
+// Failure mode from the crack log, in the seed paper's three classes plus one:
+//   a joint broken along at least half its length, mostly in shear, with a large resolved shear stress on it
+//   (tau / sigma = sin(2 dip) / 2 > 1/4: 15 < dip < 75 deg) -> "shear_slip_along_joints"
+//   a joint broken along at least half its length otherwise -> "splitting_along_layers"
+//   no joint broken through: rock cracks, by length, mostly tensile -> splitting, "splitting_along_layers" when the
+//   layers are steep (dip >= 60 deg, cracks parallel to them) else "splitting_across_layers";
+//   mostly shear -> "shear_through_rock"; and "intact" when nothing broke.
 std::string classify_failure(const std::vector<Crack>& cracks, const Topology& topo, double dip_deg);
 
 // Dip (0..90 deg from the horizontal) of the principal axis of the crack positions, weighted by crack length:
@@ -56,7 +57,8 @@ struct UcsResult {
   double peak_stress = 0;       // Pa (mean of the two platens)
   double strain_at_peak = 0;
   double youngs_modulus = 0;    // Pa, secant at 50 % of the peak
-  double platen_force_mismatch = 0;  // |F_top - F_bottom| / mean at the peak
+  double platen_force_mismatch = 0;  // max |F_top - F_bottom| / mean while loading (20 to 95 % of the peak)
+  double platen_force_mismatch_at_peak = 0;
   double kinetic_to_strain_at_peak = 0;
   std::vector<CurvePoint> curve;
   std::vector<Crack> cracks;

@@ -1,6 +1,8 @@
 // Result writers. See results.hpp.
 #include "io/results.hpp"
 
+#include "io/result_h5.hpp"
+
 #include <fstream>
 
 #include <fmt/format.h>
@@ -24,6 +26,8 @@ nlohmann::json ucs_summary(const Scene& scene, const UcsResult& r) {
                  {"joint_shear", r.crack_counts.joint_shear},
                  {"total", r.crack_counts.total()}};
   j["failure_mode"] = r.failure_mode;
+  j["crack_band_angle_deg"] = r.crack_band_angle_deg;
+  j["tensile_fraction"] = r.tensile_fraction;
   j["stop_reason"] = r.stop_reason;
   j["steps"] = r.steps;
   j["dt_s"] = r.dt;
@@ -33,6 +37,7 @@ nlohmann::json ucs_summary(const Scene& scene, const UcsResult& r) {
   j["elastic_start_strain"] = r.elastic_start_strain;
   j["wall_seconds"] = r.wall_seconds;
   j["platen_force_mismatch"] = r.platen_force_mismatch;
+  j["platen_force_mismatch_at_peak"] = r.platen_force_mismatch_at_peak;
   j["kinetic_to_strain_energy_at_peak"] = r.kinetic_to_strain_at_peak;
   j["scene"] = scene_json(scene);
   return j;
@@ -69,11 +74,14 @@ void write_cracks_csv(const std::filesystem::path& file, const std::vector<Crack
   write_text_atomic(file, s);
 }
 
-void write_ucs(const std::filesystem::path& dir, const Scene& scene, const UcsResult& r) {
+void write_ucs(const std::filesystem::path& dir, const Scene& scene, const TriMesh& mesh, const Topology& topo,
+               const UcsResult& r) {
   std::filesystem::create_directories(dir);
   write_text_atomic(dir / "scene.toml", to_toml(scene));
   write_curve_csv(dir / "curve.csv", r.curve);
   write_cracks_csv(dir / "cracks.csv", r.cracks);
+  write_result_h5(dir / "result.h5", scene, mesh, topo, r);
+  write_result_xdmf(dir / "result.xdmf", dir / "result.h5", topo.blocks.size(), r.frames);
   write_text_atomic(dir / "summary.json", ucs_summary(scene, r).dump(2) + "\n");
 }
 

@@ -1,5 +1,5 @@
-// Writers of run results: summary.json, curve.csv, cracks.csv and the resolved scene. Physics never opens files;
-// it hands plain results to these functions.
+// Writers of run results: summary.json, curve.csv, cracks.csv, the resolved scene, and (io/result_h5.hpp)
+// result.h5 with result.xdmf. Physics never opens files; it hands plain results to these functions.
 #pragma once
 
 #include <filesystem>
@@ -8,6 +8,7 @@
 
 #include "dem/scene.hpp"
 #include "dem/topology.hpp"
+#include "dem/trimesh.hpp"
 #include "dem/ucs.hpp"
 
 namespace rbdem::io {
@@ -15,9 +16,11 @@ namespace rbdem::io {
 // The summary.json object of a UCS run (contract in docs/outputs.md).
 nlohmann::json ucs_summary(const Scene& scene, const UcsResult& r);
 
-// Writes summary.json, curve.csv, cracks.csv and scene.toml into `dir` (created if needed). summary.json is
-// written last and atomically, so a folder with a summary.json holds a complete result.
-void write_ucs(const std::filesystem::path& dir, const Scene& scene, const UcsResult& r);
+// Writes scene.toml, curve.csv, cracks.csv, result.h5, result.xdmf and summary.json into `dir` (created if
+// needed), each atomically. summary.json is written last, so a folder with a summary.json holds a complete result.
+// `mesh` and `topo` are the ones the run used.
+void write_ucs(const std::filesystem::path& dir, const Scene& scene, const TriMesh& mesh, const Topology& topo,
+               const UcsResult& r);
 
 void write_curve_csv(const std::filesystem::path& file, const std::vector<CurvePoint>& curve);
 void write_cracks_csv(const std::filesystem::path& file, const std::vector<Crack>& cracks);

@@ -112,8 +112,10 @@ std::filesystem::path write_report(const StudySpec& spec, const std::vector<Case
   if (!extras.elastic_gate_markdown.empty()) md += "## Elastic gate\n\n" + extras.elastic_gate_markdown + "\n\n";
 
   md += "## Peak strength versus joint dip\n\n";
-  md += "Jaeger: sliding on the joint with the joint bonds' cohesion and friction angle, capped by the group's "
-        "measured strength at beta = 90 deg (THEORY.md 3).\n\n";
+  md += "Jaeger: sliding on a joint whose envelope is the bonded interface's (docs/model.md: in compression the "
+        "linear part shares the traction with the parallel bond, so a sticking interface has twice the bond's "
+        "cohesion), capped by the group's measured strength at beta = 90 deg (THEORY.md 3). table.csv also gives "
+        "Jaeger with the bonds' own cohesion and friction (jaeger_bond_pa).\n\n";
   md += "| case | beta (deg) | peak (MPa) | Jaeger (MPa) | strain at peak | E50 (GPa) | failure mode | cracks rock t/s "
         "| cracks joint t/s | steps | wall (s) |\n|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|\n";
   std::map<std::string, double> s90;
@@ -121,10 +123,9 @@ std::filesystem::path write_report(const StudySpec& spec, const std::vector<Case
   for (const auto& r : results) {
     const auto& s = r.summary;
     const auto& c = s["cracks"];
-    theory::JaegerInput in{r.c.scene.joint.cohesion, r.c.scene.joint.friction_deg, s90[r.c.group], 0.0};
     md += fmt::format("| {} | {:g} | {:.2f} | {:.2f} | {:.3e} | {:.1f} | {} | {}/{} | {}/{} | {} | {:.1f} |\n",
                       r.c.group.empty() ? "-" : r.c.group, r.c.beta, s["peak_stress_pa"].get<double>() / 1e6,
-                      theory::jaeger_strength(in, r.c.beta) / 1e6, s["strain_at_peak"].get<double>(),
+                      jaeger_for(r.c.scene, r.c.beta, s90[r.c.group]) / 1e6, s["strain_at_peak"].get<double>(),
                       s["youngs_modulus_pa"].get<double>() / 1e9, s["failure_mode"].get<std::string>(),
                       c["rock_tensile"].get<int>(), c["rock_shear"].get<int>(), c["joint_tensile"].get<int>(),
                       c["joint_shear"].get<int>(), s["steps"].get<long>(), s.value("wall_seconds", 0.0));

@@ -17,6 +17,7 @@
 #include <toml++/toml.h>
 
 #include "compare/theory/elasticity.hpp"
+#include "dem/contact_law.hpp"
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
 #include "io/results.hpp"
@@ -290,14 +291,18 @@ std::vector<CaseResult> collect(const std::vector<Case>& cases, const std::files
   return list;
 }
 
-namespace {
-
-double jaeger_for(const Scene& scene, double beta, double strength_90) {
-  theory::JaegerInput in{scene.joint.cohesion, scene.joint.friction_deg, strength_90, 0.0};
-  return scene.joint_set.enabled ? theory::jaeger_strength(in, beta) : strength_90;
+// Jaeger's strength with the joint's effective interface envelope (contact_law.hpp: the linear part shares the
+// traction with the bond), or with the joint bonds' own cohesion and friction (`bond_values`).
+double jaeger_for(const Scene& scene, double beta, double strength_90, bool bond_values) {
+  if (!scene.joint_set.enabled) return strength_90;
+  const MaterialParams& j = scene.joint;
+  const double tan_phi = std::tan(j.friction_deg * 3.14159265358979323846 / 180.0);
+  const MohrCoulomb env =
+      bond_values ? MohrCoulomb{j.cohesion, tan_phi} : interface_envelope(j.cohesion, tan_phi, j.contact_friction,
+                                                                          j.slip_when_bonded);
+  const double phi_deg = std::atan(env.tan_phi) * 180.0 / 3.14159265358979323846;
+  return theory::jaeger_strength({env.cohesion, phi_deg, strength_90, 0.0}, beta);
 }
-
-}  // namespace
 
 std::vector<GroupSummary> write_tables(const std::vector<CaseResult>& results, const std::filesystem::path& out) {
   // Group strengths at beta = 90 (Jaeger's intact strength) and minima.
@@ -325,19 +330,20 @@ std::vector<GroupSummary> write_tables(const std::vector<CaseResult>& results, c
   for (const auto& a : axis_names) t += "," + a;
   t += ",beta_deg,peak_stress_pa,strain_at_peak,youngs_modulus_pa,failure_mode,crack_band_angle_deg,"
        "tensile_fraction,cracks_rock_tensile,cracks_rock_shear,cracks_joint_tensile,cracks_joint_shear,steps,"
-       "stop_reason,platen_force_mismatch,jaeger_pa\n";
+       "stop_reason,platen_force_mismatch,jaeger_pa,jaeger_bond_pa\n";
   for (const auto& r : results) {
     const auto& s = r.summary;
     t += r.c.id + "," + r.c.group;
     for (const auto& [a, l] : r.c.labels) t += "," + l;
     const auto& c = s["cracks"];
-    t += fmt::format(",{:g},{:.9g},{:.9g},{:.9g},{},{:.4g},{:.4g},{},{},{},{},{},{},{:.4g},{:.9g}\n", r.c.beta,
+    t += fmt::format(",{:g},{:.9g},{:.9g},{:.9g},{},{:.4g},{:.4g},{},{},{},{},{},{},{:.4g},{:.9g},{:.9g}\n", r.c.beta,
                      s["peak_stress_pa"].get<double>(), s["strain_at_peak"].get<double>(),
                      s["youngs_modulus_pa"].get<double>(), s["failure_mode"].get<std::string>(),
                      s.value("crack_band_angle_deg", 0.0), s.value("tensile_fraction", 0.0),
                      c["rock_tensile"].get<int>(), c["rock_shear"].get<int>(), c["joint_tensile"].get<int>(),
                      c["joint_shear"].get<int>(), s["steps"].get<long>(), s.value("stop_reason", std::string()),
-                     s.value("platen_force_mismatch", 0.0), jaeger_for(r.c.scene, r.c.beta, s90[r.c.group]));
+                     s.value("platen_force_mismatch", 0.0), jaeger_for(r.c.scene, r.c.beta, s90[r.c.group]),
+                     jaeger_for(r.c.scene, r.c.beta, s90[r.c.group], true));
   }
   io::write_text_atomic(out / "table.csv", t);
 
@@ -357,9 +363,12 @@ std::vector<GroupSummary> write_tables(const std::vector<CaseResult>& results, c
     gs.strength_90_pa = s90[name];
     gs.anisotropy_ratio = gs.min_strength_pa > 0 ? gs.strength_90_pa / gs.min_strength_pa : 0.0;
     if (scene && scene->joint_set.enabled) {
-      gs.jaeger_min_beta_deg = theory::jaeger_min_angle_deg(scene->joint.friction_deg);
-      gs.jaeger_min_pa = std::min(theory::jaeger_min_uniaxial_strength(scene->joint.cohesion, scene->joint.friction_deg),
-                                  gs.strength_90_pa);
+      const MaterialParams& j = scene->joint;
+      const MohrCoulomb env = interface_envelope(j.cohesion, std::tan(j.friction_deg * 3.14159265358979323846 / 180.0),
+                                                 j.contact_friction, j.slip_when_bonded);
+      const double phi = std::atan(env.tan_phi) * 180.0 / 3.14159265358979323846;
+      gs.jaeger_min_beta_deg = theory::jaeger_min_angle_deg(phi);
+      gs.jaeger_min_pa = std::min(theory::jaeger_min_uniaxial_strength(env.cohesion, phi), gs.strength_90_pa);
     }
     g += fmt::format("{},{:g},{:.9g},{:g},{:.9g},{:.9g},{:.4g}\n", name, gs.min_beta_deg, gs.min_strength_pa,
                      gs.jaeger_min_beta_deg, gs.jaeger_min_pa, gs.strength_90_pa, gs.anisotropy_ratio);

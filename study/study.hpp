@@ -92,8 +92,12 @@ std::vector<CaseResult> run_cases(const std::vector<Case>& cases, const std::fil
 // Reads the results of all cases from their folders (after an MPI run, on rank 0); missing ones are skipped.
 std::vector<CaseResult> collect(const std::vector<Case>& cases, const std::filesystem::path& out);
 
-// Jaeger's uniaxial strength for one case: sliding on the joint (cohesion and friction of the joint bonds)
-// or, where sliding cannot govern, the group's measured strength at beta = 90.
+// Jaeger's uniaxial strength for one case: sliding on the joint or, where sliding cannot govern, the group's
+// measured strength at beta = 90. The joint's envelope is the bonded interface's (dem/contact_law.hpp,
+// interface_envelope: the linear part shares the traction with the bond), or with `bond_values` the joint bonds'
+// own cohesion and friction angle.
+double jaeger_for(const Scene& scene, double beta, double strength_90, bool bond_values = false);
+
 struct GroupSummary {
   std::string group;
   double min_strength_pa = 0, min_beta_deg = 0;          // measured

@@ -1,0 +1,160 @@
+// rbdem sweep: a parameter study (dips x scene variations), and the main job (the default dip study).
+//
+//   rbdem sweep scenes/study_joint_strength.toml --out runs/strength     # all cores
+//   mpirun -np 4 rbdem sweep scenes/study_spacing.toml --out runs/spacing # cases spread over the ranks
+//   rbdem                                                                 # the paper's dip study, report
+// Each case gets its own folder; table.csv, groups.csv, timing.csv and report.md summarise the study. A sweep
+// stopped with Ctrl-C (or killed) resumes where it stopped when rerun with the same command.
+#include <mpi.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
+#include <map>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "apps/cli_common.hpp"
+#include "apps/commands.hpp"
+#include "compare/theory/elasticity.hpp"
+#include "study/report.hpp"
+#include "study/study.hpp"
+
+namespace rbdem::cli {
+
+namespace {
+
+std::atomic<bool> interrupted{false};
+extern "C" void on_sigint(int) { interrupted.store(true); }
+
+struct SweepOptions {
+  std::string study;
+  std::string out = "runs/sweep";
+  std::vector<std::string> sets;
+  int workers = 0;
+  bool quiet = false;
+};
+
+// MPI only when launched by mpirun (OpenMPI, MPICH/PMI): a plain run needs no MPI at all.
+struct MpiSession {
+  int rank = 0, size = 1;
+  bool active = false;
+  MpiSession() {
+    const bool launched = std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE");
+    int initialised = 0;
+    MPI_Initialized(&initialised);
+    if (!launched && !initialised) return;
+    if (!initialised) {
+      int provided = 0;
+      MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+      owner = true;
+    }
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+    active = true;
+  }
+  ~MpiSession() {
+    int finalised = 0;
+    MPI_Finalized(&finalised);
+    if (owner && !finalised) MPI_Finalize();
+  }
+  void barrier() const {
+    if (active) MPI_Barrier(MPI_COMM_WORLD);
+  }
+  bool owner = false;
+};
+
+int run_study(study::StudySpec spec, const std::filesystem::path& out, int workers, bool quiet, bool paper_check) {
+  MpiSession mpi;
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto cases = study::expand(spec);
+  const bool tty = isatty(fileno(stderr)) && !quiet;
+  if (mpi.rank == 0)
+    fmt::print("sweep {}: {} cases ({} dips{}) into {}{}\n", spec.name, cases.size(), spec.dips.size(),
+               spec.axes.empty() ? "" : fmt::format(" x {} variations", cases.size() / spec.dips.size()), out.string(),
+               mpi.size > 1 ? fmt::format(" over {} MPI ranks", mpi.size) : "");
+  study::RunOptions ro;
+  ro.workers = workers > 0 ? workers : (mpi.size > 1 ? 1 : 0);
+  ro.progress = tty;
+  ro.cancel = &interrupted;
+  auto previous = std::signal(SIGINT, on_sigint);
+  std::vector<study::CaseResult> ran;
+  try {
+    ran = study::run_cases(cases, out, ro, mpi.rank, mpi.size);
+  } catch (const study::Cancelled&) {
+    std::signal(SIGINT, previous);
+    const auto done = study::collect(cases, out).size();
+    fmt::print(stderr, "sweep: interrupted with {} of {} cases complete; rerun the same command to finish\n", done,
+               cases.size());
+    return 130;
+  }
+  std::signal(SIGINT, previous);
+  mpi.barrier();
+  if (mpi.rank != 0) return ok;
+  // Everything from disk (other ranks' cases too), with this process's timings where it ran the case.
+  auto results = study::collect(cases, out);
+  for (auto& r : results)
+    for (const auto& mine : ran)
+      if (mine.c.id == r.c.id) r.reused = mine.reused, r.wall_seconds = mine.wall_seconds;
+  if (results.size() != cases.size())
+    throw std::runtime_error(fmt::format("sweep: {} of {} cases have no summary.json in {}", cases.size() - results.size(),
+                                         cases.size(), out.string()));
+  const auto groups = study::write_tables(results, out);
+  study::write_timing(results, out);
+  study::ReportExtras extras;
+  extras.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  extras.workers = ro.workers > 0 ? ro.workers : int(std::thread::hardware_concurrency());
+  extras.paper_check = paper_check;
+  const auto report = study::write_report(spec, results, groups, out, extras);
+
+  fmt::print("\n{:<34} {:>6} {:>10} {:>10} {:>10}  {}\n", "case", "beta", "peak MPa", "Jaeger MPa", "E50 GPa",
+             "failure mode");
+  std::map<std::string, double> s90;
+  for (const auto& g : groups) s90[g.group] = g.strength_90_pa;
+  for (const auto& r : results) {
+    const auto& s = r.summary;
+    fmt::print("{:<34} {:>6g} {:>10.2f} {:>10.2f} {:>10.1f}  {}\n", r.c.group.empty() ? "-" : r.c.group, r.c.beta,
+               s["peak_stress_pa"].get<double>() / 1e6, study::jaeger_for(r.c.scene, r.c.beta, s90[r.c.group]) / 1e6,
+               s["youngs_modulus_pa"].get<double>() / 1e9, s["failure_mode"].get<std::string>());
+  }
+  for (const auto& g : groups)
+    fmt::print("group {}: minimum {:.2f} MPa at {:g} deg (Jaeger {:.2f} MPa at {:.0f} deg), anisotropy ratio {:.2f}\n",
+               g.group.empty() ? "-" : g.group, g.min_strength_pa / 1e6, g.min_beta_deg, g.jaeger_min_pa / 1e6,
+               g.jaeger_min_beta_deg, g.anisotropy_ratio);
+  fmt::print("sweep: {:.1f} s wall; table {}, report {}\n", extras.wall_seconds, (out / "table.csv").string(),
+             report.string());
+  return ok;
+}
+
+}  // namespace
+
+Runner add_sweep_command(CLI::App& app) {
+  auto opt = std::make_shared<SweepOptions>();
+  CLI::App* cmd = app.add_subcommand("sweep", "a parameter study: one folder per case, table.csv, report.md");
+  cmd->add_option("study", opt->study, "study file (TOML; see scenes/study_*.toml)")->required();
+  cmd->add_option("--out,-o", opt->out, "output folder (rerun to resume)")->capture_default_str();
+  cmd->add_option("--set", opt->sets, "override a key of the study's base scene, e.g. --set mesh.size=0.002")
+      ->type_name("KEY=VALUE")
+      ->allow_extra_args(false);
+  cmd->add_option("--workers,-j", opt->workers, "cases run at once in this process (default: all cores)");
+  cmd->add_flag("--quiet,-q", opt->quiet, "no progress lines");
+  return [opt]() {
+    study::StudySpec spec = study::load_study(opt->study);
+    for (const auto& s : opt->sets) apply_override(spec.base, s);
+    validate(spec.base);
+    return run_study(spec, opt->out, opt->workers, opt->quiet, false);
+  };
+}
+
+int run_default_job() {
+  const Scene scene;
+  study::StudySpec spec = study::dip_study(scene, "paper_dips");
+  spec.description = "The seed paper's uniaxial compression study: the 100 x 50 mm specimen with joints every 10 mm "
+                     "at dips 0 to 90 deg (scenes/paper.toml).";
+  return run_study(spec, "runs/default", 0, false, true);
+}
+
+}  // namespace rbdem::cli

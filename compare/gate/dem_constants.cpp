@@ -1,0 +1,163 @@
+// DEM-measured elastic constants and Goodman's estimate. See dem_constants.hpp.
+#include "compare/gate/dem_constants.hpp"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+
+#include "dem/engine.hpp"
+
+namespace rbdem::compare {
+
+GaugeStrain gauge_strain(const Topology& topo, const std::vector<double>& ux, const std::vector<double>& uy,
+                         double end_fraction) {
+  const auto& B = topo.blocks;
+  const double lo = topo.ymin + end_fraction * topo.height(), hi = topo.ymax - end_fraction * topo.height();
+  // Centred coordinates keep the 3 x 3 normal equations well conditioned.
+  double mx = 0, my = 0, mux = 0, muy = 0;
+  std::size_t n = 0;
+  for (std::size_t b = 0; b < B.size(); ++b)
+    if (B.cy[b] >= lo && B.cy[b] <= hi) mx += B.cx[b], my += B.cy[b], mux += ux[b], muy += uy[b], ++n;
+  if (n < 3)
+    throw std::invalid_argument(fmt::format("strain gauge: only {} blocks lie in the interior (end fraction {}): "
+                                            "refine mesh.size",
+                                            n, end_fraction));
+  mx /= double(n), my /= double(n), mux /= double(n), muy /= double(n);
+  Eigen::Matrix2d M = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d rx = Eigen::Vector2d::Zero(), ry = Eigen::Vector2d::Zero();
+  for (std::size_t b = 0; b < B.size(); ++b) {
+    if (B.cy[b] < lo || B.cy[b] > hi) continue;
+    const Eigen::Vector2d p(B.cx[b] - mx, B.cy[b] - my);
+    M += p * p.transpose();
+    rx += p * (ux[b] - mux);
+    ry += p * (uy[b] - muy);
+  }
+  const Eigen::Vector2d gx = M.ldlt().solve(rx), gy = M.ldlt().solve(ry);  // (du/dx, du/dy)
+  GaugeStrain g;
+  g.eps_xx = gx[0], g.eps_yy = gy[1], g.gamma_xy = gx[1] + gy[0];
+  g.rotation = 0.5 * (gy[0] - gx[1]);
+  g.blocks = n;
+  double res2 = 0, fit2 = 0;
+  for (std::size_t b = 0; b < B.size(); ++b) {
+    if (B.cy[b] < lo || B.cy[b] > hi) continue;
+    const double px = B.cx[b] - mx, py = B.cy[b] - my;
+    const double fx = gx[0] * px + gx[1] * py, fy = gy[0] * px + gy[1] * py;
+    res2 += std::pow(ux[b] - mux - fx, 2) + std::pow(uy[b] - muy - fy, 2);
+    fit2 += fx * fx + fy * fy;
+  }
+  g.misfit = fit2 > 0 ? std::sqrt(res2 / fit2) : 0.0;
+  return g;
+}
+
+Scene elastic_test_scene(const Scene& scene) {
+  Scene s = scene;
+  s.loading.platen_friction = 0.0;
+  return s;
+}
+
+VirtualTest virtual_test(const Topology& topo, const Scene& scene, double beta_deg, double end_fraction,
+                         StaticResult* state) {
+  const Scene s = elastic_test_scene(scene);
+  EngineOptions eo = EngineOptions::from_scene(s);
+  eo.threads = 1;  // the static solve does not use the engine's threads; angles run in parallel instead
+  const Engine engine(topo, s, eo);
+  StaticOptions so;
+  so.platen_displacement = 1e-5 * topo.height();
+  StaticResult r = solve_static(engine, so);
+  VirtualTest t;
+  t.beta_deg = beta_deg;
+  t.platen_displacement = r.platen_displacement;
+  t.stress = -0.5 * (r.top_force + r.bottom_force) / (topo.width() * topo.thickness);
+  t.platen_modulus = r.apparent_modulus;
+  t.gauge = gauge_strain(topo, r.ux, r.uy, end_fraction);
+  t.gauge_modulus = t.stress / t.gauge.eps_yy;
+  t.S12 = t.gauge.eps_xx / t.stress;
+  t.S22 = t.gauge.eps_yy / t.stress;
+  t.S26 = t.gauge.gamma_xy / t.stress;
+  t.blocks = topo.blocks.size();
+  t.bonds = topo.bonds.size();
+  t.joint_bonds = topo.count(BondKind::joint);
+  t.open_bonds = r.open_bonds;
+  t.sliding_bonds = r.sliding_bonds;
+  t.dofs = r.dofs;
+  t.active_set_iterations = r.active_set_iterations;
+  t.solve_seconds = r.seconds;
+  if (state) *state = std::move(r);
+  return t;
+}
+
+ComplianceFit fit_compliance(const std::vector<VirtualTest>& tests, theory::Plane plane) {
+  if (tests.size() < 3)
+    throw std::invalid_argument("compliance fit: needs virtual tests at three or more angles (e.g. 0, 45, 90 deg)");
+  const long m = long(3 * tests.size());
+  Eigen::MatrixXd A(m, 4);
+  Eigen::VectorXd b(m);
+  double s22 = 0;
+  for (const auto& t : tests) s22 += t.S22 * t.S22;
+  const double scale = std::sqrt(s22 / double(tests.size()));
+  for (std::size_t k = 0; k < tests.size(); ++k) {
+    // The rotated compliance is linear in (a11, a22, a12, a66): its columns are the images of the unit vectors.
+    for (int c = 0; c < 4; ++c) {
+      theory::ReducedCompliance unit;
+      (c == 0 ? unit.a11 : c == 1 ? unit.a22 : c == 2 ? unit.a12 : unit.a66) = 1.0;
+      const auto S = theory::rotated_compliance(unit, tests[k].beta_deg);
+      A(long(3 * k), c) = S[0][1];
+      A(long(3 * k + 1), c) = S[1][1];
+      A(long(3 * k + 2), c) = S[1][2];
+    }
+    b[long(3 * k)] = tests[k].S12 / scale;
+    b[long(3 * k + 1)] = tests[k].S22 / scale;
+    b[long(3 * k + 2)] = tests[k].S26 / scale;
+  }
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
+  if (qr.rank() < 4)
+    throw std::invalid_argument(
+        "compliance fit: the test angles do not determine the four compliances (use 0, 45, 90)");
+  const Eigen::Vector4d x = qr.solve(b);
+  const Eigen::VectorXd res = A * x - b;
+  ComplianceFit f;
+  f.a = {x[0] * scale, x[1] * scale, x[2] * scale, x[3] * scale};
+  f.constants = theory::constants_from_compliance(f.a, plane);
+  f.residual = std::sqrt(res.squaredNorm() / double(m));
+  f.max_residual = res.cwiseAbs().maxCoeff();
+  f.admissible = f.constants.admissible();
+  return f;
+}
+
+theory::TIConstants isotropic_constants(const VirtualTest& test, theory::Plane plane) {
+  const theory::ReducedCompliance a{test.S22, test.S22, test.S12, 2.0 * (test.S22 - test.S12)};
+  return theory::constants_from_compliance(a, plane);
+}
+
+void JointBondStats::add(const Topology& topo) {
+  for (std::size_t b = 0; b < topo.bonds.size(); ++b)
+    if (topo.bonds.kind[b] == BondKind::joint) {
+      sum_length += topo.bonds.length[b];
+      sum_length_d += topo.bonds.length[b] * topo.bonds.d[b];
+      ++count;
+    }
+}
+
+GoodmanEstimate goodman_estimate(const Scene& scene, const theory::TIConstants& intact, double d_mean) {
+  GoodmanEstimate g;
+  g.E_r = intact.E, g.nu_r = intact.nu;
+  g.spacing = scene.joint_set.spacing;
+  g.d_mean = d_mean;
+  const double inf = std::numeric_limits<double>::infinity();
+  const auto& r = scene.rock;
+  const auto& j = scene.joint;
+  // Extra compliance per area of a joint bond over the rock bond it replaces (2 E*/d per area in compression).
+  const double cn = d_mean * (1.0 / (2.0 * j.effective_modulus) - 1.0 / (2.0 * r.effective_modulus));
+  const double cs = d_mean * (j.stiffness_ratio / (2.0 * j.effective_modulus) -
+                              r.stiffness_ratio / (2.0 * r.effective_modulus));
+  const bool joints = scene.joint_set.enabled && d_mean > 0;
+  g.k_n = joints && cn != 0.0 ? 1.0 / cn : inf;
+  g.k_s = joints && cs != 0.0 ? 1.0 / cs : inf;
+  g.constants = theory::goodman(g.E_r, g.nu_r, g.k_n, g.k_s, g.spacing);
+  return g;
+}
+
+}  // namespace rbdem::compare

@@ -1,0 +1,103 @@
+// The DEM as an elastic material: its transversely isotropic constants measured by static virtual tests, and
+// Goodman's equivalent-continuum estimate from the scene's bond parameters (THEORY.md 1, 2, 4).
+//
+// Virtual test: the scene's specimen, meshed at one joint dip beta, between frictionless platens, solved by
+// solve_static() (exact elastic state of the bonded blocks with the linear parts' open/stick/slip states). The
+// stress is uniaxial and uniform: sigma_yy = -F / (W t) (tension positive), sigma_xx = tau_xy = 0. The strains come
+// from a least-squares affine fit u = u0 + G x of the block centroid displacements over the interior (blocks at
+// least end_fraction H from both platens), which keeps the platens' contact compliance and the end rows of
+// blocks out of the measurement. Then S12 = eps_xx / sigma_yy, S22 = eps_yy / sigma_yy, S26 = gamma_xy / sigma_yy.
+//
+// Fit: S12, S22, S26 of theory::rotated_compliance(a, beta) are linear in the reduced compliance
+// a = (a11, a22, a12, a66), so tests at beta = 0, 45, 90 (nine numbers) give a by least squares, and
+// theory::constants_from_compliance(a, plane) the five constants. The relative residual says how far the DEM
+// is from a transversely isotropic continuum at the tested angles.
+//
+// Goodman: intact rock E_r, nu_r from the same virtual test on the unjointed specimen; a joint bond replaces a
+// rock bond in series, so the joint's extra compliance per area is
+//   1/k_n = d_mean (1/(2 E*_j) - 1/(2 E*_r)),  1/k_s = d_mean (kappa_j/(2 E*_j) - kappa_r/(2 E*_r)),
+// with d_mean the length-weighted mean centroid distance of the joint bonds and the factor 2 because the closed
+// linear part and the parallel bond act in parallel in compression (2 E*/d per area). An estimate, not a test.
+// SI units (Pa, m, Pa/m), angles in degrees.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "compare/theory/elasticity.hpp"
+#include "dem/scene.hpp"
+#include "dem/static_solve.hpp"
+#include "dem/topology.hpp"
+
+namespace rbdem::compare {
+
+// Homogeneous strain of the interior from the block centroid displacements (engineering shear strain).
+struct GaugeStrain {
+  double eps_xx = 0, eps_yy = 0, gamma_xy = 0;
+  double rotation = 0;   // rad, (du_y/dx - du_x/dy) / 2
+  std::size_t blocks = 0;  // blocks in the fit
+  double misfit = 0;     // rms of the fit residual / rms of the affine part (how far from homogeneous)
+};
+
+// Least-squares affine fit over the blocks whose centroid lies at least end_fraction x height from both platens.
+GaugeStrain gauge_strain(const Topology& topo, const std::vector<double>& ux, const std::vector<double>& uy,
+                         double end_fraction);
+
+// One static virtual uniaxial test.
+struct VirtualTest {
+  double beta_deg = 0;
+  double platen_displacement = 0;  // m, imposed closure of the top platen
+  double stress = 0;            // Pa, sigma_yy = -F / (W t): negative in compression
+  double platen_modulus = 0;    // Pa, StaticResult::apparent_modulus: platen force over platen displacement / H
+  double gauge_modulus = 0;     // Pa, sigma_yy / eps_yy of the interior gauge
+  GaugeStrain gauge;
+  double S12 = 0, S22 = 0, S26 = 0;  // 1/Pa, measured global compliance entries
+  std::size_t blocks = 0, bonds = 0, joint_bonds = 0, open_bonds = 0, sliding_bonds = 0, dofs = 0;
+  int active_set_iterations = 0;
+  double solve_seconds = 0;
+};
+
+// The scene the elastic measurements use: the given one with frictionless platens (Amadei's formula and the
+// FE patch test assume platens free to slide; platen friction is a loading condition, not a material property).
+Scene elastic_test_scene(const Scene& scene);
+
+// Runs the static solve on `topo` (built from the scene's mesh at dip beta_deg) and measures it. When `state` is
+// given it receives the static solution (block displacements for field comparisons).
+VirtualTest virtual_test(const Topology& topo, const Scene& scene, double beta_deg, double end_fraction,
+                         StaticResult* state = nullptr);
+
+struct ComplianceFit {
+  theory::ReducedCompliance a;
+  theory::TIConstants constants;
+  double residual = 0;      // rms of the nine residuals / rms of the measured S22
+  double max_residual = 0;  // largest residual / rms of the measured S22
+  bool admissible = false;  // the constants give a positive definite compliance
+};
+
+// Least squares over every test's S12, S22, S26 (needs tests at three or more distinct angles, e.g. 0, 45, 90).
+ComplianceFit fit_compliance(const std::vector<VirtualTest>& tests, theory::Plane plane);
+
+// E and nu of an isotropic specimen from one test: a11 = a22 = S22, a12 = S12, a66 = 2 (a11 - a12).
+theory::TIConstants isotropic_constants(const VirtualTest& test, theory::Plane plane);
+
+struct JointBondStats {
+  double sum_length = 0, sum_length_d = 0;  // m, m^2
+  std::size_t count = 0;
+  void add(const Topology& topo);
+  void merge(const JointBondStats& o) {
+    sum_length += o.sum_length, sum_length_d += o.sum_length_d, count += o.count;
+  }
+  double mean_d() const { return sum_length > 0 ? sum_length_d / sum_length : 0.0; }  // length-weighted, m
+};
+
+struct GoodmanEstimate {
+  double E_r = 0, nu_r = 0;      // Pa, -: intact rock (virtual test on the unjointed specimen)
+  double k_n = 0, k_s = 0;       // Pa/m, joint stiffness per area (infinite without joints)
+  double spacing = 0;            // m
+  double d_mean = 0;             // m, length-weighted mean centroid distance of the joint bonds
+  theory::TIConstants constants;
+};
+
+GoodmanEstimate goodman_estimate(const Scene& scene, const theory::TIConstants& intact, double d_mean);
+
+}  // namespace rbdem::compare

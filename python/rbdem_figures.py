@@ -1,0 +1,407 @@
+#!/usr/bin/python3
+"""Figures of rbdem runs: stress-strain curves, strength versus dip, crack maps (the paper's Figure 9).
+
+Run with Debian's /usr/bin/python3 (python3-matplotlib, python3-h5py, python3-numpy); headless (Agg).
+
+    rbdem_figures.py stress-strain OUT.png RUN_DIR [RUN_DIR ...] [--labels L ...]
+    rbdem_figures.py strength OUT.png TABLE.csv [--group COLUMN]
+    rbdem_figures.py cracks OUT.png RUN_DIR [--at peak|final|both] [--magnify M]
+    rbdem_figures.py crack-grid OUT.png RUN_DIR [RUN_DIR ...] [--labels L ...] [--magnify M]
+
+Examples:
+
+    /usr/bin/python3 python/rbdem_figures.py stress-strain curves.png runs/b0 runs/b60 --labels '0 deg' '60 deg'
+    /usr/bin/python3 python/rbdem_figures.py strength strength.png runs/study/table.csv --group group
+    /usr/bin/python3 python/rbdem_figures.py cracks cracks.png runs/b60 --at both
+    /usr/bin/python3 python/rbdem_figures.py crack-grid dips.png runs/study/b*
+
+A RUN_DIR is the --out folder of `rbdem ucs` (summary.json, curve.csv, result.h5). What each figure shows and
+how to read it: docs/outputs.md. The functions plot_* can be imported as well.
+"""
+
+import argparse
+import csv
+import json
+import math
+import os
+import sys
+import time
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+
+# Crack classes: (kind, mode) -> (legend label, colour). kind 0 rock, 1 joint; mode 1 tensile, 2 shear.
+CRACK_STYLES = {
+    (0, 1): ("rock, tensile", "#d62728"),
+    (0, 2): ("rock, shear", "#ff7f0e"),
+    (1, 1): ("joint, tensile", "#1f77b4"),
+    (1, 2): ("joint, shear", "#2ca02c"),
+}
+# Light fills, cycled by layer id, so the layering shows without hiding the cracks.
+LAYER_FILLS = ["#ececec", "#dfe6ee", "#f1ebe0", "#e3ece2"]
+
+
+# ------------------------------------------------------------------------------------------------ reading runs
+
+
+def _read_csv(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def _float(text):
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def read_summary(run_dir):
+    path = os.path.join(run_dir, "summary.json")
+    if os.path.exists(path):
+        with open(path) as f:
+            return json.load(f)
+    h5 = os.path.join(run_dir, "result.h5")
+    if os.path.exists(h5):
+        import h5py
+
+        with h5py.File(h5, "r") as f:
+            return json.loads(f["summary"].attrs["json"])
+    raise SystemExit(f"{run_dir}: no summary.json or result.h5 (is it the --out folder of `rbdem ucs`?)")
+
+
+def read_curve(run_dir):
+    """The stress-strain curve as a dict of numpy arrays (curve.csv columns), from curve.csv or result.h5."""
+    path = os.path.join(run_dir, "curve.csv")
+    if os.path.exists(path):
+        rows = _read_csv(path)
+        if not rows:
+            raise SystemExit(f"{path}: empty curve")
+        return {k: np.array([_float(r[k]) for r in rows]) for k in rows[0]}
+    h5 = os.path.join(run_dir, "result.h5")
+    if os.path.exists(h5):
+        import h5py
+
+        with h5py.File(h5, "r") as f:
+            return {k: np.asarray(v[()], dtype=float) for k, v in f["history"].items()}
+    raise SystemExit(f"{run_dir}: no curve.csv or result.h5")
+
+
+class CrackMapData:
+    """What a crack map needs from result.h5: mesh, bonds, crack log, frames (read lazily)."""
+
+    def __init__(self, run_dir):
+        import h5py
+
+        path = os.path.join(run_dir, "result.h5")
+        if not os.path.exists(path):
+            raise SystemExit(f"{run_dir}: no result.h5 (written by `rbdem ucs`)")
+        self.run_dir = run_dir
+        self.file = h5py.File(path, "r")
+        f = self.file
+        self.summary = json.loads(f["summary"].attrs["json"])
+        self.triangles = f["mesh/triangles"][()]
+        self.layer = f["mesh/layer"][()]
+        self.nodes = f["mesh/nodes"][()]
+        self.bond_i = f["bonds/i"][()]
+        self.node_a = f["bonds/node_a"][()]
+        self.node_b = f["bonds/node_b"][()]
+        self.crack_bond = f["cracks/bond"][()]
+        self.crack_kind = f["cracks/kind"][()]
+        self.crack_mode = f["cracks/mode"][()]
+        self.frames = []
+        names = sorted(f["frames"].keys())
+        for name in names:
+            a = f["frames"][name].attrs
+            label = a["label"]
+            if isinstance(label, bytes):
+                label = label.decode()
+            self.frames.append(
+                {
+                    "name": name,
+                    "label": str(label),
+                    "step": int(a["step"]),
+                    "strain": float(a["strain"]),
+                    "stress": float(a["stress"]),
+                    "cracks": int(a["cracks"]),
+                }
+            )
+        if not self.frames:
+            raise SystemExit(f"{path}: no frames")
+
+    def frame_index(self, at):
+        """Index of the frame labelled `at` ('peak' or 'final'); falls back to the highest stress or the last."""
+        for k, fr in enumerate(self.frames):
+            if fr["label"] == at:
+                return k
+        if at == "peak":
+            return int(np.argmax([fr["stress"] for fr in self.frames]))
+        return len(self.frames) - 1
+
+    def vertices(self, k, magnify=1.0):
+        """Block vertices (T, 3, 2) at frame k; displacements from the reference scaled by `magnify`."""
+        v = self.file["frames"][self.frames[k]["name"]]["vertices"][()].astype(float)
+        v = v.reshape(-1, 3, 3)[:, :, :2]
+        if magnify != 1.0:
+            ref = self.nodes[self.triangles]
+            v = ref + magnify * (v - ref)
+        return v
+
+    def crack_segments(self, k, verts):
+        """The broken bonds' edges up to frame k, end nodes moved with block i: (segments (C, 2, 2), kind, mode)."""
+        n = self.frames[k]["cracks"]
+        bonds = self.crack_bond[:n]
+        i = self.bond_i[bonds]
+        tri = self.triangles[i]  # (C, 3) node ids of block i; vertex v of block t is node triangles[t][v]
+        ka = np.argmax(tri == self.node_a[bonds][:, None], axis=1)
+        kb = np.argmax(tri == self.node_b[bonds][:, None], axis=1)
+        seg = np.stack([verts[i, ka], verts[i, kb]], axis=1)
+        return seg, self.crack_kind[:n], self.crack_mode[:n]
+
+    def close(self):
+        self.file.close()
+
+
+def _beta_label(summary):
+    beta = summary.get("beta_deg")
+    return f"β = {beta:g}°" if beta is not None else ""
+
+
+def _mode_text(mode):
+    return str(mode).replace("_", " ")
+
+
+# ------------------------------------------------------------------------------------------------ figures
+
+
+def plot_stress_strain(out, run_dirs, labels=None):
+    """Stress (MPa) against axial strain, top platen solid and bottom platen dashed, the peak marked."""
+    if labels and len(labels) != len(run_dirs):
+        raise SystemExit(f"--labels: {len(labels)} labels for {len(run_dirs)} runs")
+    fig, ax = plt.subplots(figsize=(6.4, 4.6), constrained_layout=True)
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for n, run in enumerate(run_dirs):
+        c = read_curve(run)
+        s = read_summary(run)
+        color = colors[n % len(colors)]
+        label = labels[n] if labels else (_beta_label(s) or os.path.basename(os.path.normpath(run)))
+        order = np.argsort(c["strain"], kind="stable")
+        e = c["strain"][order]
+        peak, at = s.get("peak_stress_pa"), s.get("strain_at_peak")
+        if peak is not None:
+            label = f"{label}: peak {peak / 1e6:.1f} MPa"
+        ax.plot(e, c["stress_top_pa"][order] / 1e6, color=color, lw=1.4, label=label)
+        ax.plot(e, c["stress_bottom_pa"][order] / 1e6, color=color, lw=1.0, ls="--")
+        if peak is not None and at is not None:
+            ax.plot([at], [peak / 1e6], marker="o", ms=6, mfc="white", mec=color, mew=1.5, zorder=5)
+            if len(run_dirs) <= 3:  # with more curves the values would overlap; the legend has them
+                ax.annotate(f"{peak / 1e6:.1f} MPa", (at, peak / 1e6), textcoords="offset points", xytext=(4, 5),
+                            fontsize=8, color=color)
+    ax.set_xlabel("axial strain (-)")
+    ax.set_ylabel("axial stress (MPa)")
+    ax.set_title("Stress-strain (solid: top platen, dashed: bottom; o: peak)", fontsize=10)
+    ax.ticklabel_format(axis="x", style="sci", scilimits=(-3, 3))
+    ax.set_xlim(0, ax.get_xlim()[1] * 1.06)  # room for the peak labels
+    ax.set_ylim(0, ax.get_ylim()[1] * 1.04)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, ncol=2 if len(run_dirs) > 4 else 1)
+    fig.savefig(out, dpi=150)
+    plt.close(fig)
+
+
+def plot_strength(out, table, group=None):
+    """Peak strength against dip, one curve per group, Jaeger dashed when the table has it, minima marked."""
+    rows = _read_csv(table)
+    if not rows:
+        raise SystemExit(f"{table}: no rows")
+    for col in ("beta_deg", "peak_stress_pa"):
+        if col not in rows[0]:
+            raise SystemExit(f"{table}: no column {col} (columns: {', '.join(rows[0])})")
+    if group and group not in rows[0]:
+        raise SystemExit(f"{table}: no column {group} for --group (columns: {', '.join(rows[0])})")
+    has_jaeger = "jaeger_pa" in rows[0]
+    groups = {}
+    for r in rows:
+        groups.setdefault(r[group] if group else "", []).append(r)
+    fig, ax = plt.subplots(figsize=(6.4, 4.6), constrained_layout=True)
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    jaeger_drawn = False
+    for n, (name, rs) in enumerate(groups.items()):
+        color = colors[n % len(colors)]
+        beta = np.array([_float(r["beta_deg"]) for r in rs])
+        peak = np.array([_float(r["peak_stress_pa"]) for r in rs]) / 1e6
+        order = np.argsort(beta)
+        beta, peak = beta[order], peak[order]
+        if not group or name == "":
+            label = "DEM"
+        else:
+            label = name if "=" in name else f"{group} = {name}"
+        ok = np.isfinite(peak)
+        if ok.any():
+            k = int(np.nanargmin(peak))
+            label += f" (min {peak[k]:.1f} MPa at {beta[k]:g}°)"
+        ax.plot(beta, peak, marker="o", color=color, lw=1.5, label=label)
+        if ok.any():
+            ax.plot([beta[k]], [peak[k]], marker="v", ms=11, mfc="none", mec=color, mew=1.6, zorder=5)
+        if has_jaeger:
+            jae = np.array([_float(r["jaeger_pa"]) for r in rs])[order] / 1e6
+            if np.isfinite(jae).any():
+                ax.plot(beta, jae, ls="--", color=color, lw=1.0, alpha=0.8)
+                jaeger_drawn = True
+    handles, _ = ax.get_legend_handles_labels()
+    if jaeger_drawn:
+        handles.append(Line2D([0], [0], color="0.4", ls="--", lw=1.0, label="Jaeger, plane of weakness (dashed)"))
+    ax.set_xlabel("joint dip β (deg)")
+    ax.set_ylabel("peak strength (MPa)")
+    ax.set_xticks(np.arange(0, 91, 15))
+    ax.set_xlim(-3, 93)
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    ax.set_title("Uniaxial strength versus joint dip (▽: minimum)", fontsize=10)
+    ax.legend(handles=handles, fontsize=8, loc="lower left")
+    fig.savefig(out, dpi=150)
+    plt.close(fig)
+
+
+def _draw_crack_map(ax, data, k, magnify=1.0, fill=True):
+    """Deformed blocks (light fill by layer) and the cracks up to frame k on one axes; returns counts per class."""
+    verts = data.vertices(k, magnify)
+    if fill:
+        fills = np.array([matplotlib.colors.to_rgba(c) for c in LAYER_FILLS])
+        polys = PolyCollection(verts * 1e3, facecolors=fills[data.layer % len(fills)], edgecolors="none",
+                               linewidths=0, antialiaseds=False)
+        ax.add_collection(polys)
+    seg, kind, mode = data.crack_segments(k, verts)
+    counts = {}
+    for key, (label, color) in CRACK_STYLES.items():
+        sel = (kind == key[0]) & (mode == key[1])
+        counts[key] = int(sel.sum())
+        if counts[key]:
+            ax.add_collection(LineCollection(seg[sel] * 1e3, colors=color, linewidths=1.3, capstyle="round",
+                                             zorder=3))
+    lo = verts.reshape(-1, 2).min(axis=0) * 1e3
+    hi = verts.reshape(-1, 2).max(axis=0) * 1e3
+    pad = 0.02 * (hi - lo).max()
+    ax.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax.set_ylim(lo[1] - pad, hi[1] + pad)
+    ax.set_aspect("equal")
+    return counts
+
+
+def _legend_handles(counts=None):
+    handles = []
+    for key, (label, color) in CRACK_STYLES.items():
+        text = label if counts is None else f"{label} ({counts.get(key, 0)})"
+        handles.append(Line2D([0], [0], color=color, lw=2, label=text))
+    return handles
+
+
+def plot_cracks(out, run_dir, at="final", magnify=1.0):
+    """The paper's Figure 9: deformed specimen and cracks at the peak, the final state, or both side by side."""
+    data = CrackMapData(run_dir)
+    try:
+        which = ["peak", "final"] if at == "both" else [at]
+        fig, axes = plt.subplots(1, len(which), figsize=(3.6 * len(which) + 1.6, 6.6), squeeze=False,
+                                 constrained_layout=True)
+        for ax, name in zip(axes[0], which):
+            k = data.frame_index(name)
+            fr = data.frames[k]
+            counts = _draw_crack_map(ax, data, k, magnify)
+            ax.set_title(f"{name}: strain {fr['strain']:.3g}, {fr['stress'] / 1e6:.1f} MPa\n"
+                         f"{fr['cracks']} cracks", fontsize=9)
+            ax.set_xlabel("x (mm)")
+            ax.set_ylabel("y (mm)")
+            ax.legend(handles=_legend_handles(counts), loc="upper center", bbox_to_anchor=(0.5, -0.09), ncol=2,
+                      fontsize=7, frameon=False)
+        s = data.summary
+        mag = f", displacements x{magnify:g}" if magnify != 1.0 else ""
+        fig.suptitle(f"{_beta_label(s)}: {_mode_text(s.get('failure_mode', '?'))}{mag}", fontsize=11)
+        fig.savefig(out, dpi=150)
+        plt.close(fig)
+    finally:
+        data.close()
+
+
+def plot_crack_grid(out, run_dirs, labels=None, magnify=1.0):
+    """Crack maps of several runs side by side at their final frame (e.g. the seven dips of a study)."""
+    if labels and len(labels) != len(run_dirs):
+        raise SystemExit(f"--labels: {len(labels)} labels for {len(run_dirs)} runs")
+    n = len(run_dirs)
+    fig, axes = plt.subplots(1, n, figsize=(2.3 * n + 0.6, 5.8), squeeze=False)
+    fig.set_layout_engine("constrained", rect=(0, 0.05, 1, 0.95))  # room for the legend below
+    for m, (ax, run) in enumerate(zip(axes[0], run_dirs)):
+        data = CrackMapData(run)
+        try:
+            k = data.frame_index("final")
+            _draw_crack_map(ax, data, k, magnify)
+            s = data.summary
+            title = labels[m] if labels else (_beta_label(s) or os.path.basename(os.path.normpath(run)))
+            peak = s.get("peak_stress_pa")
+            peak_text = f"{peak / 1e6:.1f} MPa, " if peak is not None else ""
+            ax.set_title(f"{title}\n{peak_text}{data.frames[k]['cracks']} cracks\n"
+                         f"{_mode_text(s.get('failure_mode', '?'))}", fontsize=8)
+            ax.set_xticks([])
+            ax.set_yticks([])
+        finally:
+            data.close()
+    mag = f" (displacements x{magnify:g})" if magnify != 1.0 else ""
+    fig.suptitle(f"Cracks at the end of each run{mag}", fontsize=10)
+    fig.legend(handles=_legend_handles(), loc="lower center", ncol=4, fontsize=8, frameon=False)
+    fig.savefig(out, dpi=150)
+    plt.close(fig)
+
+
+# ------------------------------------------------------------------------------------------------ command line
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(prog="rbdem_figures.py", description=__doc__.split("\n\n")[0],
+                                formatter_class=argparse.RawDescriptionHelpFormatter,
+                                epilog="How to read each figure: docs/outputs.md")
+    sub = p.add_subparsers(dest="figure", required=True)
+
+    s = sub.add_parser("stress-strain", help="stress-strain curves of runs (both platens, MPa), peak marked")
+    s.add_argument("out")
+    s.add_argument("runs", nargs="+", metavar="RUN_DIR")
+    s.add_argument("--labels", nargs="+", help="one legend label per run (default: beta from summary.json)")
+
+    s = sub.add_parser("strength", help="peak strength versus dip from a sweep table, Jaeger dashed")
+    s.add_argument("out")
+    s.add_argument("table", metavar="TABLE.csv")
+    s.add_argument("--group", help="column whose values split the rows into curves")
+
+    s = sub.add_parser("cracks", help="deformed blocks and cracks of one run (the paper's Figure 9)")
+    s.add_argument("out")
+    s.add_argument("run", metavar="RUN_DIR")
+    s.add_argument("--at", choices=["peak", "final", "both"], default="final")
+    s.add_argument("--magnify", type=float, default=1.0, help="scale block displacements by this (default 1)")
+
+    s = sub.add_parser("crack-grid", help="crack maps of several runs side by side, at the final frame")
+    s.add_argument("out")
+    s.add_argument("runs", nargs="+", metavar="RUN_DIR")
+    s.add_argument("--labels", nargs="+", help="one title per run (default: beta from summary.json)")
+    s.add_argument("--magnify", type=float, default=1.0, help="scale block displacements by this (default 1)")
+
+    a = p.parse_args(argv)
+    t0 = time.perf_counter()
+    out_dir = os.path.dirname(os.path.abspath(a.out))
+    os.makedirs(out_dir, exist_ok=True)
+    if a.figure == "stress-strain":
+        plot_stress_strain(a.out, a.runs, a.labels)
+    elif a.figure == "strength":
+        plot_strength(a.out, a.table, a.group)
+    elif a.figure == "cracks":
+        plot_cracks(a.out, a.run, a.at, a.magnify)
+    else:
+        plot_crack_grid(a.out, a.runs, a.labels, a.magnify)
+    print(f"wrote {a.out} ({time.perf_counter() - t0:.2f} s)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,291 @@
+// Result files of a UCS run: result.h5 reproduces what the run produced, result.xdmf is well-formed and points at
+// datasets that exist with the shapes it claims, a failed write leaves nothing under the final name, and the
+// figure script draws every figure of a real run.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "dem/specimen_mesh.hpp"
+#include "dem/topology.hpp"
+#include "dem/ucs.hpp"
+#include "io/result_h5.hpp"
+#include "io/results.hpp"
+
+namespace rbdem {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A small UCS run (about 800 blocks, a fraction of a second) written with io::write_ucs into a folder of its own
+// (tests may run in parallel processes).
+struct SmallRun {
+  Scene scene;
+  TriMesh mesh;
+  Topology topo;
+  UcsResult result;
+  fs::path dir;
+};
+
+// Removes a test's folder when the test passed (kept for inspection when it failed).
+struct RemoveWhenPassed {
+  fs::path dir;
+  ~RemoveWhenPassed() {
+    std::error_code ec;
+    if (!testing::Test::HasFailure()) fs::remove_all(dir, ec);
+  }
+};
+
+SmallRun small_run() {
+  SmallRun r;
+  r.scene.mesh.size = 0.004;
+  r.scene.numerics.threads = 1;
+  r.scene.numerics.elastic_start = true;
+  r.mesh = make_mesh(r.scene);
+  r.topo = build_topology(r.mesh, r.scene.specimen.thickness, r.scene.rock.density);
+  r.result = run_ucs(r.scene, r.topo);
+  const auto* info = testing::UnitTest::GetInstance()->current_test_info();
+  r.dir = fs::temp_directory_path() / ("rbdem_test_io_" + std::string(info->name()) + "_" + std::to_string(getpid()));
+  fs::remove_all(r.dir);
+  io::write_ucs(r.dir, r.scene, r.mesh, r.topo, r.result);
+  return r;
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Equal as stored: bit for bit, NaN equal to NaN.
+bool same(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
+
+TEST(Io, Hdf5RoundTripReproducesCurveAndCrackLog) {
+  const SmallRun run = small_run();
+  const RemoveWhenPassed cleanup{run.dir};
+  const UcsResult& r = run.result;
+  ASSERT_FALSE(r.cracks.empty()) << "the test run should break bonds";
+  ASSERT_GE(r.frames.size(), 3u);
+  EXPECT_TRUE(fs::exists(run.dir / "result.h5"));
+  EXPECT_FALSE(fs::exists(run.dir / "result.h5.tmp"));
+
+  const io::StoredRun s = io::read_result_h5(run.dir / "result.h5");
+
+  ASSERT_EQ(s.curve.size(), r.curve.size());
+  for (std::size_t k = 0; k < r.curve.size(); ++k) {
+    SCOPED_TRACE(testing::Message() << "curve point " << k);
+    const CurvePoint &a = r.curve[k], &b = s.curve[k];
+    EXPECT_EQ(a.step, b.step);
+    EXPECT_TRUE(same(a.time, b.time) && same(a.strain, b.strain));
+    EXPECT_TRUE(same(a.stress_top, b.stress_top) && same(a.stress_bottom, b.stress_bottom));
+    EXPECT_TRUE(same(a.kinetic, b.kinetic) && same(a.strain_energy, b.strain_energy));
+    EXPECT_EQ(a.broken, b.broken);
+  }
+
+  ASSERT_EQ(s.cracks.size(), r.cracks.size());
+  for (std::size_t k = 0; k < r.cracks.size(); ++k) {
+    SCOPED_TRACE(testing::Message() << "crack " << k);
+    const Crack &a = r.cracks[k], &b = s.cracks[k];
+    EXPECT_TRUE(same(a.time, b.time) && same(a.strain, b.strain) && same(a.x, b.x) && same(a.y, b.y));
+    EXPECT_EQ(a.bond, b.bond);
+    EXPECT_EQ(a.kind, b.kind);
+    EXPECT_EQ(a.mode, b.mode);
+    EXPECT_TRUE(same(a.sigma, b.sigma) && same(a.tau, b.tau));
+  }
+
+  ASSERT_EQ(s.frames.size(), r.frames.size());
+  for (std::size_t k = 0; k < r.frames.size(); ++k) {
+    SCOPED_TRACE(testing::Message() << "frame " << k);
+    const Frame &a = r.frames[k], &b = s.frames[k];
+    EXPECT_EQ(a.step, b.step);
+    EXPECT_TRUE(same(a.time, b.time) && same(a.strain, b.strain) && same(a.stress, b.stress));
+    EXPECT_EQ(a.label, b.label);
+    EXPECT_EQ(a.cracks, b.cracks);
+    EXPECT_EQ(a.x, b.x);
+    EXPECT_EQ(a.y, b.y);
+    EXPECT_EQ(a.theta, b.theta);
+  }
+  EXPECT_EQ(s.frames.back().label, "final");
+
+  EXPECT_EQ(s.mesh.nodes, run.mesh.nodes);
+  EXPECT_EQ(s.mesh.triangles, run.mesh.triangles);
+  EXPECT_EQ(s.mesh.layer, run.mesh.layer);
+  EXPECT_EQ(s.mesh.layer_names, run.mesh.layer_names);
+  EXPECT_EQ(s.scene_toml, to_toml(run.scene));
+  EXPECT_EQ(nlohmann::json::parse(s.scene_json), scene_json(run.scene));
+  // The summary attribute is summary.json.
+  EXPECT_EQ(nlohmann::json::parse(s.summary_json), nlohmann::json::parse(read_text(run.dir / "summary.json")));
+
+  // The bonds' breakage record agrees with the crack log; the shapes match the layout.
+  const auto h5 = run.dir / "result.h5";
+  const std::uint64_t T = run.topo.blocks.size(), B = run.topo.bonds.size();
+  EXPECT_EQ(io::h5_dataset_shape(h5, "/bonds/break_mode"), (std::vector<std::uint64_t>{B}));
+  EXPECT_EQ(io::h5_dataset_shape(h5, "/bonds/midpoint"), (std::vector<std::uint64_t>{B, 2}));
+  EXPECT_EQ(io::h5_dataset_shape(h5, "/frames/00000/vertices"), (std::vector<std::uint64_t>{3 * T, 3}));
+  EXPECT_EQ(io::h5_dataset_shape(h5, "/mesh/block_connectivity"), (std::vector<std::uint64_t>{T, 3}));
+  EXPECT_FALSE(io::h5_dataset_shape(h5, "/frames/99999/vertices").has_value());
+  EXPECT_FALSE(io::h5_dataset_shape(h5, "/frames").has_value());  // a group, not a dataset
+}
+
+// A minimal XML check: tags nest and close, attributes are quoted. Returns "" when well-formed, else the problem.
+std::string xml_problem(const std::string& text) {
+  std::vector<std::string> open;
+  std::size_t pos = 0;
+  while ((pos = text.find('<', pos)) != std::string::npos) {
+    if (text.compare(pos, 4, "<!--") == 0) {
+      const auto end = text.find("-->", pos);
+      if (end == std::string::npos) return "unterminated comment";
+      pos = end + 3;
+      continue;
+    }
+    const auto end = text.find('>', pos);
+    if (end == std::string::npos) return "unterminated tag at " + std::to_string(pos);
+    const std::string tag = text.substr(pos + 1, end - pos - 1);
+    pos = end + 1;
+    if (tag.empty()) return "empty tag";
+    if (tag.front() == '?' || tag.front() == '!') continue;  // declaration, doctype
+    if (std::count(tag.begin(), tag.end(), '"') % 2 != 0) return "unbalanced quotes in <" + tag + ">";
+    if (tag.front() == '/') {
+      const std::string name = tag.substr(1);
+      if (open.empty() || open.back() != name)
+        return "</" + name + "> closes " + (open.empty() ? "nothing" : "<" + open.back() + ">");
+      open.pop_back();
+    } else if (tag.back() != '/') {
+      open.push_back(tag.substr(0, tag.find_first_of(" \t\n")));
+    }
+  }
+  return open.empty() ? "" : "<" + open.back() + "> is never closed";
+}
+
+TEST(Io, XdmfReferencesExistingDatasets) {
+  const SmallRun run = small_run();
+  const RemoveWhenPassed cleanup{run.dir};
+  const std::string xdmf = read_text(run.dir / "result.xdmf");
+  ASSERT_FALSE(xdmf.empty());
+  EXPECT_EQ(xml_problem(xdmf), "");
+
+  // One uniform grid per frame, times in the order of the frames.
+  const std::regex time_re(R"re(<Time Value="([^"]+)"/>)re");
+  std::vector<double> times;
+  for (auto it = std::sregex_iterator(xdmf.begin(), xdmf.end(), time_re); it != std::sregex_iterator(); ++it)
+    times.push_back(std::stod((*it)[1]));
+  ASSERT_EQ(times.size(), run.result.frames.size());
+  for (std::size_t k = 0; k < times.size(); ++k) EXPECT_DOUBLE_EQ(times[k], run.result.frames[k].time);
+
+  // Every HDF DataItem names a dataset of result.h5 (relative to the XDMF file) whose shape is its Dimensions.
+  const std::regex item_re(
+      R"re(<DataItem Dimensions="([0-9 ]+)"[^>]*Format="HDF">([^<:]+):([^<]+)</DataItem>)re");
+  std::size_t items = 0;
+  std::map<std::string, int> names;
+  for (auto it = std::sregex_iterator(xdmf.begin(), xdmf.end(), item_re); it != std::sregex_iterator(); ++it) {
+    ++items;
+    const std::string file = (*it)[2], dataset = (*it)[3];
+    EXPECT_EQ(file, "result.h5");
+    std::vector<std::uint64_t> dims;
+    std::istringstream in((*it)[1].str());
+    for (std::uint64_t d; in >> d;) dims.push_back(d);
+    const auto shape = io::h5_dataset_shape(run.dir / file, dataset);
+    ASSERT_TRUE(shape.has_value()) << dataset << " is not in " << file;
+    EXPECT_EQ(*shape, dims) << dataset;
+    names[dataset.substr(dataset.rfind('/') + 1)]++;
+  }
+  const int F = int(run.result.frames.size());
+  EXPECT_EQ(items, 5u * std::size_t(F));  // connectivity, vertices, layer, damage, rotation per frame
+  EXPECT_EQ(names["vertices"], F);
+  EXPECT_EQ(names["damage"], F);
+  EXPECT_EQ(names["theta"], F);
+  for (const char* a : {"Name=\"layer\"", "Name=\"damage\"", "Name=\"rotation\"", "CollectionType=\"Temporal\""})
+    EXPECT_NE(xdmf.find(a), std::string::npos) << a;
+}
+
+TEST(Io, FailedWriteLeavesNoFileUnderTheFinalName) {
+  const SmallRun run = small_run();
+  const RemoveWhenPassed cleanup{run.dir};
+  UcsResult bad = run.result;
+  bad.frames.back().x.pop_back();  // a frame that does not belong to the mesh
+  const fs::path h5 = run.dir / "bad.h5";
+  EXPECT_THROW(io::write_result_h5(h5, run.scene, run.mesh, run.topo, bad), std::invalid_argument);
+  EXPECT_FALSE(fs::exists(h5));
+  EXPECT_FALSE(fs::exists(run.dir / "bad.h5.tmp"));
+  EXPECT_THROW(io::read_result_h5(run.dir / "summary.json"), std::runtime_error);  // not an HDF5 file
+  EXPECT_THROW(io::read_result_h5(run.dir / "missing.h5"), std::runtime_error);
+  EXPECT_FALSE(io::h5_dataset_shape(run.dir / "missing.h5", "/mesh/nodes").has_value());
+}
+
+// ------------------------------------------------------------------------------------------------------------------
+// The figure script (python/rbdem_figures.py) on the run folder, with Debian's /usr/bin/python3.
+
+const char* python = "/usr/bin/python3";
+
+std::string quote(const fs::path& p) { return "'" + p.string() + "'"; }
+
+bool python_has_figure_modules() {
+  const std::string cmd = std::string(python) + " -c 'import matplotlib, h5py, numpy' > /dev/null 2>&1";
+  return fs::exists(python) && std::system(cmd.c_str()) == 0;
+}
+
+bool is_png(const fs::path& p) {
+  if (!fs::exists(p) || fs::file_size(p) < 1000) return false;
+  return read_text(p).compare(0, 8, "\x89PNG\r\n\x1a\n") == 0;
+}
+
+TEST(Io, FigureScriptDrawsEveryFigureOfARun) {
+  if (!python_has_figure_modules())
+    GTEST_SKIP() << python << " cannot import matplotlib, h5py and numpy (apt-get install python3-matplotlib "
+                                "python3-h5py)";
+  const SmallRun run = small_run();
+  const RemoveWhenPassed cleanup{run.dir};
+  const fs::path script = fs::path(RBDEM_SOURCE_DIR) / "python" / "rbdem_figures.py";
+  ASSERT_TRUE(fs::exists(script)) << script;
+  const std::string cmd = std::string(python) + " " + quote(script) + " ";
+  const fs::path out = run.dir / "figures";
+
+  // A sweep table as `rbdem sweep` writes it: two groups, Jaeger's curve.
+  const fs::path table = run.dir / "table.csv";
+  {
+    std::ofstream t(table);
+    t << "id,group,beta_deg,peak_stress_pa,jaeger_pa\n";
+    for (const char* g : {"a", "b"})
+      for (int beta = 0; beta <= 90; beta += 15) {
+        const double dip = std::sin(beta * std::numbers::pi / 90.0);
+        t << g << beta << "," << g << "," << beta << "," << 50e6 - 20e6 * dip << "," << 52e6 - 25e6 * dip << "\n";
+      }
+  }
+
+  const std::vector<std::pair<std::string, fs::path>> figures = {
+      {"stress-strain " + quote(out / "curve.png") + " " + quote(run.dir) + " " + quote(run.dir) +
+           " --labels one 'the same'",
+       out / "curve.png"},
+      {"strength " + quote(out / "strength.png") + " " + quote(table) + " --group group", out / "strength.png"},
+      {"cracks " + quote(out / "cracks.png") + " " + quote(run.dir) + " --at both", out / "cracks.png"},
+      {"cracks " + quote(out / "cracks_peak.png") + " " + quote(run.dir) + " --at peak --magnify 100",
+       out / "cracks_peak.png"},
+      {"crack-grid " + quote(out / "grid.png") + " " + quote(run.dir) + " " + quote(run.dir), out / "grid.png"},
+  };
+  for (const auto& [args, png] : figures) {
+    SCOPED_TRACE(args);
+    const std::string c = cmd + args + " > " + quote(run.dir / "figures.log") + " 2>&1";
+    EXPECT_EQ(std::system(c.c_str()), 0) << read_text(run.dir / "figures.log");
+    EXPECT_TRUE(is_png(png)) << png;
+  }
+
+  // The XDMF file parses with a real XML parser too.
+  const std::string xml = std::string(python) + " -c 'import sys, xml.etree.ElementTree as E; "
+                                                "r = E.parse(sys.argv[1]).getroot(); assert r.tag == \"Xdmf\"' " +
+                          quote(run.dir / "result.xdmf");
+  EXPECT_EQ(std::system(xml.c_str()), 0);
+}
+
+}  // namespace
+}  // namespace rbdem

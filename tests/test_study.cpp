@@ -1,0 +1,117 @@
+// Study files, case expansion, the Jaeger table and the calibration file reader.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "compare/theory/elasticity.hpp"
+#include "study/calibrate.hpp"
+#include "study/study.hpp"
+
+namespace rbdem::study {
+namespace {
+
+const std::filesystem::path source_dir = RBDEM_SOURCE_DIR;
+
+TEST(Study, ShippedStudiesLoadAndExpandToTheirCases) {
+  const std::map<std::string, std::size_t> expected{{"study_joint_strength.toml", 28},
+                                                     {"study_spacing.toml", 21},
+                                                     {"study_stiffness_ratio.toml", 28}};
+  for (const auto& [file, count] : expected) {
+    const StudySpec spec = load_study(source_dir / "scenes" / file);
+    const auto cases = expand(spec);
+    EXPECT_EQ(cases.size(), count) << file;
+    std::set<std::string> ids;
+    for (const auto& c : cases) {
+      EXPECT_TRUE(ids.insert(c.id).second) << "duplicate case " << c.id;
+      EXPECT_EQ(c.scene.joint_set.dip_deg, c.beta);
+      EXPECT_NO_THROW(validate(c.scene));
+    }
+  }
+}
+
+TEST(Study, ScaledValuesFollowTheBaseScene) {
+  const StudySpec spec = load_study(source_dir / "scenes/study_joint_strength.toml");
+  const auto cases = expand(spec);
+  const Scene base = spec.base;
+  // strength_ratio = 0.5, any dip
+  const auto it = std::find_if(cases.begin(), cases.end(), [](const Case& c) { return c.group == "strength_ratio=0.5"; });
+  ASSERT_NE(it, cases.end());
+  EXPECT_DOUBLE_EQ(it->scene.joint.cohesion, 0.5 * base.rock.cohesion);
+  EXPECT_DOUBLE_EQ(it->scene.joint.tensile_strength, 0.5 * base.rock.tensile_strength);
+  EXPECT_DOUBLE_EQ(it->scene.rock.cohesion, base.rock.cohesion);  // rock fixed
+}
+
+TEST(Study, BadStudyFilesNameTheProblem) {
+  const auto dir = std::filesystem::temp_directory_path() / "rbdem_test_study";
+  std::filesystem::create_directories(dir);
+  auto expect_error = [&](const std::string& text, const std::string& fragment) {
+    const auto path = dir / "bad.toml";
+    std::ofstream(path) << text;
+    try {
+      load_study(path);
+      FAIL() << "accepted:\n" << text;
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  };
+  expect_error("[study]\ndips = [0, 120]\n", "dips must lie in [0, 90]");
+  expect_error("[study]\n[study.set]\n\"rock.cohesoin\" = 1e6\n", "rock.cohesoin");
+  expect_error("[study]\n[[axis]]\nname = \"a\"\nlabels = [\"x\", \"y\"]\n[axis.set]\n\"rock.cohesion\" = [1e6]\n",
+               "1 values for 2 labels");
+  expect_error("[study]\n[[axis]]\nname = \"a\"\n[axis.set]\n\"joint.friction_deg\" = [95]\n", "joint.friction_deg");
+  expect_error("[study]\nnmae = \"x\"\n", "unknown key 'nmae'");
+  expect_error("[sutdy]\n", "unknown key 'sutdy'");
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Study, TableHasJaegerBesideTheMeasuredStrength) {
+  // Synthetic results (no runs): a dip study whose beta = 90 strength is 50 MPa.
+  StudySpec spec = dip_study(Scene{}, "synthetic");
+  const auto cases = expand(spec);
+  std::vector<CaseResult> results;
+  for (const auto& c : cases) {
+    CaseResult r;
+    r.c = c;
+    const double peak = c.beta == 90 ? 50e6 : 20e6 + std::abs(c.beta - 60) * 1e5;
+    r.summary = {{"peak_stress_pa", peak}, {"strain_at_peak", 1e-4}, {"youngs_modulus_pa", 2e11},
+                 {"failure_mode", "x"}, {"steps", 10}, {"scene", scene_json(c.scene)},
+                 {"cracks", {{"rock_tensile", 0}, {"rock_shear", 0}, {"joint_tensile", 0}, {"joint_shear", 0}}}};
+    results.push_back(r);
+  }
+  const auto dir = std::filesystem::temp_directory_path() / "rbdem_test_table";
+  std::filesystem::create_directories(dir);
+  const auto groups = write_tables(results, dir);
+  ASSERT_EQ(groups.size(), 1u);
+  EXPECT_EQ(groups[0].min_beta_deg, 60.0);
+  EXPECT_DOUBLE_EQ(groups[0].strength_90_pa, 50e6);
+  EXPECT_DOUBLE_EQ(groups[0].anisotropy_ratio, 50e6 / 20e6);
+  const Scene s;
+  EXPECT_DOUBLE_EQ(groups[0].jaeger_min_beta_deg, 45 + s.joint.friction_deg / 2);
+  // The default joint's interface sticks while bonded: its envelope has twice the bond cohesion (contact_law.hpp).
+  EXPECT_NEAR(groups[0].jaeger_min_pa, theory::jaeger_min_uniaxial_strength(2 * s.joint.cohesion, s.joint.friction_deg), 1);
+  std::ifstream in(dir / "table.csv");
+  std::string header, line60;
+  std::getline(in, header);
+  EXPECT_NE(header.find("jaeger_pa"), std::string::npos);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("beta=60,", 0) == 0) line60 = line;
+  const double jaeger60 = theory::jaeger_strength({2 * s.joint.cohesion, s.joint.friction_deg, 50e6, 0.0}, 60.0);
+  EXPECT_NE(line60.find(fmt::format("{:.9g}", jaeger60)), std::string::npos) << line60;
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Calibrate, ShippedTargetsFileLoads) {
+  const CalibrationSpec spec = load_calibration(source_dir / "scenes/calibrate_paper.toml");
+  EXPECT_EQ(spec.parameters.size(), 2u);
+  EXPECT_EQ(spec.targets.size(), 3u);
+  EXPECT_DOUBLE_EQ(spec.parameters[0].start, spec.base.rock.cohesion);
+}
+
+}  // namespace
+}  // namespace rbdem::study
