@@ -13,12 +13,14 @@
 #include <csignal>
 #include <cstdlib>
 #include <map>
+#include <set>
 #include <thread>
 
 #include <fmt/format.h>
 
 #include "apps/cli_common.hpp"
 #include "apps/commands.hpp"
+#include "compare/gate/gate_cache.hpp"
 #include "compare/theory/elasticity.hpp"
 #include "study/report.hpp"
 #include "study/study.hpp"
@@ -36,6 +38,7 @@ struct SweepOptions {
   std::vector<std::string> sets;
   int workers = 0;
   bool quiet = false;
+  bool skip_elastic_gate = false;
 };
 
 // MPI only when launched by mpirun (OpenMPI, MPICH/PMI): a plain run needs no MPI at all.
@@ -67,10 +70,31 @@ struct MpiSession {
   bool owner = false;
 };
 
-int run_study(study::StudySpec spec, const std::filesystem::path& out, int workers, bool quiet, bool paper_check) {
+int run_study(study::StudySpec spec, const std::filesystem::path& out, int workers, bool quiet, bool paper_check,
+              bool skip_gate) {
   MpiSession mpi;
   const auto t0 = std::chrono::steady_clock::now();
   const auto cases = study::expand(spec);
+  // The elastic gate, once per distinct elastic scene (groups varying e.g. kn/ks differ; verdicts are cached).
+  std::string gate_markdown;
+  if (!skip_gate) {
+    std::set<std::string> seen;
+    for (const auto& c : cases) {
+      if (!seen.insert(c.group).second) continue;
+      const compare::GateCheck g = compare::check_elastic_gate(c.scene);
+      if (g.status == compare::GateCheck::Status::failed) {
+        if (mpi.rank == 0)
+          fmt::print(stderr, "{}\nsweep: the elastic gate failed for {} ({}); the DEM does not behave as the "
+                             "transversely isotropic material it should before failure runs make sense. Fix the scene "
+                             "(a finer mesh.size usually), or run anyway with --skip-elastic-gate\n",
+                     g.table, c.group.empty() ? "the base scene" : c.group, g.summary);
+        return check_failed;
+      }
+      if (mpi.rank == 0) fmt::print("{}{}\n", g.summary, c.group.empty() ? "" : " [" + c.group + "]");
+      if (g.status == compare::GateCheck::Status::passed)
+        gate_markdown += (c.group.empty() ? "" : "**" + c.group + "**\n\n") + "```\n" + g.table + "```\n\n";
+    }
+  }
   const bool tty = isatty(fileno(stderr)) && !quiet;
   if (mpi.rank == 0)
     fmt::print("sweep {}: {} cases ({} dips{}) into {}{}\n", spec.name, cases.size(), spec.dips.size(),
@@ -108,6 +132,7 @@ int run_study(study::StudySpec spec, const std::filesystem::path& out, int worke
   extras.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   extras.workers = ro.workers > 0 ? ro.workers : int(std::thread::hardware_concurrency());
   extras.paper_check = paper_check;
+  extras.elastic_gate_markdown = gate_markdown;
   const auto report = study::write_report(spec, results, groups, out, extras);
 
   fmt::print("\n{:<34} {:>6} {:>10} {:>10} {:>10}  {}\n", "case", "beta", "peak MPa", "Jaeger MPa", "E50 GPa",
@@ -141,11 +166,13 @@ Runner add_sweep_command(CLI::App& app) {
       ->allow_extra_args(false);
   cmd->add_option("--workers,-j", opt->workers, "cases run at once in this process (default: all cores)");
   cmd->add_flag("--quiet,-q", opt->quiet, "no progress lines");
+  cmd->add_flag("--skip-elastic-gate", opt->skip_elastic_gate,
+                "run even if the DEM's elastic moduli depart from Amadei's theory beyond elastic.tolerance");
   return [opt]() {
     study::StudySpec spec = study::load_study(opt->study);
     for (const auto& s : opt->sets) apply_override(spec.base, s);
     validate(spec.base);
-    return run_study(spec, opt->out, opt->workers, opt->quiet, false);
+    return run_study(spec, opt->out, opt->workers, opt->quiet, false, opt->skip_elastic_gate);
   };
 }
 
@@ -154,7 +181,7 @@ int run_default_job() {
   study::StudySpec spec = study::dip_study(scene, "paper_dips");
   spec.description = "The seed paper's uniaxial compression study: the 100 x 50 mm specimen with joints every 10 mm "
                      "at dips 0 to 90 deg (scenes/paper.toml).";
-  return run_study(spec, "runs/default", 0, false, true);
+  return run_study(spec, "runs/default", 0, false, true, false);
 }
 
 }  // namespace rbdem::cli
