@@ -342,16 +342,16 @@ void assign_toml(Scene& scene, const Entry& e, const toml::node& node, std::stri
 Scene::Scene() {
   rock.effective_modulus = 160e9;
   rock.stiffness_ratio = 1.5;
-  rock.tensile_strength = 3.5e6;
-  rock.cohesion = 7.0e6;
+  rock.tensile_strength = 3.755e6;
+  rock.cohesion = 7.51e6;
   rock.friction_deg = 40.0;
   rock.contact_friction = 0.5;
   rock.moment_factor = 1.0;
   rock.density = 2700.0;
   joint.effective_modulus = 50e9;
   joint.stiffness_ratio = 1.5;
-  joint.tensile_strength = 3.45e6;
-  joint.cohesion = 3.45e6;
+  joint.tensile_strength = 3.36e6;
+  joint.cohesion = 3.36e6;
   joint.friction_deg = 30.0;
   joint.contact_friction = 0.5;
   joint.moment_factor = 1.0;

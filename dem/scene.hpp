@@ -52,7 +52,7 @@ struct RockParams : MaterialParams {
 };
 
 struct LoadingParams {
-  double platen_velocity = 0.05;  // m/s, closing speed of the top platen (bottom fixed)
+  double platen_velocity = 0.01;  // m/s, closing speed of the top platen (bottom fixed); quasi-static: docs/model.md
   double platen_friction = 0.0;   // -, Coulomb coefficient between platens and blocks
   double stop_fraction = 0.7;     // -, stop when the stress falls below this fraction of the peak
   double max_strain = 0.01;       // -, stop at this axial strain whatever happens

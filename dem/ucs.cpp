@@ -101,7 +101,7 @@ UcsResult run_ucs(const Scene& scene, const Topology& topo, const UcsOptions& op
   const double area = W * t;
   const double v = scene.loading.platen_velocity;
   const long max_steps = long(std::ceil(scene.loading.max_strain * H / (v * r.dt)));
-  const long sample_every = std::max(1L, max_steps / std::max(options.curve_points, 1));
+  long sample_every = std::max(1L, max_steps / std::max(options.curve_points, 1));
 
   auto sample = [&]() {
     CurvePoint p;
@@ -156,6 +156,9 @@ UcsResult run_ucs(const Scene& scene, const Topology& topo, const UcsOptions& op
       }
       apply_static_state(engine, st, factor, v);
       r.elastic_start_strain = factor * st.platen_displacement / H;
+      // Sample the explicit part densely: about curve_points / 5 samples per first-break strain.
+      const double per_step = v * r.dt / H;
+      sample_every = std::max(1L, long(r.elastic_start_strain / (0.2 * options.curve_points) / per_step));
       r.frames.push_back(frame("elastic_start"));
       r.frames.back().stress = 0.5 * factor * (st.top_force + st.bottom_force) / area;  // no step computed forces yet
       next_frame = (std::floor(r.elastic_start_strain / frame_interval) + 1.0) * frame_interval;
