@@ -342,7 +342,7 @@ void assign_toml(Scene& scene, const Entry& e, const toml::node& node, std::stri
 Scene::Scene() {
   rock.effective_modulus = 160e9;
   rock.stiffness_ratio = 1.5;
-  rock.tensile_strength = 3.755e6;
+  rock.tensile_strength = 7.51e6;
   rock.cohesion = 7.51e6;
   rock.friction_deg = 40.0;
   rock.contact_friction = 0.5;
