@@ -1,6 +1,9 @@
 // Scene files: defaults, the shipped paper scene, overrides, and rejection of every kind of bad value.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <sstream>
+
 #include <nlohmann/json.hpp>
 
 #include "dem/scene.hpp"
@@ -130,6 +133,21 @@ TEST(Scene, SyntaxErrorGivesLine) {
   } catch (const SceneError& e) {
     EXPECT_NE(std::string(e.what()).find("broken.toml:2"), std::string::npos) << e.what();
   }
+}
+
+}  // namespace
+}  // namespace rbdem
+
+namespace rbdem {
+namespace {
+
+TEST(Scene, DocsSceneReferenceIsUpToDate) {
+  std::ifstream in(source_dir + "/docs/scene.md");
+  ASSERT_TRUE(in) << "docs/scene.md is missing";
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_NE(text.str().find(parameter_reference()), std::string::npos)
+      << "docs/scene.md differs from `rbdem --help-scene`: regenerate it (see the page's first lines)";
 }
 
 }  // namespace
