@@ -13,6 +13,7 @@ Runner add_mesh_command(CLI::App& app);
 Runner add_ucs_command(CLI::App& app);
 Runner add_sweep_command(CLI::App& app);
 Runner add_calibrate_command(CLI::App& app);
+Runner add_verify_command(CLI::App& app);
 Runner add_elastic_command(CLI::App& app);  // only in the deal.II build (RBDEM_HAVE_CONTINUUM)
 // The main job with no arguments.
 int run_default_job();

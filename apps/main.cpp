@@ -6,6 +6,7 @@
 //   rbdem sweep study.toml --out runs/s     a parameter study (resumable; mpirun spreads the cases)
 //   rbdem mesh --beta 30 --out s.msh        the specimen mesh, for inspection in gmsh
 //   rbdem elastic --out runs/el             DEM vs FE vs Amadei elastic moduli and the elastic gate
+//   rbdem verify --quick --out runs/v       every check against theory: verify.json and verify.md
 //   rbdem --help-scene                      every scene key with unit, range and default
 //   rbdem <command> --help                  the options of one command
 //
@@ -39,6 +40,7 @@ int main(int argc, char** argv) {
   add(add_sweep_command(app));
   add(add_calibrate_command(app));
   add(add_mesh_command(app));
+  add(add_verify_command(app));
 #ifdef RBDEM_HAVE_CONTINUUM
   add(add_elastic_command(app));
 #endif

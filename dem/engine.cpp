@@ -8,6 +8,8 @@
 #include <fmt/format.h>
 #include <omp.h>
 
+#include "dem/fault_injection.hpp"
+
 #include "dem/contact_geometry.hpp"
 
 namespace rbdem {
@@ -60,7 +62,7 @@ inline void eval_bond(const BondFrame& f, const BlockState& bi, const BlockState
   // Parallel bond: k A on the normal opening, k A / kappa on the shear, k I = k A L^2 / 12 on the rotation.
   out.fnb = -f.kA * dn;
   out.fsb = -f.kA * kp.inv_kappa * ds;
-  out.mb = -f.kA * f.L * f.L * (1.0 / 12.0) * dth;
+  out.mb = -f.kA * f.L * f.L * kp.inertia_factor * dth;
   // Linear part, THEORY.md 4b with the potential of contact_law.hpp: F = k t A_o l_c / L = k A (A_o l_c / L^2).
   const double inv_L = 1.0 / f.L;
   const EdgeOverlap eo = edge_overlap(f.L, dn, dth);
@@ -135,6 +137,7 @@ Engine::Engine(const Topology& topo, const Scene& scene, const EngineOptions& op
     kinds_[k].inv_kappa = 1.0 / mat[k]->stiffness_ratio;
     kinds_[k].mu = mat[k]->contact_friction;
     kinds_[k].slip_bonded = mat[k]->slip_when_bonded;
+    kinds_[k].inertia_factor = fault_injected("bond_inertia") ? 1.0 / 6.0 : 1.0 / 12.0;
     kinds_[k].strength = {mat[k]->tensile_strength, mat[k]->cohesion, std::tan(mat[k]->friction_deg * deg),
                           mat[k]->moment_factor};
   }
@@ -192,7 +195,7 @@ BondStiffness Engine::stiffness(int b) const {
   const BondFrame& f = bonds.frame[std::size_t(b)];
   const KindParams& kp = kinds_[int(bonds.kind[std::size_t(b)])];
   const double A = f.L * thickness_;
-  return {f.kA, f.kA / kp.kappa, f.kA * f.L * f.L / 12.0, f.kA, f.kA / kp.kappa, kp.mu, kp.slip_bonded,
+  return {f.kA, f.kA / kp.kappa, f.kA * f.L * f.L * kp.inertia_factor, f.kA, f.kA / kp.kappa, kp.mu, kp.slip_bonded,
           A, A * f.L * f.L / 12.0, f.L};
 }
 

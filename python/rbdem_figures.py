@@ -359,6 +359,34 @@ def plot_crack_grid(out, run_dirs, labels=None, magnify=1.0):
 # ------------------------------------------------------------------------------------------------ command line
 
 
+def plot_fields(out, csv_path, title=None):
+    """DEM and FE block-centroid displacements side by side (colour: |u| in um) and their difference."""
+    rows = _read_csv(csv_path)
+    x = np.array([_float(r["x_m"]) for r in rows]) * 1e3
+    y = np.array([_float(r["y_m"]) for r in rows]) * 1e3
+    du = [np.hypot([_float(r["dem_ux_m"]) for r in rows], [_float(r["dem_uy_m"]) for r in rows]) * 1e6,
+          np.hypot([_float(r["fe_ux_m"]) for r in rows], [_float(r["fe_uy_m"]) for r in rows]) * 1e6]
+    diff = np.hypot([_float(r["dem_ux_m"]) - _float(r["fe_ux_m"]) for r in rows],
+                    [_float(r["dem_uy_m"]) - _float(r["fe_uy_m"]) for r in rows]) * 1e6
+    fig, axes = plt.subplots(1, 3, figsize=(10, 5.2), constrained_layout=True)
+    vmax = max(du[0].max(), du[1].max())
+    for ax, data, name in zip(axes[:2], du, ["DEM (static)", "FE (deal.II)"]):
+        sc = ax.scatter(x, y, c=data, s=4, cmap="viridis", vmin=0, vmax=vmax)
+        ax.set_title(name)
+    fig.colorbar(sc, ax=axes[:2], shrink=0.8, label="|u| (um)")
+    sd = axes[2].scatter(x, y, c=diff, s=4, cmap="magma")
+    axes[2].set_title("|u_DEM - u_FE|")
+    fig.colorbar(sd, ax=axes[2], shrink=0.8, label="um")
+    for ax in axes:
+        ax.set_aspect("equal")
+        ax.set_xlabel("x (mm)")
+    axes[0].set_ylabel("y (mm)")
+    if title:
+        fig.suptitle(title)
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(prog="rbdem_figures.py", description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -387,6 +415,11 @@ def main(argv=None):
     s.add_argument("--labels", nargs="+", help="one title per run (default: beta from summary.json)")
     s.add_argument("--magnify", type=float, default=1.0, help="scale block displacements by this (default 1)")
 
+    s = sub.add_parser("fields", help="DEM and FE block displacements side by side (rbdem verify)")
+    s.add_argument("out")
+    s.add_argument("csv", metavar="FIELDS.csv")
+    s.add_argument("--title")
+
     a = p.parse_args(argv)
     t0 = time.perf_counter()
     out_dir = os.path.dirname(os.path.abspath(a.out))
@@ -397,6 +430,8 @@ def main(argv=None):
         plot_strength(a.out, a.table, a.group)
     elif a.figure == "cracks":
         plot_cracks(a.out, a.run, a.at, a.magnify)
+    elif a.figure == "fields":
+        plot_fields(a.out, a.csv, a.title)
     else:
         plot_crack_grid(a.out, a.runs, a.labels, a.magnify)
     print(f"wrote {a.out} ({time.perf_counter() - t0:.2f} s)")

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "compare/verify/specimens.hpp"
 #include "dem/engine.hpp"
 #include "dem/specimen_mesh.hpp"
 #include "dem/static_solve.hpp"
@@ -15,23 +16,8 @@
 namespace rbdem {
 namespace {
 
-// A rhombus of two isosceles triangles sharing the edge (-a, 0)-(a, 0): block 0 below, block 1 above.
-// Both centroids lie on the y axis, so a normal force at the edge midpoint makes no moment.
-TriMesh rhombus(double a, double b, int layer0 = 0, int layer1 = 0) {
-  TriMesh m;
-  m.nodes = {{-a, 0}, {a, 0}, {0, -b}, {0, b}};
-  m.triangles = {{0, 2, 1}, {0, 1, 3}};
-  m.layer = {layer0, layer1};
-  m.layer_names = {"layer_0", "layer_1"};
-  return m;
-}
-
-Scene elastic_scene() {
-  Scene s;
-  s.numerics.damping = 0.0;
-  s.rock.tensile_strength = s.rock.cohesion = s.joint.tensile_strength = s.joint.cohesion = 1e15;
-  return s;
-}
+using verify::elastic_scene;
+using verify::rhombus;
 
 EngineOptions free_blocks(const Scene& s) {
   EngineOptions o = EngineOptions::from_scene(s);
@@ -103,12 +89,7 @@ TEST(Engine, FrictionlessElasticImpactConservesEnergy) {
     Scene scene = elastic_scene();
     scene.rock.contact_friction = scene.joint.contact_friction = 0.0;
     const double a = 1e-3;
-    TriMesh m;  // two right triangles with their hypotenuses facing each other, 0.1 a apart
-    m.nodes = {{0, 0}, {a, a}, {0, a}, {0.1 * a, 0}, {1.1 * a, 0}, {1.1 * a, a}};
-    m.triangles = {{0, 1, 2}, {3, 4, 5}};
-    m.layer = {0, 0};
-    m.layer_names = {"a", "b"};
-    const Topology topo = build_topology(m, 1.0, 2700.0);
+    const Topology topo = build_topology(verify::facing_triangles(a), 1.0, 2700.0);
     ASSERT_EQ(topo.bonds.size(), 0u);
     Engine e(topo, scene, free_blocks(scene));
     const double v = 1.0, q = angle_deg * std::numbers::pi / 180;

@@ -6,6 +6,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "dem/fault_injection.hpp"
+
 namespace rbdem::theory {
 
 namespace {
@@ -45,7 +47,8 @@ Compliance3 rotated_compliance(const ReducedCompliance& a, double theta_deg) {
   const double c2 = c * c, s2 = s * s, c4 = c2 * c2, s4 = s2 * s2;
   Compliance3 S{};
   S[0][0] = a.a11 * c4 + (2 * a.a12 + a.a66) * s2 * c2 + a.a22 * s4;
-  S[1][1] = a.a11 * s4 + (2 * a.a12 + a.a66) * s2 * c2 + a.a22 * c4;
+  const double a12_in_s22 = fault_injected("compliance_sign") ? -a.a12 : a.a12;
+  S[1][1] = a.a11 * s4 + (2 * a12_in_s22 + a.a66) * s2 * c2 + a.a22 * c4;
   S[0][1] = S[1][0] = a.a12 * (s4 + c4) + (a.a11 + a.a22 - a.a66) * s2 * c2;
   S[2][2] = 2 * (2 * a.a11 + 2 * a.a22 - 4 * a.a12 - a.a66) * s2 * c2 + a.a66 * (s4 + c4);
   S[0][2] = S[2][0] = (2 * a.a11 - 2 * a.a12 - a.a66) * s * c2 * c - (2 * a.a22 - 2 * a.a12 - a.a66) * s2 * s * c;

@@ -1,0 +1,93 @@
+// Strength cases (full run only): the default dip study against Jaeger's plane of weakness (THEORY.md 3),
+// reported with the difference, not forced to agree.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <optional>
+
+#include <fmt/format.h>
+
+#include "compare/theory/elasticity.hpp"
+#include "compare/verify/verify.hpp"
+#include "study/study.hpp"
+
+namespace rbdem::verify {
+
+namespace {
+
+struct DipStudy {
+  std::vector<study::CaseResult> results;
+  study::GroupSummary group;
+  double seconds = 0;
+  long steps = 0;
+};
+
+// The seven-dip study of the main job, run once per process into <out>/strength (resumable like any sweep).
+const DipStudy& dip_study(const Context& ctx) {
+  static std::optional<DipStudy> cached;
+  if (cached) return *cached;
+  const Scene scene;
+  const study::StudySpec spec = study::dip_study(scene, "verify_dips");
+  const std::vector<study::Case> cases = study::expand(spec);
+  const std::filesystem::path out = ctx.out / "strength";
+  std::filesystem::create_directories(out);
+  if (ctx.log) ctx.log("verify: running the default dip study (seven UCS runs) into " + out.string());
+  const auto t0 = std::chrono::steady_clock::now();
+  DipStudy d;
+  d.results = study::run_cases(cases, out, study::RunOptions{});
+  d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  d.group = study::write_tables(d.results, out).front();
+  for (const auto& r : d.results) d.steps += r.summary["steps"].get<long>();
+  cached = std::move(d);
+  return *cached;
+}
+
+CaseResult min_angle(const Context& ctx) {
+  CaseResult r;
+  r.checks = "the dip of the strength minimum of the default study (dips 0, 15, ..., 90)";
+  r.reference = "Jaeger's plane of weakness: 45 + phi_j / 2 (THEORY.md 3), on the same dip grid";
+  r.unit = "deg";
+  const DipStudy& d = dip_study(ctx);
+  r.measured = d.group.min_beta_deg;
+  r.reference_value = d.group.jaeger_min_beta_deg;
+  r.error = std::abs(r.measured - r.reference_value);
+  r.error_definition = "|beta_min - beta_min,Jaeger| in degrees";
+  r.tolerance = 15;
+  r.tolerance_source = "the dip grid's spacing (15 deg): a minimum one grid step away is within sampling";
+  r.cost = fmt::format("7 UCS runs at 1 mm, {} steps, {:.0f} s", d.steps, d.seconds);
+  r.table.push_back({{"min_strength_pa", d.group.min_strength_pa}, {"jaeger_min_pa", d.group.jaeger_min_pa}});
+  return r;
+}
+
+CaseResult jaeger_curve(const Context& ctx) {
+  CaseResult r;
+  r.checks = "the strength-versus-dip curve of the default study and its anisotropy ratio";
+  r.reference = "Jaeger's strength with the bonded joint's envelope and the measured 90-deg strength (THEORY.md 3)";
+  r.unit = "-";
+  const DipStudy& d = dip_study(ctx);
+  double s90 = d.group.strength_90_pa, worst = 0, jmin = 1e300;
+  for (const auto& c : d.results) {
+    const double p = c.summary["peak_stress_pa"].get<double>();
+    const double j = study::jaeger_for(c.c.scene, c.c.beta, s90);
+    jmin = std::min(jmin, j);
+    worst = std::max(worst, std::abs(p / j - 1.0));
+    r.table.push_back({{"beta_deg", c.c.beta}, {"peak_pa", p}, {"jaeger_pa", j}, {"difference", p / j - 1.0},
+                       {"failure_mode", c.summary["failure_mode"]}});
+  }
+  r.measured = d.group.anisotropy_ratio;
+  r.reference_value = s90 / jmin;
+  r.error = worst;
+  r.error_definition = "max over dips |sigma / sigma_Jaeger - 1| (measured/reference: anisotropy ratios)";
+  r.tolerance_source = "informational: Jaeger assumes a uniform stress and a joint that slips at once; the DEM's "
+                       "joints fail progressively from the platen corners (docs/studies.md)";
+  r.cost = fmt::format("the same 7 runs ({:.0f} s)", d.seconds);
+  return r;
+}
+
+}  // namespace
+
+std::vector<CaseSpec> strength_cases() {
+  return {make_case("strength.min_angle", false, min_angle), make_case("strength.jaeger_curve", false, jaeger_curve)};
+}
+
+}  // namespace rbdem::verify
