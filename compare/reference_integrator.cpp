@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <numeric>
 #include <stdexcept>
@@ -355,8 +356,12 @@ ReferenceProblem make_reference_problem(const ReferenceSpecimen& sp) {
   // Mean height of each layer's blocks (layer_rigid).
   const int layers = 1 + *std::max_element(topo.blocks.layer.begin(), topo.blocks.layer.end());
   std::vector<double> ysum(std::size_t(layers), 0.0), count(std::size_t(layers), 0.0);
-  for (std::size_t b = 0; b < e.blocks.size(); ++b)
-    ysum[std::size_t(topo.blocks.layer[b])] += topo.blocks.cy[b], count[std::size_t(topo.blocks.layer[b])] += 1.0;
+  std::vector<std::uint8_t> clamped(std::size_t(layers), 0);  // layers with a fixed block stay at rest
+  for (std::size_t b = 0; b < e.blocks.size(); ++b) {
+    const std::size_t l = std::size_t(topo.blocks.layer[b]);
+    ysum[l] += topo.blocks.cy[b], count[l] += 1.0;
+    if (e.blocks.fixed[b]) clamped[l] = 1;
+  }
   p.y0 = get_state(e);
   for (std::size_t b = 0; b < e.blocks.size(); ++b) {
     if (e.blocks.fixed[b]) continue;
@@ -367,7 +372,7 @@ ReferenceProblem make_reference_problem(const ReferenceSpecimen& sp) {
       q[3] = sp.velocity * std::sin(0.5 * std::numbers::pi * y / H);
     } else {
       const std::size_t l = std::size_t(topo.blocks.layer[b]);
-      q[3] = sp.velocity * std::sin(0.5 * std::numbers::pi * (ysum[l] / count[l] - ymin) / H);
+      if (!clamped[l]) q[3] = sp.velocity * std::sin(0.5 * std::numbers::pi * (ysum[l] / count[l] - ymin) / H);
     }
   }
   return p;

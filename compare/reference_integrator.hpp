@@ -99,7 +99,8 @@ StateError state_error(const Engine& engine, const BlockStateVector& y, const Bl
 
 enum class InitialField {
   smooth,       // u_y = -strain (y - ymin), v_x = velocity sin(pi (y - ymin) / 2H): low modes of the whole specimen
-  layer_rigid,  // no displacement; each layer moves rigidly with v_x = velocity sin(pi (y_layer - ymin) / 2H)
+  layer_rigid,  // no displacement; each layer moves rigidly with v_x = velocity sin(pi (y_layer - ymin) / 2H), layers
+                // holding a fixed block stay at rest: the slow sliding of layers on soft joints
 };
 
 struct ReferenceSpecimen {
