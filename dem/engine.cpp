@@ -214,6 +214,31 @@ BondForces Engine::bond_forces(int b) const {
   return out;
 }
 
+void Engine::bonded_forces(std::vector<double>& fx, std::vector<double>& fy, std::vector<double>& moment) {
+  update_rotations();
+  const BlockState* st = blocks.state.data();
+  BondSlot* slot = bonds.slot.data();
+  for (int b : active_) {
+    const std::size_t k = std::size_t(b);
+    BondEval ev;
+    eval_bond(bonds.frame[k], st[bonds.i[k]], st[bonds.j[k]], kinds_[int(bonds.kind[k])], 0.0, bonds.fs_lin[k], ev);
+    slot[k] = ev.slot;
+  }
+  const std::size_t n = blocks.size();
+  fx.resize(n), fy.resize(n), moment.resize(n);
+  for (std::size_t b = 0; b < n; ++b) {
+    double f_x = blocks.ext_fx[b], f_y = blocks.ext_fy[b], m = blocks.ext_m[b];
+    for (int o = csr_offset_[b]; o < csr_offset_[b + 1]; ++o) {
+      const int e = csr_entry_[o];
+      if (bonds.broken[std::size_t(e >> 1)]) continue;
+      const BondSlot& s = slot[e >> 1];
+      if (e & 1) f_x += s.fx, f_y += s.fy, m += s.mj;
+      else f_x -= s.fx, f_y -= s.fy, m += s.mi;
+    }
+    fx[b] = f_x, fy[b] = f_y, moment[b] = m;
+  }
+}
+
 void Engine::set_platen_shear(int block, double fs) {
   const std::size_t b = std::size_t(block);
   (blocks.state[b].y > 0.5 * (top_y_ + bottom_y_) ? top_fs_ : bottom_fs_)[b] = fs;

@@ -145,6 +145,16 @@ class Engine {
     std::vector<std::uint64_t> key;              // (i << 32) | j, sorted
   } contacts;
 
+  // --- force evaluation without stepping (reference integrators, compare/reference_integrator.hpp) ---
+  // The generalized force (F_x, F_y, M) on every block at the current positions and velocities, without advancing
+  // time, the state or any history: every intact bond through the same bond law as step() with its stored linear-
+  // part shear force (dt = 0), plus the external loads, gathered in step()'s fixed CSR order. Contacts and platens
+  // are left out (their shear carries history that only step() advances), so this is the whole force only for an
+  // engine built with platens = false and contacts = false. It refreshes the cached cos/sin of theta and overwrites
+  // the bond slots, both of which step() recomputes before reading: results of step() are unchanged.
+  void bonded_forces(std::vector<double>& fx, std::vector<double>& fy, std::vector<double>& moment);
+  bool has_contacts() const { return options_.contacts; }
+
   BondStiffness stiffness(int bond) const;
   // The forces of a bond in the current state (without advancing its shear history).
   BondForces bond_forces(int bond) const;

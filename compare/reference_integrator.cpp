@@ -1,0 +1,381 @@
+// ARKODE reference and implicit integrators on the engine's force evaluation; the synchronised central difference.
+// See reference_integrator.hpp.
+#include "compare/reference_integrator.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <time.h>
+
+#include <arkode/arkode_arkstep.h>
+#include <arkode/arkode_erkstep.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_band.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_band.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include "dem/specimen_mesh.hpp"
+#include "dem/static_solve.hpp"
+
+namespace rbdem {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+void check_flag(int flag, const char* call) {
+  if (flag < 0) throw std::runtime_error(std::string("SUNDIALS: ") + call + " failed with flag " + std::to_string(flag));
+}
+
+// Owners of the SUNDIALS objects of one integration (released in reverse order of creation).
+struct Sundials {
+  SUNContext ctx = nullptr;
+  N_Vector y = nullptr, atol = nullptr;
+  SUNMatrix A = nullptr;
+  SUNLinearSolver LS = nullptr;
+  void* mem = nullptr;
+  bool erk = true;
+
+  explicit Sundials(sunindextype n) {
+    check_flag(SUNContext_Create(nullptr, &ctx), "SUNContext_Create");
+    y = N_VNew_Serial(n, ctx);
+    atol = N_VNew_Serial(n, ctx);
+    if (!y || !atol) throw std::runtime_error("SUNDIALS: N_VNew_Serial failed");
+  }
+  Sundials(const Sundials&) = delete;
+  Sundials& operator=(const Sundials&) = delete;
+  ~Sundials() {
+    if (mem) {
+      if (erk) ERKStepFree(&mem);
+      else ARKStepFree(&mem);
+    }
+    if (LS) SUNLinSolFree(LS);
+    if (A) SUNMatDestroy(A);
+    if (atol) N_VDestroy(atol);
+    if (y) N_VDestroy(y);
+    if (ctx) SUNContext_Free(&ctx);
+  }
+};
+
+// The right-hand side. Slot s of the ODE vector holds block order[s] (a renumbering for a banded Jacobian).
+struct BlockOde {
+  Engine& engine;
+  std::vector<int> order;
+  std::vector<double> fx, fy, m;
+
+  BlockOde(Engine& e, std::vector<int> o) : engine(e), order(std::move(o)) {}
+
+  void load(const double* y) {
+    auto& st = engine.blocks.state;
+    for (std::size_t s = 0; s < order.size(); ++s) {
+      BlockState& b = st[std::size_t(order[s])];
+      const double* q = y + 6 * s;
+      b.x = q[0], b.y = q[1], b.theta = q[2], b.vx = q[3], b.vy = q[4], b.omega = q[5];
+    }
+  }
+
+  void eval(const double* y, double* ydot) {
+    load(y);
+    engine.bonded_forces(fx, fy, m);
+    const auto& B = engine.blocks;
+    for (std::size_t s = 0; s < order.size(); ++s) {
+      const std::size_t b = std::size_t(order[s]);
+      const double* q = y + 6 * s;
+      double* d = ydot + 6 * s;
+      if (B.fixed[b]) {
+        std::fill(d, d + 6, 0.0);
+        continue;
+      }
+      d[0] = q[3], d[1] = q[4], d[2] = q[5];
+      d[3] = fx[b] / B.mass[b], d[4] = fy[b] / B.mass[b], d[5] = m[b] / B.inertia[b];
+    }
+  }
+
+  static int rhs(sunrealtype, N_Vector y, N_Vector ydot, void* user) {
+    static_cast<BlockOde*>(user)->eval(N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
+    return 0;
+  }
+
+  void to_ode(const BlockStateVector& in, double* out) const {
+    for (std::size_t s = 0; s < order.size(); ++s)
+      std::copy_n(in.data() + 6 * std::size_t(order[s]), 6, out + 6 * s);
+  }
+  BlockStateVector from_ode(const double* in) const {
+    BlockStateVector out(6 * order.size());
+    for (std::size_t s = 0; s < order.size(); ++s) std::copy_n(in + 6 * s, 6, out.data() + 6 * std::size_t(order[s]));
+    return out;
+  }
+};
+
+std::vector<int> identity_order(std::size_t n) {
+  std::vector<int> o(n);
+  std::iota(o.begin(), o.end(), 0);
+  return o;
+}
+
+void set_tolerances(Sundials& s, const BlockStateVector& y0, const Tolerances& tol, const BlockOde& ode) {
+  double* a = N_VGetArrayPointer(s.atol);
+  for (std::size_t k = 0; k < y0.size(); ++k) a[k] = tol.atol[k % 6];
+  ode.to_ode(y0, N_VGetArrayPointer(s.y));
+}
+
+}  // namespace
+
+BlockStateVector get_state(const Engine& engine) {
+  BlockStateVector y(6 * engine.blocks.size());
+  for (std::size_t b = 0; b < engine.blocks.size(); ++b) {
+    const BlockState& s = engine.blocks.state[b];
+    double* q = y.data() + 6 * b;
+    q[0] = s.x, q[1] = s.y, q[2] = s.theta, q[3] = s.vx, q[4] = s.vy, q[5] = s.omega;
+  }
+  return y;
+}
+
+void set_state(Engine& engine, const BlockStateVector& y) {
+  if (y.size() != 6 * engine.blocks.size())
+    throw std::invalid_argument("set_state: the state vector has " + std::to_string(y.size()) + " entries, the engine " +
+                                std::to_string(engine.blocks.size()) + " blocks (6 entries each)");
+  for (std::size_t b = 0; b < engine.blocks.size(); ++b) {
+    BlockState& s = engine.blocks.state[b];
+    const double* q = y.data() + 6 * b;
+    s.x = q[0], s.y = q[1], s.theta = q[2], s.vx = q[3], s.vy = q[4], s.omega = q[5];
+  }
+  engine.refresh();
+}
+
+void check_reference_scope(const Engine& engine, double damping) {
+  if (damping != 0.0)
+    throw std::invalid_argument("reference integrator: the equations of motion are undamped; set numerics.damping = 0");
+  if (engine.has_platens())
+    throw std::invalid_argument("reference integrator: platens are outside its scope; build the engine with "
+                                "EngineOptions::platens = false (fix blocks with blocks.fixed instead)");
+  if (engine.has_contacts())
+    throw std::invalid_argument("reference integrator: block-block contacts are outside its scope; build the engine "
+                                "with EngineOptions::contacts = false");
+  for (std::size_t b = 0; b < engine.bonds.size(); ++b) {
+    const BondStiffness k = engine.stiffness(int(b));
+    if (!(k.mu == 0.0 && k.slip_bonded))
+      throw std::invalid_argument("reference integrator: the linear part's incremental shear carries history; set "
+                                  "contact_friction = 0 and slip_when_bonded = true for rock and joint");
+  }
+}
+
+Tolerances Tolerances::scaled(double rtol, double u, double v, double l) {
+  Tolerances t;
+  t.rtol = rtol;
+  t.atol = {rtol * u, rtol * u, rtol * u / l, rtol * v, rtol * v, rtol * v / l};
+  return t;
+}
+
+IntegrationResult integrate_explicit(Engine& engine, const BlockStateVector& y0, double t_end, const Tolerances& tol,
+                                     ExplicitTable table) {
+  const auto start = Clock::now();
+  const double cpu_start = thread_cpu_seconds();
+  BlockOde ode(engine, identity_order(engine.blocks.size()));
+  Sundials s(sunindextype(y0.size()));
+  set_tolerances(s, y0, tol, ode);
+  s.erk = true;
+  s.mem = ERKStepCreate(&BlockOde::rhs, 0.0, s.y, s.ctx);
+  if (!s.mem) throw std::runtime_error("SUNDIALS: ERKStepCreate failed");
+  check_flag(ERKStepSetUserData(s.mem, &ode), "ERKStepSetUserData");
+  check_flag(ERKStepSVtolerances(s.mem, tol.rtol, s.atol), "ERKStepSVtolerances");
+  const ARKODE_ERKTableID id = table == ExplicitTable::fehlberg_13_7_8 ? ARKODE_FEHLBERG_13_7_8
+                               : table == ExplicitTable::verner_8_5_6  ? ARKODE_VERNER_8_5_6
+                                                                       : ARKODE_DORMAND_PRINCE_7_4_5;
+  check_flag(ERKStepSetTableNum(s.mem, id), "ERKStepSetTableNum");
+  check_flag(ERKStepSetMaxNumSteps(s.mem, 100000000), "ERKStepSetMaxNumSteps");
+  check_flag(ERKStepSetStopTime(s.mem, t_end), "ERKStepSetStopTime");  // land on t_end, no dense output
+  sunrealtype t = 0.0;
+  check_flag(ERKStepEvolve(s.mem, t_end, s.y, &t, ARK_NORMAL), "ERKStepEvolve");
+  IntegrationResult r;
+  r.state = ode.from_ode(N_VGetArrayPointer(s.y));
+  long v = 0;
+  ERKStepGetNumSteps(s.mem, &v), r.stats.steps = v;
+  ERKStepGetNumStepAttempts(s.mem, &v), r.stats.attempts = v;
+  ERKStepGetNumRhsEvals(s.mem, &v), r.stats.rhs_evals = v;
+  r.stats.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  r.stats.cpu_seconds = thread_cpu_seconds() - cpu_start;
+  return r;
+}
+
+IntegrationResult integrate_implicit(Engine& engine, const BlockStateVector& y0, double t_end, const Tolerances& tol,
+                                     const ImplicitOptions& options) {
+  const auto start = Clock::now();
+  const double cpu_start = thread_cpu_seconds();
+  const std::size_t nb = engine.blocks.size();
+  std::vector<int> order = identity_order(nb);
+  sunindextype half_band = 0;
+  if (options.solver == LinearSolver::band) {
+    // Number the blocks along the longer side: bonded blocks then sit close in the numbering.
+    const bool along_x = engine.specimen_width() >= engine.specimen_height();
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+      const BlockState &sa = engine.blocks.state[std::size_t(a)], &sb = engine.blocks.state[std::size_t(b)];
+      return along_x ? sa.x < sb.x : sa.y < sb.y;
+    });
+    std::vector<int> slot(nb);
+    for (std::size_t s = 0; s < nb; ++s) slot[std::size_t(order[s])] = int(s);
+    int width = 0;
+    for (std::size_t b = 0; b < engine.bonds.size(); ++b)
+      width = std::max(width, std::abs(slot[std::size_t(engine.bonds.i[b])] - slot[std::size_t(engine.bonds.j[b])]));
+    half_band = 6 * width + 5;  // every entry of block s couples to every entry of blocks s +- width
+  }
+  BlockOde ode(engine, std::move(order));
+  const auto n = sunindextype(y0.size());
+  Sundials s(n);
+  set_tolerances(s, y0, tol, ode);
+  s.erk = false;
+  s.mem = ARKStepCreate(nullptr, &BlockOde::rhs, 0.0, s.y, s.ctx);
+  if (!s.mem) throw std::runtime_error("SUNDIALS: ARKStepCreate failed");
+  check_flag(ARKStepSetUserData(s.mem, &ode), "ARKStepSetUserData");
+  check_flag(ARKStepSVtolerances(s.mem, tol.rtol, s.atol), "ARKStepSVtolerances");
+  const ARKODE_DIRKTableID id = options.table == ImplicitTable::sdirk_5_3_4    ? ARKODE_SDIRK_5_3_4
+                                : options.table == ImplicitTable::kvaerno_7_4_5 ? ARKODE_KVAERNO_7_4_5
+                                                                                : ARKODE_TRBDF2_3_3_2;
+  check_flag(ARKStepSetTableNum(s.mem, id, ARKODE_ERK_NONE), "ARKStepSetTableNum");
+  if (options.solver == LinearSolver::band) {
+    s.A = SUNBandMatrix(n, half_band, half_band, s.ctx);
+    s.LS = SUNLinSol_Band(s.y, s.A, s.ctx);
+  } else {
+    s.A = SUNDenseMatrix(n, n, s.ctx);
+    s.LS = SUNLinSol_Dense(s.y, s.A, s.ctx);
+  }
+  if (!s.A || !s.LS) throw std::runtime_error("SUNDIALS: creating the matrix or the linear solver failed");
+  check_flag(ARKStepSetLinearSolver(s.mem, s.LS, s.A), "ARKStepSetLinearSolver");  // no Jacobian: difference quotients
+  check_flag(ARKStepSetMaxNumSteps(s.mem, 100000000), "ARKStepSetMaxNumSteps");
+  check_flag(ARKStepSetStopTime(s.mem, t_end), "ARKStepSetStopTime");
+  sunrealtype t = 0.0;
+  check_flag(ARKStepEvolve(s.mem, t_end, s.y, &t, ARK_NORMAL), "ARKStepEvolve");
+  IntegrationResult r;
+  r.state = ode.from_ode(N_VGetArrayPointer(s.y));
+  long v = 0, fe = 0, fi = 0;
+  ARKStepGetNumSteps(s.mem, &v), r.stats.steps = v;
+  ARKStepGetNumStepAttempts(s.mem, &v), r.stats.attempts = v;
+  ARKStepGetNumRhsEvals(s.mem, &fe, &fi);
+  ARKStepGetNumLinRhsEvals(s.mem, &v);
+  r.stats.rhs_evals = fe + fi + v;
+  ARKStepGetNumNonlinSolvIters(s.mem, &v), r.stats.newton_iters = v;
+  ARKStepGetNumJacEvals(s.mem, &v), r.stats.jacobian_evals = v;
+  r.stats.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  r.stats.cpu_seconds = thread_cpu_seconds() - cpu_start;
+  return r;
+}
+
+IntegrationResult central_difference(Engine& engine, const BlockStateVector& y0, double dt, long steps) {
+  const auto start = Clock::now();
+  const double cpu_start = thread_cpu_seconds();
+  std::vector<double> fx, fy, m;
+  auto half_kick = [&](double sign) {
+    engine.bonded_forces(fx, fy, m);
+    auto& B = engine.blocks;
+    for (std::size_t b = 0; b < B.size(); ++b) {
+      if (B.fixed[b]) continue;
+      BlockState& s = B.state[b];
+      s.vx += sign * 0.5 * dt * fx[b] / B.mass[b];
+      s.vy += sign * 0.5 * dt * fy[b] / B.mass[b];
+      s.omega += sign * 0.5 * dt * m[b] / B.inertia[b];
+    }
+  };
+  set_state(engine, y0);
+  half_kick(-1.0);  // v(-dt/2): the leapfrog's staggered start
+  engine.set_dt(dt);
+  engine.run(steps);
+  half_kick(+1.0);  // v(T) from v(T - dt/2)
+  IntegrationResult r;
+  r.state = get_state(engine);
+  r.stats.steps = r.stats.attempts = steps;
+  r.stats.rhs_evals = steps + 2;
+  r.stats.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  r.stats.cpu_seconds = thread_cpu_seconds() - cpu_start;
+  return r;
+}
+
+StateError state_error(const Engine& engine, const BlockStateVector& y, const BlockStateVector& ref,
+                       const BlockStateVector& y0) {
+  double dq = 0, uq = 0, dv = 0, vv = 0;
+  for (std::size_t b = 0; b < engine.blocks.size(); ++b) {
+    const double r = engine.blocks.radius[b];
+    const double* a = y.data() + 6 * b;
+    const double* e = ref.data() + 6 * b;
+    const double* o = y0.data() + 6 * b;
+    for (int k = 0; k < 6; ++k) {
+      const double w = (k == 2 || k == 5) ? r : 1.0;  // rotations as arc lengths of the block's radius
+      const double diff = w * (a[k] - e[k]);
+      if (k < 3) dq += diff * diff, uq += std::pow(w * (e[k] - o[k]), 2);
+      else dv += diff * diff, vv += std::pow(w * e[k], 2);
+    }
+  }
+  return {std::sqrt(dq / uq), std::sqrt(dv / vv)};
+}
+
+std::unique_ptr<Engine> ReferenceProblem::make_engine() const {
+  EngineOptions o = EngineOptions::from_scene(scene);
+  o.platens = false;
+  o.contacts = false;
+  o.threads = 1;
+  auto e = std::make_unique<Engine>(*topology, scene, o);
+  e->set_breakage(false);
+  const auto& bd = topology->boundary;
+  for (std::size_t k = 0; k < bd.size(); ++k)
+    if (bd.side[k] == Side::bottom) e->blocks.fixed[std::size_t(bd.block[k])] = 1;
+  check_reference_scope(*e, o.damping);
+  return e;
+}
+
+ReferenceProblem make_reference_problem(const ReferenceSpecimen& sp) {
+  ReferenceProblem p;
+  Scene& s = p.scene;
+  s.specimen.width = sp.width, s.specimen.height = sp.height;
+  s.joint_set.dip_deg = sp.dip_deg, s.joint_set.spacing = sp.spacing;
+  s.mesh.size = sp.mesh_size;
+  s.numerics.damping = 0.0;
+  s.joint.effective_modulus = s.rock.effective_modulus / sp.joint_contrast;
+  for (MaterialParams* m : {static_cast<MaterialParams*>(&s.rock), &s.joint}) {
+    m->contact_friction = 0.0;
+    m->slip_when_bonded = true;
+  }
+  p.topology = std::make_unique<Topology>(build_topology(make_mesh(s), s.specimen.thickness, s.rock.density));
+  p.engine = p.make_engine();
+  p.stability_limit = rbdem::stability_limit(*p.engine);
+
+  const Engine& e = *p.engine;
+  const Topology& topo = *p.topology;
+  const double ymin = topo.ymin, H = topo.height();
+  // Mean height of each layer's blocks (layer_rigid).
+  const int layers = 1 + *std::max_element(topo.blocks.layer.begin(), topo.blocks.layer.end());
+  std::vector<double> ysum(std::size_t(layers), 0.0), count(std::size_t(layers), 0.0);
+  std::vector<std::uint8_t> clamped(std::size_t(layers), 0);  // layers with a fixed block stay at rest
+  for (std::size_t b = 0; b < e.blocks.size(); ++b) {
+    const std::size_t l = std::size_t(topo.blocks.layer[b]);
+    ysum[l] += topo.blocks.cy[b], count[l] += 1.0;
+    if (e.blocks.fixed[b]) clamped[l] = 1;
+  }
+  p.y0 = get_state(e);
+  for (std::size_t b = 0; b < e.blocks.size(); ++b) {
+    if (e.blocks.fixed[b]) continue;
+    double* q = p.y0.data() + 6 * b;
+    const double y = topo.blocks.cy[b] - ymin;
+    if (sp.field == InitialField::smooth) {
+      q[1] -= sp.strain * y;
+      q[3] = sp.velocity * std::sin(0.5 * std::numbers::pi * y / H);
+    } else {
+      const std::size_t l = std::size_t(topo.blocks.layer[b]);
+      if (!clamped[l]) q[3] = sp.velocity * std::sin(0.5 * std::numbers::pi * (ysum[l] / count[l] - ymin) / H);
+    }
+  }
+  return p;
+}
+
+}  // namespace rbdem
