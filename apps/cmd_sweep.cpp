@@ -22,6 +22,7 @@
 #include "apps/commands.hpp"
 #include "compare/gate/gate_cache.hpp"
 #include "compare/theory/elasticity.hpp"
+#include "io/results.hpp"
 #include "study/report.hpp"
 #include "study/study.hpp"
 
@@ -30,7 +31,11 @@ namespace rbdem::cli {
 namespace {
 
 std::atomic<bool> interrupted{false};
-extern "C" void on_sigint(int) { interrupted.store(true); }
+volatile std::sig_atomic_t last_signal = 0;
+extern "C" void on_sigint(int sig) {
+  last_signal = sig;
+  interrupted.store(true);
+}
 
 struct SweepOptions {
   std::string study;
@@ -72,6 +77,7 @@ struct MpiSession {
 
 int run_study(study::StudySpec spec, const std::filesystem::path& out, int workers, bool quiet, bool paper_check,
               bool skip_gate) {
+  io::require_writable_dir(out);  // before the gate and any case: a clear error naming the folder, exit 2
   MpiSession mpi;
   const auto t0 = std::chrono::steady_clock::now();
   const auto cases = study::expand(spec);
@@ -105,17 +111,21 @@ int run_study(study::StudySpec spec, const std::filesystem::path& out, int worke
   ro.progress = tty;
   ro.cancel = &interrupted;
   auto previous = std::signal(SIGINT, on_sigint);
+  auto previous_term = std::signal(SIGTERM, on_sigint);
   std::vector<study::CaseResult> ran;
   try {
     ran = study::run_cases(cases, out, ro, mpi.rank, mpi.size);
   } catch (const study::Cancelled&) {
-    std::signal(SIGINT, previous);
+    std::signal(SIGINT, previous), std::signal(SIGTERM, previous_term);
     const auto done = study::collect(cases, out).size();
     fmt::print(stderr, "sweep: interrupted with {} of {} cases complete; rerun the same command to finish\n", done,
                cases.size());
-    return 130;
+    return last_signal == SIGTERM ? 143 : 130;
+  } catch (...) {
+    std::signal(SIGINT, previous), std::signal(SIGTERM, previous_term);
+    throw;
   }
-  std::signal(SIGINT, previous);
+  std::signal(SIGINT, previous), std::signal(SIGTERM, previous_term);
   mpi.barrier();
   if (mpi.rank != 0) return ok;
   // Everything from disk (other ranks' cases too), with this process's timings where it ran the case.

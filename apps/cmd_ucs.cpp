@@ -2,11 +2,19 @@
 //
 //   rbdem ucs --beta 60 --out runs/b60                  # the paper specimen at beta = 60 deg
 //   rbdem ucs my.toml --set mesh.size=0.002 --out runs/x
-// Writes summary.json, curve.csv, cracks.csv and scene.toml into --out. Runs the elastic gate first (cached per
-// scene, docs/elastic.md) and refuses with exit status 3 when it fails; --skip-elastic-gate runs anyway.
+//   rbdem ucs my.toml --set mesh.size=0.002 --out runs/x --resume   # continue after Ctrl-C, a kill or a crash
+// Writes summary.json, curve.csv, cracks.csv, scene.toml, result.h5 and result.xdmf into --out, each atomically.
+// Runs the elastic gate first (cached per scene, docs/elastic.md) and refuses with exit status 3 when it fails;
+// --skip-elastic-gate runs anyway. While running it writes checkpoint.h5 (numerics.checkpoint_every_steps,
+// numerics.checkpoint_every_seconds) and on SIGINT / SIGTERM, then exits with 130 / 143; --resume continues from it.
+// A run the watchdog stops (non-finite state, energy from nowhere) writes its results up to the last sound state
+// with "completed": false and exits with status 1 (docs/reliability.md).
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
+#include <csignal>
+#include <filesystem>
 
 #include <fmt/format.h>
 
@@ -16,6 +24,7 @@
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
 #include "dem/ucs.hpp"
+#include "io/checkpoint.hpp"
 #include "io/results.hpp"
 
 namespace rbdem::cli {
@@ -26,12 +35,40 @@ struct UcsCommandOptions {
   SceneOptions scene;
   std::string out = "runs/ucs";
   bool skip_elastic_gate = false;
+  bool resume = false;
+  long interrupt_at_step = -1;  // tests: act as if SIGINT arrived at this step
+  bool allow_supercritical_dt = false;  // tests: let numerics.dt exceed the critical step (provokes the watchdog)
 };
 
+std::atomic<bool> interrupted{false};
+volatile std::sig_atomic_t last_signal = 0;
+extern "C" void on_signal(int sig) {
+  last_signal = sig;
+  interrupted.store(true);
+}
+
 int run_ucs_command(const UcsCommandOptions& opt) {
+  namespace fs = std::filesystem;
   const Scene scene = resolve_scene(opt.scene);
   print_scene(scene, opt.scene);
-  if (!opt.skip_elastic_gate && !compare::require_elastic_gate(scene)) return check_failed;
+  const fs::path out(opt.out);
+  const fs::path ckpt_file = out / "checkpoint.h5";
+  // Before anything runs: the output folder must take files, and a resume needs its checkpoint.
+  io::require_writable_dir(out);
+  UcsCheckpoint resume_from;
+  if (opt.resume) {
+    if (!fs::exists(ckpt_file))
+      throw std::invalid_argument(fmt::format("--resume: there is no checkpoint {} to continue from{}; run without "
+                                              "--resume to start afresh",
+                                              ckpt_file.string(),
+                                              fs::exists(out / "summary.json") ? " (the run there is complete)" : ""));
+    resume_from = io::read_checkpoint(ckpt_file);
+    if (resume_from.scene_toml != to_toml(scene))
+      throw SceneError(fmt::format("--resume: {} was written for another scene; resume with the same scene file, "
+                                   "--set options and mesh as the interrupted run, or start afresh without --resume",
+                                   ckpt_file.string()));
+  }
+  if (!opt.resume && !opt.skip_elastic_gate && !compare::require_elastic_gate(scene)) return check_failed;
   const TriMesh mesh = make_mesh(scene);
   const Topology topo = build_topology(mesh, scene.specimen.thickness, scene.rock.density);
   fmt::print("ucs: {} blocks, {} bonds ({} joint), beta = {} deg\n", topo.blocks.size(), topo.bonds.size(),
@@ -43,14 +80,51 @@ int run_ucs_command(const UcsCommandOptions& opt) {
       fmt::print(stderr, "\r  step {:>8}  strain {:.3e}  stress {:7.2f} MPa  peak {:7.2f} MPa  cracks {:>6}", p.step,
                  p.strain, p.stress / 1e6, p.peak / 1e6, p.cracks);
     };
-  const UcsResult r = run_ucs(scene, topo, uo);
+  uo.checkpoint = [&](const UcsCheckpoint& c) { io::write_checkpoint(ckpt_file, c); };
+  uo.cancel = &interrupted;
+  uo.interrupt_at_step = opt.interrupt_at_step;
+  uo.allow_supercritical_dt = opt.allow_supercritical_dt;
+  if (opt.resume) {
+    uo.resume = &resume_from;
+    fmt::print("ucs: resuming from {} at step {} (strain {:.4e})\n", ckpt_file.string(), resume_from.engine.steps,
+               resume_from.partial.curve.empty() ? 0.0 : resume_from.partial.curve.back().strain);
+  }
+  interrupted.store(false);
+  auto old_int = std::signal(SIGINT, on_signal);
+  auto old_term = std::signal(SIGTERM, on_signal);
+  UcsResult r;
+  try {
+    r = run_ucs(scene, topo, uo);
+  } catch (const RunCancelled& c) {
+    std::signal(SIGINT, old_int), std::signal(SIGTERM, old_term);
+    if (tty && !opt.scene.quiet) fmt::print(stderr, "\n");
+    const int sig = last_signal != 0 ? int(last_signal) : SIGINT;
+    fmt::print(stderr,
+               "rbdem: interrupted ({}) at step {}: wrote the checkpoint {}. To continue, run the same command with "
+               "--resume\n",
+               sig == SIGTERM ? "SIGTERM" : "SIGINT", c.step, ckpt_file.string());
+    return 128 + sig;
+  } catch (...) {
+    std::signal(SIGINT, old_int), std::signal(SIGTERM, old_term);
+    throw;
+  }
+  std::signal(SIGINT, old_int), std::signal(SIGTERM, old_term);
   if (tty && !opt.scene.quiet) fmt::print(stderr, "\n");
-  io::write_ucs(opt.out, scene, mesh, topo, r);
+  io::write_ucs(out, scene, mesh, topo, r);
+  if (!r.completed) {
+    fmt::print(stderr, "rbdem: run failed: {}\n", r.watchdog_message);
+    fmt::print(stderr, "rbdem: wrote {}/summary.json with \"completed\": false (results up to the last sound state); "
+                       "the last checkpoint, if any, is {}\n", opt.out, ckpt_file.string());
+    return run_failed;
+  }
+  std::error_code ec;
+  fs::remove(ckpt_file, ec);  // the run is complete: its results supersede the checkpoint
   fmt::print("ucs: peak {:.2f} MPa at strain {:.3e}, E50 {:.2f} GPa, {} cracks (rock t/s {}/{}, joint t/s {}/{}), "
              "{}, {} steps of {:.3g} s, {:.1f} s wall\n",
              r.peak_stress / 1e6, r.strain_at_peak, r.youngs_modulus / 1e9, r.crack_counts.total(),
              r.crack_counts.rock_tensile, r.crack_counts.rock_shear, r.crack_counts.joint_tensile,
              r.crack_counts.joint_shear, r.failure_mode, r.steps, r.dt, r.wall_seconds);
+  if (!r.quasi_static) fmt::print("ucs: warning: the test was not quasi-static: {}\n", r.quasi_static_reason);
   fmt::print("ucs: wrote {}/summary.json, curve.csv, cracks.csv\n", opt.out);
   return ok;
 }
@@ -64,6 +138,14 @@ Runner add_ucs_command(CLI::App& app) {
   cmd->add_option("--out,-o", opt->out, "output folder")->capture_default_str();
   cmd->add_flag("--skip-elastic-gate", opt->skip_elastic_gate,
                 "run even when the elastic gate fails (DEM vs Amadei moduli, rbdem elastic; cached per scene)");
+  cmd->add_flag("--resume", opt->resume,
+                "continue the interrupted run in --out from its checkpoint.h5 (same scene and options)");
+  cmd->add_option("--interrupt-at-step", opt->interrupt_at_step,
+                  "testing: stop at this step as if interrupted (writes the checkpoint, exit 130)")
+      ->group("");  // hidden
+  cmd->add_flag("--allow-supercritical-dt", opt->allow_supercritical_dt,
+                "testing: accept numerics.dt above the critical step (the watchdog then stops the run)")
+      ->group("");  // hidden
   return [opt]() { return run_ucs_command(*opt); };
 }
 

@@ -637,6 +637,53 @@ void Engine::integrate() {
         steps_, time_, dt_, critical_step()));
 }
 
+Engine::Snapshot Engine::snapshot() const {
+  Snapshot s;
+  s.state = blocks.state, s.fx = blocks.fx, s.fy = blocks.fy, s.moment = blocks.moment;
+  s.free_face = blocks.free_face, s.broken = bonds.broken, s.fs_lin = bonds.fs_lin, s.slot = bonds.slot;
+  s.contacts = contacts, s.cracks = cracks_;
+  s.dt = dt_, s.time = time_, s.platen_velocity = options_.platen_velocity, s.strain_for_log = strain_for_log;
+  s.steps = steps_, s.breakage = breakage_, s.rebuild = rebuild_;
+  s.top_y = top_y_, s.top_force = top_force_, s.bottom_force = bottom_force_, s.ref_top = ref_top_;
+  s.e_damping = e_damping_, s.e_friction = e_friction_, s.e_work = e_work_, s.platen_energy = platen_energy_;
+  s.eligible = eligible_, s.top_candidates = top_candidates_, s.bottom_candidates = bottom_candidates_;
+  s.ref_x = ref_x_, s.ref_y = ref_y_, s.top_fs = top_fs_, s.bottom_fs = bottom_fs_;
+  return s;
+}
+
+void Engine::restore(const Snapshot& s) {
+  const std::size_t nb = blocks.size(), nd = bonds.size();
+  const auto& C = s.contacts;
+  const std::size_t nc = C.key.size();
+  const bool fits = s.state.size() == nb && s.fx.size() == nb && s.fy.size() == nb && s.moment.size() == nb &&
+                    s.free_face.size() == nb && s.top_fs.size() == nb && s.bottom_fs.size() == nb &&
+                    s.broken.size() == nd && s.fs_lin.size() == nd && s.slot.size() == nd && C.i.size() == nc &&
+                    C.j.size() == nc && C.bond.size() == nc && C.law.size() == nc && C.fs.size() == nc &&
+                    C.fn.size() == nc && C.chord.size() == nc && s.ref_x.size() == s.eligible.size() &&
+                    s.ref_y.size() == s.eligible.size();
+  if (!fits)
+    throw std::invalid_argument(fmt::format("the checkpoint does not fit this model ({} blocks and {} bonds in the "
+                                            "checkpoint, {} and {} here): it was written for another scene or mesh",
+                                            s.state.size(), s.broken.size(), nb, nd));
+  auto in_range = [](const std::vector<int>& v, std::size_t n) {
+    return std::all_of(v.begin(), v.end(), [n](int k) { return k >= 0 && std::size_t(k) < n; });
+  };
+  if (!in_range(C.i, nb) || !in_range(C.j, nb) || !in_range(s.eligible, nb) || !in_range(s.top_candidates, nb) ||
+      !in_range(s.bottom_candidates, nb) ||
+      !std::all_of(s.cracks.begin(), s.cracks.end(), [nd](const Crack& c) { return c.bond >= 0 && std::size_t(c.bond) < nd; }))
+    throw std::invalid_argument("the checkpoint refers to blocks or bonds this model does not have");
+  blocks.state = s.state, blocks.fx = s.fx, blocks.fy = s.fy, blocks.moment = s.moment;
+  blocks.free_face = s.free_face, bonds.broken = s.broken, bonds.fs_lin = s.fs_lin, bonds.slot = s.slot;
+  contacts = s.contacts, cracks_ = s.cracks;
+  dt_ = s.dt, time_ = s.time, options_.platen_velocity = s.platen_velocity, strain_for_log = s.strain_for_log;
+  steps_ = s.steps, breakage_ = s.breakage, rebuild_ = s.rebuild;
+  top_y_ = s.top_y, top_force_ = s.top_force, bottom_force_ = s.bottom_force, ref_top_ = s.ref_top;
+  e_damping_ = s.e_damping, e_friction_ = s.e_friction, e_work_ = s.e_work, platen_energy_ = s.platen_energy;
+  eligible_ = s.eligible, top_candidates_ = s.top_candidates, bottom_candidates_ = s.bottom_candidates;
+  ref_x_ = s.ref_x, ref_y_ = s.ref_y, top_fs_ = s.top_fs, bottom_fs_ = s.bottom_fs;
+  rebuild_active();
+}
+
 std::size_t Engine::active_contacts() const {
   return std::size_t(std::count_if(contacts.fn.begin(), contacts.fn.end(), [](double f) { return f > 0; }));
 }

@@ -199,6 +199,29 @@ class Engine {
   bool has_platens() const { return options_.platens; }
   double kappa(BondKind k) const { return kinds_[int(k)].kappa; }
 
+  // The complete mutable state of a run: everything step() reads that the scene and topology do not determine
+  // (checkpoints). Restoring a snapshot into an engine built from the same scene and topology continues the run
+  // bit for bit as if it had never stopped, at any thread count.
+  struct Snapshot {
+    std::vector<BlockState> state;
+    std::vector<double> fx, fy, moment;
+    std::vector<std::uint8_t> free_face, broken;
+    std::vector<double> fs_lin;
+    std::vector<BondSlot> slot;
+    ContactPairs contacts;
+    std::vector<Crack> cracks;
+    double dt = 0, time = 0, platen_velocity = 0, strain_for_log = 0;
+    long steps = 0;
+    bool breakage = true, rebuild = true;
+    double top_y = 0, top_force = 0, bottom_force = 0, ref_top = 0;
+    double e_damping = 0, e_friction = 0, e_work = 0, platen_energy = 0;
+    std::vector<int> eligible, top_candidates, bottom_candidates;
+    std::vector<double> ref_x, ref_y, top_fs, bottom_fs;
+  };
+  Snapshot snapshot() const;
+  // Throws std::invalid_argument when the snapshot's sizes do not fit this engine (another scene or mesh).
+  void restore(const Snapshot& s);
+
   // Per-kind parameters (rock = 0, joint = 1).
   struct KindParams {
     double modulus = 0, kappa = 1, inv_kappa = 1, mu = 0;

@@ -146,6 +146,12 @@ std::vector<Entry> make_registry() {
   e.push_back(real("numerics.elastic_start_fraction", "-", 0.0, 0.99,
                    "fraction of the first-break load at which the explicit run takes over from the static state",
                    [](Scene& s) -> double& { return s.numerics.elastic_start_fraction; }, true));
+  e.push_back(integer("numerics.checkpoint_every_steps", "-", 0, 2000000000,
+                      "rbdem ucs writes checkpoint.h5 every this many explicit steps (0 = off); --resume continues",
+                      [](Scene& s) -> int& { return s.numerics.checkpoint_every_steps; }));
+  e.push_back(real("numerics.checkpoint_every_seconds", "s", 0.0, 1e7,
+                   "rbdem ucs writes checkpoint.h5 every this much wall-clock time (0 = off)",
+                   [](Scene& s) -> double& { return s.numerics.checkpoint_every_seconds; }));
   // [elastic]
   e.push_back(positive("elastic.tolerance", "-", 1.0,
                        "elastic gate: largest relative difference of DEM and Amadei moduli accepted",

@@ -67,6 +67,8 @@ struct NumericsParams {
   int threads = 0;              // -, OpenMP threads; 0 = all cores
   bool elastic_start = true;    // start failure runs from the static elastic state below first break
   double elastic_start_fraction = 0.9;  // -, of the first-break load at which the explicit run takes over
+  int checkpoint_every_steps = 0;        // -, explicit steps between checkpoints of rbdem ucs (0 = off)
+  double checkpoint_every_seconds = 600.0;  // s, wall time between checkpoints of rbdem ucs (0 = off)
 };
 
 struct OutputParams {

@@ -75,6 +75,18 @@ struct UcsResult {
   double wall_seconds = 0;
   double elastic_start_strain = 0;  // strain skipped by the static elastic start (0 if none)
   std::size_t blocks = 0, bonds = 0, rock_bonds = 0, joint_bonds = 0;
+  // The watchdog (docs/reliability.md): false when the run was stopped because its state became non-finite or
+  // its energy grew without work input. Then the curve, cracks and frames end at the last state that passed the
+  // check and the headline numbers (peak, modulus, failure mode) are not results.
+  bool completed = true;
+  std::string watchdog_cause;       // "non_finite_state" | "energy_growth" (empty when completed)
+  std::string watchdog_message;     // what happened, at which step, and the fix
+  long watchdog_step = -1;          // the step at which the watchdog stopped the run
+  double energy_ratio_max = 0;      // max over the regular checks of (kinetic + strain) / (E_0 + platen work)
+  // Quasi-static verdict (THEORY.md 5): platen forces agree and the kinetic energy is small while loading.
+  double kinetic_to_strain_loading = 0;  // max kinetic / strain energy on the loading branch (20 to 95 % of peak)
+  bool quasi_static = true;
+  std::string quasi_static_reason;  // why not (empty when quasi-static)
 };
 
 struct UcsProgress {
@@ -83,9 +95,26 @@ struct UcsProgress {
   int cracks;
 };
 
-// Thrown by run_ucs when UcsOptions::cancel was set (SIGINT in a sweep): no result exists for the run.
+// Thrown by run_ucs when UcsOptions::cancel was set (SIGINT in a sweep or a single run): no result exists for the
+// run. With a checkpoint callback, the state at `step` was handed to it first (checkpointed = true).
 struct RunCancelled : std::runtime_error {
   RunCancelled() : std::runtime_error("run cancelled") {}
+  long step = -1;
+  bool checkpointed = false;
+};
+
+// Everything a UCS run needs to continue where it stopped: the engine's full state and the driver's (curve, frames
+// and peak tracking so far). Plain data; io/checkpoint.hpp stores it in checkpoint.h5.
+struct UcsCheckpoint {
+  std::string scene_toml;        // the resolved scene of the run (a resume with another scene is refused)
+  Engine::Snapshot engine;
+  UcsResult partial;             // curve, frames, dt, dt_critical, dt_block_estimate, elastic_start_strain, wall
+  long sample_every = 1;
+  double next_frame = 0, peak = 0;
+  long peak_step = 0, peak_detail_step = -1000;
+  CurvePoint at_peak;
+  Frame peak_frame;
+  double energy0 = 0;            // J, the watchdog's reference: kinetic + strain energy when the explicit run began
 };
 
 struct UcsOptions {
@@ -93,9 +122,28 @@ struct UcsOptions {
   int curve_points = 2000;                           // about this many samples up to max_strain
   bool allow_supercritical_dt = false;               // tests only: accept numerics.dt above the critical step
   const std::atomic<bool>* cancel = nullptr;         // checked every 256 steps; set -> RunCancelled
+  // Called with the run's state every numerics.checkpoint_every_steps steps, every checkpoint_every_seconds of
+  // wall time, and on cancel, each time right after the state passed the watchdog. Writing it is the caller's job.
+  std::function<void(const UcsCheckpoint&)> checkpoint;
+  const UcsCheckpoint* resume = nullptr;             // continue this run instead of starting (same scene and mesh)
+  long interrupt_at_step = -1;                       // tests: behave as if cancel were set at this step
+  int watchdog_every = 100;                          // steps between the regular watchdog checks
 };
 
-// Runs the test. Throws SceneError for a refused time step, InstabilityError if the run diverges.
+// The watchdog's energy criterion (docs/reliability.md): with E_0 the kinetic + strain energy when the explicit
+// run began and W the work of the top platen since, a sound run has E_kin + E_strain <= E_0 + W (the rest went
+// into damping and friction). The run is stopped when E_kin + E_strain > growth (E_0 + W) + floor.
+struct WatchdogCriterion {
+  double growth = 1.5;   // -, allowed excess over the energy put in (integration error is far below)
+  double floor = 0.0;    // J, absolute allowance: the strain energy of the specimen at 1e-5 axial strain
+};
+// Empty when the engine's state is sound; otherwise the cause ("non_finite_state" or "energy_growth") and, in
+// `detail`, what was seen. `ratio` receives (E_kin + E_strain) / (E_0 + W).
+std::string watchdog_check(const Engine& engine, double energy0, const WatchdogCriterion& c, std::string& detail,
+                           double& ratio);
+
+// Runs the test (or continues options.resume). Throws SceneError for a refused time step or a checkpoint of another
+// scene, RunCancelled when cancelled. A run the watchdog stops returns with completed = false.
 UcsResult run_ucs(const Scene& scene, const Topology& topo, const UcsOptions& options = {});
 
 }  // namespace rbdem

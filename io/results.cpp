@@ -3,7 +3,12 @@
 
 #include "io/result_h5.hpp"
 
-#include <fstream>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
 
 #include <fmt/format.h>
 #include <fmt/os.h>
@@ -39,17 +44,75 @@ nlohmann::json ucs_summary(const Scene& scene, const UcsResult& r) {
   j["platen_force_mismatch"] = r.platen_force_mismatch;
   j["platen_force_mismatch_at_peak"] = r.platen_force_mismatch_at_peak;
   j["kinetic_to_strain_energy_at_peak"] = r.kinetic_to_strain_at_peak;
+  j["kinetic_to_strain_energy_loading"] = r.kinetic_to_strain_loading;
+  j["quasi_static"] = r.quasi_static;
+  j["quasi_static_reason"] = r.quasi_static_reason;
+  j["energy_ratio_max"] = r.energy_ratio_max;
+  j["completed"] = r.completed;
+  j["watchdog"] = r.completed ? nlohmann::json(nullptr)
+                              : nlohmann::json{{"cause", r.watchdog_cause},
+                                               {"step", r.watchdog_step},
+                                               {"message", r.watchdog_message}};
+  if (!r.completed)  // a broken run has no headline numbers: never a plausible value from it
+    for (const char* key : {"peak_stress_pa", "strain_at_peak", "youngs_modulus_pa", "platen_force_mismatch",
+                            "platen_force_mismatch_at_peak", "kinetic_to_strain_energy_at_peak",
+                            "kinetic_to_strain_energy_loading", "crack_band_angle_deg", "tensile_fraction"})
+      j[key] = nullptr;
   j["scene"] = scene_json(scene);
   return j;
 }
 
+void write_file_checked(const std::filesystem::path& file, const std::string& text) {
+  const std::string name = file.string();
+  const int fd = ::open(name.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0)
+    throw std::runtime_error(fmt::format("cannot write {}: {}; check that the output folder is writable", name,
+                                         std::strerror(errno)));
+  const char* p = text.data();
+  std::size_t left = text.size();
+  int error = 0;
+  while (left > 0) {
+    const ssize_t n = ::write(fd, p, left);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      error = n < 0 ? errno : EIO;
+      break;
+    }
+    p += n, left -= std::size_t(n);
+  }
+  // fsync: a full disk or quota can surface only when the data reach the device.
+  if (!error && ::fsync(fd) != 0 && errno != EINVAL && errno != EROFS) error = errno;
+  if (::close(fd) != 0 && !error) error = errno;
+  if (error)
+    throw std::runtime_error(fmt::format("writing {} failed after {} of {} bytes: {} (disk full?)", name,
+                                         text.size() - left, text.size(), std::strerror(error)));
+}
+
+void require_writable_dir(const std::filesystem::path& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec)
+    throw std::invalid_argument(fmt::format("cannot create the output folder {}: {}; choose another --out",
+                                            dir.string(), ec.message()));
+  const auto probe = dir / fmt::format(".rbdem-write-test-{}", ::getpid());  // one per process (MPI ranks)
+  try {
+    write_file_checked(probe, "rbdem\n");
+  } catch (const std::exception& e) {
+    std::filesystem::remove(probe, ec);
+    throw std::invalid_argument(fmt::format("the output folder {} cannot be written ({}); choose another --out",
+                                            dir.string(), e.what()));
+  }
+  std::filesystem::remove(probe, ec);
+}
+
 void write_text_atomic(const std::filesystem::path& file, const std::string& text) {
-  const auto tmp = file.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) throw std::runtime_error("cannot write " + tmp + ": check that the output folder is writable");
-    out << text;
-    if (!out) throw std::runtime_error("writing " + tmp + " failed (disk full?)");
+  const auto tmp = std::filesystem::path(file.string() + ".tmp");
+  try {
+    write_file_checked(tmp, text);
+  } catch (...) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);  // never leave a half file behind; the previous version stays
+    throw;
   }
   std::filesystem::rename(tmp, file);
 }

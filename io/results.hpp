@@ -24,6 +24,13 @@ void write_ucs(const std::filesystem::path& dir, const Scene& scene, const TriMe
 
 void write_curve_csv(const std::filesystem::path& file, const std::vector<CurvePoint>& curve);
 void write_cracks_csv(const std::filesystem::path& file, const std::vector<Crack>& cracks);
+// Writes `text` to `file` + ".tmp" and renames it to `file` when complete (a reader never sees half a file).
 void write_text_atomic(const std::filesystem::path& file, const std::string& text);
+// Writes `text` to exactly `file` and checks every write, the fsync and the close: a full disk throws
+// std::runtime_error naming the file and how much was written, never a silently truncated file.
+void write_file_checked(const std::filesystem::path& file, const std::string& text);
+// Creates `dir` if needed and proves it writable with a probe file; throws std::invalid_argument naming the
+// folder otherwise (the CLI's exit status 2, before any run starts).
+void require_writable_dir(const std::filesystem::path& dir);
 
 }  // namespace rbdem::io

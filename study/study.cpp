@@ -187,7 +187,8 @@ bool read_summary(const std::filesystem::path& file, nlohmann::json& out) {
   if (!in) return false;
   try {
     in >> out;
-    return out.contains("peak_stress_pa") && out.contains("scene");
+    // A case counts as done only with a complete result: a run the watchdog stopped has "completed": false.
+    return out.contains("peak_stress_pa") && out.contains("scene") && out.value("completed", true) == true;
   } catch (...) {
     return false;
   }
@@ -205,6 +206,7 @@ CaseResult run_one(const Case& c, const std::filesystem::path& dir, const std::a
   uo.cancel = cancel;
   const UcsResult r = run_ucs(scene, topo, uo);
   io::write_ucs(dir, c.scene, mesh, topo, r);
+  if (!r.completed) throw std::runtime_error(r.watchdog_message);  // its summary says so; the case is not done
   CaseResult cr;
   cr.c = c;
   cr.summary = io::ucs_summary(c.scene, r);

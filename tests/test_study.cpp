@@ -5,6 +5,8 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <string>
+#include <unistd.h>
 
 #include <fmt/format.h>
 
@@ -111,6 +113,29 @@ TEST(Calibrate, ShippedTargetsFileLoads) {
   EXPECT_EQ(spec.parameters.size(), 2u);
   EXPECT_EQ(spec.targets.size(), 3u);
   EXPECT_DOUBLE_EQ(spec.parameters[0].start, spec.base.rock.cohesion);
+}
+
+}  // namespace
+}  // namespace rbdem::study
+
+namespace rbdem::study {
+namespace {
+
+// A case whose run the watchdog stopped has a summary.json with "completed": false: a rerun of the sweep must run
+// it again, not count it as done (an interrupted case has no summary.json at all).
+TEST(Study, CaseStoppedByTheWatchdogDoesNotCountAsDone) {
+  namespace fs = std::filesystem;
+  const fs::path out = fs::temp_directory_path() / ("rbdem_study_incomplete_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  std::vector<Case> cases(2);
+  cases[0].id = "done", cases[1].id = "stopped";
+  for (const auto& c : cases) fs::create_directories(out / c.id);
+  std::ofstream(out / "done" / "summary.json") << R"({"peak_stress_pa": 1e7, "completed": true, "scene": {}})";
+  std::ofstream(out / "stopped" / "summary.json") << R"({"peak_stress_pa": null, "completed": false, "scene": {}})";
+  const auto found = collect(cases, out);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].c.id, "done");
+  fs::remove_all(out);
 }
 
 }  // namespace

@@ -1,0 +1,146 @@
+// Hard cases that must run and stay stable (docs/reliability.md, "Checkpoints, watchdog and hard cases"): sliver
+// triangles, a rock/joint stiffness contrast of 1e4, 1 mm layers, neighbouring blocks of 0.1 and 5 mm, a platen so
+// fast the test is not quasi-static (and the summary says so), and a granular pile with every bond broken.
+// Each asserts that the watchdog let the run complete with finite numbers.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "dem/specimen_mesh.hpp"
+#include "dem/topology.hpp"
+#include "dem/ucs.hpp"
+#include "io/results.hpp"
+
+namespace rbdem {
+namespace {
+
+// A structured mesh on the grid xs x ys, each cell cut into two counter-clockwise triangles along alternating
+// diagonals; row r of cells belongs to layer layer_of_row[r].
+TriMesh grid_mesh(const std::vector<double>& xs, const std::vector<double>& ys, const std::vector<int>& layer_of_row) {
+  TriMesh m;
+  const int nx = int(xs.size()), ny = int(ys.size());
+  for (double y : ys)
+    for (double x : xs) m.nodes.push_back({x, y});
+  auto id = [&](int i, int j) { return j * nx + i; };
+  int layers = 0;
+  for (int j = 0; j + 1 < ny; ++j)
+    for (int i = 0; i + 1 < nx; ++i) {
+      const int a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+      if ((i + j) % 2 == 0) m.triangles.push_back({a, b, c}), m.triangles.push_back({a, c, d});
+      else m.triangles.push_back({a, b, d}), m.triangles.push_back({b, c, d});
+      const int l = layer_of_row[std::size_t(j)];
+      m.layer.push_back(l), m.layer.push_back(l);
+      layers = std::max(layers, l + 1);
+    }
+  for (int l = 0; l < layers; ++l) m.layer_names.push_back("layer_" + std::to_string(l));
+  return m;
+}
+
+std::vector<double> steps(double from, double to, int n) {
+  std::vector<double> v;
+  for (int k = 0; k <= n; ++k) v.push_back(from + (to - from) * double(k) / double(n));
+  return v;
+}
+
+Scene small_scene() {
+  Scene s;
+  s.specimen.width = 0.01, s.specimen.height = 0.02;
+  s.joint_set.spacing = 0.006, s.joint_set.dip_deg = 30;
+  s.mesh.size = 0.002;
+  s.numerics.threads = 1;
+  return s;
+}
+
+// The run completed (the watchdog did not stop it) and every number in its summary and curve is finite.
+void expect_sound(const UcsResult& r, const Scene& scene) {
+  EXPECT_TRUE(r.completed) << r.watchdog_message;
+  EXPECT_TRUE(std::isfinite(r.peak_stress) && std::isfinite(r.youngs_modulus));
+  for (const auto& p : r.curve)
+    ASSERT_TRUE(std::isfinite(p.stress_top) && std::isfinite(p.stress_bottom) && std::isfinite(p.kinetic) &&
+                std::isfinite(p.strain_energy))
+        << "step " << p.step;
+  EXPECT_LT(r.energy_ratio_max, 1.5);
+  nlohmann::json j = io::ucs_summary(scene, r);
+  EXPECT_TRUE(j["watchdog"].is_null());
+  j.erase("watchdog");
+  const std::string s = j.dump();  // NaN and infinity would print as null
+  EXPECT_EQ(s.find("null"), std::string::npos) << "a completed run's summary has no null values";
+}
+
+TEST(HardCases, SliverTrianglesOfAspectRatio30) {
+  Scene scene = small_scene();
+  // 0.3 mm x 9 mm cells: triangles with an edge 30 times the shortest altitude.
+  const TriMesh mesh = grid_mesh(steps(0.0, 0.0102, 34), {0.0, 0.009, 0.018}, {0, 1});
+  const Topology topo = build_topology(mesh, scene.specimen.thickness, scene.rock.density);
+  const UcsResult r = run_ucs(scene, topo);
+  expect_sound(r, scene);
+  EXPECT_GT(r.peak_stress, 1e6);
+}
+
+TEST(HardCases, RockJointStiffnessContrast1e4) {
+  Scene scene = small_scene();
+  scene.joint.effective_modulus = scene.rock.effective_modulus * 1e-4;
+  scene.loading.platen_velocity = 0.1;  // the soft joints take a large strain to fail: fewer steps
+  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  const UcsResult r = run_ucs(scene, topo);
+  expect_sound(r, scene);
+  EXPECT_GT(r.peak_stress, 0.0);
+}
+
+TEST(HardCases, OneMillimetreLayers) {
+  Scene scene = small_scene();
+  scene.joint_set.spacing = 0.001, scene.mesh.size = 0.0005;  // two elements per layer
+  scene.specimen.width = 0.004, scene.specimen.height = 0.008;
+  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  const UcsResult r = run_ucs(scene, topo);
+  expect_sound(r, scene);
+  EXPECT_GT(r.joint_bonds, 50u);
+}
+
+TEST(HardCases, NeighbouringBlocksOfTenthAndFiveMillimetres) {
+  Scene scene = small_scene();
+  // 5 mm cells next to 0.1 mm strips and 0.1 x 0.1 mm cells at the crossings.
+  const TriMesh mesh = grid_mesh({0.0, 0.005, 0.0051, 0.0101}, {0.0, 0.005, 0.0051, 0.0101, 0.0151, 0.0152, 0.0202},
+                                 {0, 0, 0, 1, 1, 1});
+  scene.loading.platen_velocity = 0.05;  // the 0.1 mm blocks set a 50 times smaller step: fewer steps
+  const Topology topo = build_topology(mesh, scene.specimen.thickness, scene.rock.density);
+  const UcsResult r = run_ucs(scene, topo);
+  expect_sound(r, scene);
+  EXPECT_GT(r.peak_stress, 1e6);
+}
+
+TEST(HardCases, FastPlatenIsReportedAsNotQuasiStatic) {
+  Scene scene = small_scene();
+  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  const UcsResult slow = run_ucs(scene, topo);
+  EXPECT_TRUE(slow.quasi_static) << slow.quasi_static_reason;
+  scene.loading.platen_velocity = 20.0;  // m/s: 2000 times the quasi-static default
+  const UcsResult fast = run_ucs(scene, topo);
+  EXPECT_TRUE(fast.completed) << fast.watchdog_message;
+  EXPECT_FALSE(fast.quasi_static);
+  EXPECT_NE(fast.quasi_static_reason.find("platen_velocity"), std::string::npos) << fast.quasi_static_reason;
+  const nlohmann::json j = io::ucs_summary(scene, fast);
+  EXPECT_EQ(j["quasi_static"], false);
+  EXPECT_TRUE(j.contains("platen_force_mismatch"));
+}
+
+TEST(HardCases, GranularPileWithEveryBondBroken) {
+  Scene scene = small_scene();
+  // Bonds with (next to) no strength: all break on the first step under load and the platens squeeze a pile of
+  // loose blocks, held only by contacts.
+  scene.rock.tensile_strength = scene.rock.cohesion = scene.joint.tensile_strength = scene.joint.cohesion = 1e-6;
+  scene.rock.friction_deg = scene.joint.friction_deg = 0.0;  // compression does not strengthen them either
+  scene.loading.max_strain = 0.01;
+  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  const UcsResult r = run_ucs(scene, topo);
+  EXPECT_TRUE(r.completed) << r.watchdog_message;
+  for (const auto& p : r.curve) ASSERT_TRUE(std::isfinite(p.stress_top) && std::isfinite(p.kinetic));
+  EXPECT_EQ(std::size_t(r.crack_counts.total()), r.bonds) << "every bond broke";
+  EXPECT_TRUE(std::isfinite(r.peak_stress));
+}
+
+}  // namespace
+}  // namespace rbdem

@@ -1,0 +1,197 @@
+// Reliability of a UCS run (docs/reliability.md, "Checkpoints, watchdog and hard cases"): a run resumed from a
+// checkpoint ends bit for bit like an uninterrupted one, the same inputs give the same summary at any thread count,
+// the watchdog stops an unstable run without a plausible number, and file writers report a full disk.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <unistd.h>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "dem/specimen_mesh.hpp"
+#include "dem/topology.hpp"
+#include "dem/ucs.hpp"
+#include "io/checkpoint.hpp"
+#include "io/result_h5.hpp"
+#include "io/results.hpp"
+
+namespace rbdem {
+namespace {
+
+namespace fs = std::filesystem;
+
+// 10 x 20 mm specimen, 2 mm mesh, two joints: about 130 blocks, fails in well under a second.
+Scene small_scene() {
+  Scene s;
+  s.specimen.width = 0.01, s.specimen.height = 0.02;
+  s.joint_set.spacing = 0.006, s.joint_set.dip_deg = 60;
+  s.mesh.size = 0.002;
+  s.numerics.threads = 1;
+  return s;
+}
+
+// summary.json without what may differ between identical runs: the wall time (and, where asked, the thread count).
+std::string comparable(nlohmann::json j, bool drop_threads = false) {
+  j.erase("wall_seconds");
+  if (drop_threads) j["scene"]["numerics"].erase("threads");
+  return j.dump(1);
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / fmt::format("rbdem_rel_{}_{}", name, ::getpid());
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+TEST(Checkpoint, ResumedRunEndsBitIdenticalToUninterrupted) {
+  const Scene scene = small_scene();
+  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  const UcsResult full = run_ucs(scene, topo);
+  ASSERT_TRUE(full.completed);
+  ASSERT_GT(full.crack_counts.total(), 0);
+  const fs::path dir = scratch("resume");
+  const fs::path file = dir / "checkpoint.h5";
+  // Interrupt at several points: early (before any crack), mid-way and late (after the peak).
+  for (const double at : {0.1, 0.5, 0.9}) {
+    UcsOptions cut;
+    cut.interrupt_at_step = std::max(1L, long(at * double(full.steps)));
+    cut.checkpoint = [&](const UcsCheckpoint& c) { io::write_checkpoint(file, c); };
+    try {
+      run_ucs(scene, topo, cut);
+      FAIL() << "the run was not interrupted at step " << cut.interrupt_at_step;
+    } catch (const RunCancelled& c) {
+      EXPECT_EQ(c.step, cut.interrupt_at_step);
+      EXPECT_TRUE(c.checkpointed);
+    }
+    const UcsCheckpoint ck = io::read_checkpoint(file);
+    EXPECT_EQ(ck.engine.steps, cut.interrupt_at_step);
+    for (const int threads : {1, 2}) {
+      Scene resumed_scene = scene;
+      resumed_scene.numerics.threads = threads;
+      UcsCheckpoint ck2 = ck;
+      ck2.scene_toml = to_toml(resumed_scene);  // the thread count is no part of the physics
+      UcsOptions go;
+      go.resume = &ck2;
+      const UcsResult r = run_ucs(resumed_scene, topo, go);
+      EXPECT_EQ(comparable(io::ucs_summary(scene, r)), comparable(io::ucs_summary(scene, full)))
+          << "resumed at " << cut.interrupt_at_step << " with " << threads << " threads";
+      ASSERT_EQ(r.curve.size(), full.curve.size());
+      for (std::size_t k = 0; k < r.curve.size(); ++k) {
+        EXPECT_EQ(r.curve[k].stress_top, full.curve[k].stress_top);
+        EXPECT_EQ(r.curve[k].kinetic, full.curve[k].kinetic);
+      }
+      ASSERT_EQ(r.cracks.size(), full.cracks.size());
+      for (std::size_t k = 0; k < r.cracks.size(); ++k) EXPECT_EQ(r.cracks[k].time, full.cracks[k].time);
+      ASSERT_EQ(r.frames.size(), full.frames.size());
+      EXPECT_EQ(r.frames.back().x, full.frames.back().x);
+    }
+  }
+  fs::remove_all(dir);
+}
+
+TEST(Checkpoint, ResumeWithAnotherSceneIsRefused) {
+  Scene scene = small_scene();
+  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  UcsCheckpoint ck;
+  UcsOptions cut;
+  cut.interrupt_at_step = 50;
+  cut.checkpoint = [&](const UcsCheckpoint& c) { ck = c; };
+  EXPECT_THROW(run_ucs(scene, topo, cut), RunCancelled);
+  scene.rock.cohesion *= 1.1;
+  UcsOptions go;
+  go.resume = &ck;
+  EXPECT_THROW(run_ucs(scene, topo, go), SceneError);
+}
+
+TEST(Determinism, SameInputsGiveBitIdenticalSummaryAtOneAndTwoThreads) {
+  Scene scene = small_scene();
+  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  const std::string a = comparable(io::ucs_summary(scene, run_ucs(scene, topo)), true);
+  const std::string b = comparable(io::ucs_summary(scene, run_ucs(scene, topo)), true);
+  scene.numerics.threads = 2;
+  const std::string c = comparable(io::ucs_summary(scene, run_ucs(scene, topo)), true);
+  EXPECT_EQ(a, b) << "two runs with the same inputs differ";
+  EXPECT_EQ(a, c) << "1 and 2 threads differ";
+}
+
+TEST(Watchdog, UnstableStepStopsTheRunWithoutAPlausibleNumber) {
+  Scene scene = small_scene();
+  scene.numerics.dt_safety = 3.0;  // three times the exact stability limit
+  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  const UcsResult r = run_ucs(scene, topo);
+  EXPECT_FALSE(r.completed);
+  EXPECT_FALSE(r.watchdog_cause.empty());
+  EXPECT_NE(r.watchdog_message.find("numerics.dt_safety"), std::string::npos) << r.watchdog_message;
+  EXPECT_NE(r.watchdog_message.find(fmt::format("step {}", r.watchdog_step)), std::string::npos);
+  for (const auto& p : r.curve) {  // what is kept is the last sound state
+    EXPECT_TRUE(std::isfinite(p.stress_top) && std::isfinite(p.kinetic)) << "step " << p.step;
+    EXPECT_LT(p.step, r.watchdog_step);
+  }
+  const nlohmann::json j = io::ucs_summary(scene, r);
+  EXPECT_EQ(j["completed"], false);
+  EXPECT_TRUE(j["peak_stress_pa"].is_null());
+  EXPECT_TRUE(j["youngs_modulus_pa"].is_null());
+  EXPECT_EQ(j["watchdog"]["cause"], r.watchdog_cause);
+  EXPECT_EQ(j["stop_reason"], "watchdog");
+}
+
+TEST(Watchdog, InjectedNanAndEnergyFromNowhereAreCaught) {
+  const Scene scene = small_scene();
+  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  Engine e(topo, scene, EngineOptions::from_scene(scene));
+  e.run(10);
+  std::string detail;
+  double ratio = 0;
+  WatchdogCriterion c;
+  c.floor = 0.5 * scene.rock.effective_modulus * 1e-10 * scene.specimen.width * scene.specimen.height;
+  EXPECT_EQ(watchdog_check(e, 0.0, c, detail, ratio), "");
+  e.blocks.state[3].vx = 10.0;  // kinetic energy no work put in
+  EXPECT_EQ(watchdog_check(e, 0.0, c, detail, ratio), "energy_growth");
+  EXPECT_NE(detail.find("exceeds"), std::string::npos);
+  e.blocks.state[5].omega = std::nan("");
+  EXPECT_EQ(watchdog_check(e, 0.0, c, detail, ratio), "non_finite_state");
+  EXPECT_NE(detail.find("block 5"), std::string::npos);
+}
+
+TEST(Watchdog, SoundRunStaysFarBelowTheLimit) {
+  const Scene scene = small_scene();
+  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  const UcsResult r = run_ucs(scene, topo);
+  EXPECT_TRUE(r.completed);
+  EXPECT_GT(r.energy_ratio_max, 0.0);
+  EXPECT_LT(r.energy_ratio_max, 1.3) << "a sound run stays well below the 1.5 limit";
+}
+
+TEST(Files, FullDiskIsReportedNotTruncated) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const std::string big(1 << 20, 'x');
+  try {
+    io::write_file_checked("/dev/full", big);
+    FAIL() << "writing to /dev/full did not fail";
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("/dev/full"), std::string::npos) << m;
+    EXPECT_NE(m.find("disk full"), std::string::npos) << m;
+  }
+}
+
+TEST(Files, UnwritableOutputFolderIsNamed) {
+  const fs::path dir = scratch("unwritable");
+  io::write_file_checked(dir / "a_file", "x");
+  try {
+    io::require_writable_dir(dir / "a_file" / "out");
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find((dir / "a_file" / "out").string()), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(io::require_writable_dir(dir / "fine"));
+  EXPECT_TRUE(fs::is_empty(dir / "fine"));  // the probe is gone
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace rbdem
