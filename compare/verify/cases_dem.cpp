@@ -176,12 +176,10 @@ CaseResult impact_energy(const Context&) {
 
 // Least-squares slope of stress over strain for the curve points with strain >= from.
 double slope(const std::vector<CurvePoint>& curve, double from) {
-  double sx = 0, sy = 0, sxx = 0, sxy = 0, n = 0;
+  std::vector<double> x, y;
   for (const auto& p : curve)
-    if (p.strain >= from) {
-      sx += p.strain, sy += p.stress(), sxx += p.strain * p.strain, sxy += p.strain * p.stress(), n += 1;
-    }
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+    if (p.strain >= from) x.push_back(p.strain), y.push_back(p.stress());
+  return least_squares_slope(x, y);
 }
 
 // An explicit UCS run from rest without breakage: the slope of its curve equals the static solve's modulus.

@@ -36,9 +36,16 @@ CaseSpec make_case(std::string name, bool quick, CaseResult (*measure)(const Con
 
 std::vector<CaseSpec> catalogue() {
   std::vector<CaseSpec> all;
-  for (auto group : {theory_cases(), dem_cases(), continuum_cases(), strength_cases()})
+  for (auto group : {theory_cases(), dem_cases(), reference_cases(), continuum_cases(), strength_cases()})
     for (auto& c : group) all.push_back(std::move(c));
   return all;
+}
+
+double least_squares_slope(const std::vector<double>& x, const std::vector<double>& y) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  const double n = double(x.size());
+  for (std::size_t k = 0; k < x.size(); ++k) sx += x[k], sy += y[k], sxx += x[k] * x[k], sxy += x[k] * y[k];
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
 CaseResult run_case(const CaseSpec& spec, const Context& ctx) {
@@ -154,7 +161,7 @@ std::string verify_markdown(const std::vector<CaseResult>& results, const Contex
     s += fmt::format("- Checks: {}\n- Reference: {}\n- Error: {} = {}\n- Tolerance: {} ({})\n- Cost: {}, {:.2f} s\n",
                      r.checks, r.reference, r.error_definition, cell(r.error), cell(r.tolerance),
                      r.tolerance_source, r.cost, r.seconds);
-    if (!r.unit.empty()) s += fmt::format("- Unit of measured and reference: {}\n", r.unit);
+    if (*r.unit) s += fmt::format("- Unit of measured and reference: {}\n", r.unit);
     if (!r.failure.empty()) s += fmt::format("- **Failed with:** {}\n", r.failure);
     const std::string t = table_md(r.table);
     if (!t.empty()) s += "\n" + t;

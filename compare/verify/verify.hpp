@@ -27,7 +27,7 @@ struct CaseResult {
   std::string reference;         // the formula or the source of the reference value
   double measured = std::numeric_limits<double>::quiet_NaN();
   double reference_value = std::numeric_limits<double>::quiet_NaN();
-  std::string unit;              // of measured and reference_value
+  const char* unit = "";         // of measured and reference_value (a literal)
   double error = std::numeric_limits<double>::quiet_NaN();
   std::string error_definition;  // e.g. "|measured / reference - 1|, max over the seven dips"
   double tolerance = std::numeric_limits<double>::quiet_NaN();  // NaN: informational
@@ -66,6 +66,10 @@ std::vector<CaseSpec> dem_cases();        // cases_dem.cpp
 std::vector<CaseSpec> theory_cases();     // cases_theory.cpp
 std::vector<CaseSpec> continuum_cases();  // cases_fe.cpp (empty without deal.II)
 std::vector<CaseSpec> strength_cases();   // cases_strength.cpp
+std::vector<CaseSpec> reference_cases();  // cases_reference.cpp (SUNDIALS ARKODE)
+
+// Least-squares slope of y over x (e.g. an observed order from log-log data).
+double least_squares_slope(const std::vector<double>& x, const std::vector<double>& y);
 
 // Runs one case, timing it and turning an exception into a failed case.
 CaseResult run_case(const CaseSpec& spec, const Context& ctx);
