@@ -21,13 +21,17 @@ struct SceneOptions {
   std::optional<double> beta, spacing;
   std::string mesh_file;
   bool quiet = false;
+  bool force = false;  // skip check_plausible (strengths at or above the modulus: a likely unit mistake)
 };
 
-// Adds [scene] positional, --scene, --set, --beta, --spacing, --mesh and --quiet to a command.
+// Adds [scene] positional, --scene, --set, --beta, --spacing, --mesh, --force and --quiet to a command.
 void add_scene_options(CLI::App& cmd, SceneOptions& opt);
-// Built-in defaults <- scene file <- shorthands <- --set, validated. Throws SceneError.
+// Built-in defaults <- scene file <- shorthands <- --set, validated, then checked for likely unit mistakes
+// unless --force. Throws SceneError.
 Scene resolve_scene(const SceneOptions& opt);
 // Prints the resolved scene (TOML) under a heading, unless quiet.
+// The --force flag, shared by every command that reads a scene.
+void add_force_flag(CLI::App& cmd, bool& force);
 void print_scene(const Scene& scene, const SceneOptions& opt);
 
 }  // namespace rbdem::cli

@@ -17,12 +17,14 @@ struct CalibrateOptions {
   std::string out = "runs/calibrate";
   std::vector<std::string> sets;
   int workers = 0;
+  bool force = false;
 };
 
 int run_calibrate(const CalibrateOptions& opt) {
   study::CalibrationSpec spec = study::load_calibration(opt.targets);
   for (const auto& s : opt.sets) apply_override(spec.base, s);
   validate(spec.base);
+  if (!opt.force) check_plausible(spec.base);
   fmt::print("calibrate: {} parameters, {} targets, tolerance {:.1f} %, at most {} iterations\n",
              spec.parameters.size(), spec.targets.size(), 100 * spec.tolerance, spec.max_iterations);
   std::filesystem::create_directories(opt.out);
@@ -47,6 +49,7 @@ Runner add_calibrate_command(CLI::App& app) {
   cmd->add_option("--out,-o", opt->out, "output folder")->capture_default_str();
   cmd->add_option("--set", opt->sets, "override a key of the base scene")->type_name("KEY=VALUE")->allow_extra_args(false);
   cmd->add_option("--workers,-j", opt->workers, "cases run at once (default: all cores)");
+  add_force_flag(*cmd, opt->force);
   return [opt]() { return run_calibrate(*opt); };
 }
 

@@ -25,8 +25,6 @@ struct Entry {
   std::function<ValueRef(Scene&)> ref;
 };
 
-constexpr double huge = 1e300;
-
 Entry real(std::string key, std::string unit, double lo, double hi, std::string doc,
            std::function<double&(Scene&)> get, bool lo_exclusive = false) {
   ParamInfo info{std::move(key), ParamKind::real, std::move(unit), std::move(doc), lo, hi, lo_exclusive, {}};
@@ -297,7 +295,7 @@ std::string shown(const toml::node& node) {
   node.visit([&out](const auto& v) {
     if constexpr (toml::is_string<decltype(v)>) out << '"' << v.get() << '"';
     else if constexpr (toml::is_number<decltype(v)> || toml::is_boolean<decltype(v)>) out << v;
-    else out << "(a " << v.type() << ")";
+    else out << (v.type() == toml::node_type::array ? "(an " : "(a ") << v.type() << ")";
   });
   return out.str();
 }
@@ -311,7 +309,7 @@ void assign_toml(Scene& scene, const Entry& e, const toml::node& node, std::stri
   };
   switch (p.kind) {
     case ParamKind::real: {
-      double v;
+      double v = 0;
       if (auto f = node.as_floating_point()) v = f->get();
       else if (auto i = node.as_integer()) v = double(i->get());
       else wrong_type();
@@ -419,6 +417,11 @@ Scene parse_scene(std::string_view toml_text, std::string_view origin) {
 }
 
 Scene load_scene_file(const std::filesystem::path& path) {
+  // A folder opens as an empty stream on Linux and would silently give the defaults.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw SceneError(fmt::format("scene file '{}' is a folder: give a TOML scene file (shipped scenes are in scenes/)",
+                                 path.string()));
   std::ifstream in(path);
   if (!in)
     throw SceneError(fmt::format("cannot read scene file '{}': check the path (shipped scenes are in scenes/)",
@@ -451,6 +454,30 @@ void validate(const Scene& scene) {
                                  fmt_real(scene.mesh.size), fmt_real(scene.specimen.width),
                                  fmt_real(scene.specimen.height),
                                  fmt_real(0.25 * std::min(scene.specimen.width, scene.specimen.height))));
+  // The mesher needs at least two elements across a layer (mesh_specimen checks the same; failing here reports
+  // it before any elastic gate or sweep starts).
+  if (scene.joint_set.enabled && scene.mesh.file.empty() && scene.joint_set.spacing < 2.0 * scene.mesh.size)
+    throw SceneError(fmt::format("joint_set.spacing = {} m is under two mesh sizes (mesh.size = {} m): a layer needs "
+                                 "at least two elements across; use mesh.size <= {} m or a wider spacing",
+                                 fmt_real(scene.joint_set.spacing), fmt_real(scene.mesh.size),
+                                 fmt_real(0.5 * scene.joint_set.spacing)));
+}
+
+void check_plausible(const Scene& scene) {
+  // A bond strength at or above its modulus means a failure strain sigma/E* >= 1: rock fails at strains of 1e-4 to
+  // 1e-2, so this is almost surely a unit mistake (a modulus in GPa or MPa, a strength in Pa).
+  auto check = [](const std::string& section, const MaterialParams& m) {
+    for (const auto& [name, value] : {std::pair<const char*, double>{"tensile_strength", m.tensile_strength},
+                                      std::pair<const char*, double>{"cohesion", m.cohesion}})
+      if (value >= m.effective_modulus)
+        throw SceneError(fmt::format(
+            "{0}.{1} = {2} Pa is not below {0}.effective_modulus = {3} Pa: a strength at or above the modulus is "
+            "almost surely a unit mistake (every stress is in Pa: write 160e9 for 160 GPa and 7.5e6 for 7.5 MPa); "
+            "pass --force to run it anyway",
+            section, name, fmt_real(value), fmt_real(m.effective_modulus)));
+  };
+  check("rock", scene.rock);
+  check("joint", scene.joint);
 }
 
 std::string parameter_text(const Scene& scene, std::string_view key) {

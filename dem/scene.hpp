@@ -124,6 +124,9 @@ void apply_override(Scene& scene, std::string_view assignment);
 void set_parameter(Scene& scene, std::string_view key, std::string_view value);
 // Checks every value against its range and the cross-key rules; throws SceneError on the first problem.
 void validate(const Scene& scene);
+// Refuses values that pass every range but are almost surely a unit mistake (a bond strength at or above its
+// modulus). Separate from validate() so that the command line can skip it with --force.
+void check_plausible(const Scene& scene);
 
 // The value of one key as text (for printing and tables).
 std::string parameter_text(const Scene& scene, std::string_view key);

@@ -42,8 +42,15 @@ std::vector<JointSegment> joint_segments(const SpecimenGeometry& g, double min_p
 // elements. When `msh_out` is not empty the mesh is also written there (gmsh MSH 4.1).
 TriMesh mesh_specimen(const SpecimenGeometry& g, double h, const std::filesystem::path& msh_out = {});
 
-// Reads a user mesh: one physical surface group per layer, first-order triangles only.
+// Reads a user mesh: one physical surface group per layer, first-order triangles only, planar (z = 0), no volume
+// elements. Refuses (SceneError naming the file and the fix) anything that is not a .msh file and every mesh that
+// check_user_mesh refuses. Clockwise triangles are turned counter-clockwise and noted in TriMesh::notes.
 TriMesh read_msh(const std::filesystem::path& path);
+
+// The checks on an imported mesh, after gmsh: at least one triangle, finite coordinates, no zero-area triangle,
+// no two nodes at one place, no node inside another triangle's free edge (T-junction: a non-conforming mesh).
+// Turns clockwise triangles counter-clockwise. `source` names the mesh in messages.
+void check_user_mesh(TriMesh& mesh, const std::string& source);
 
 // The mesh a scene asks for: mesh.file when set, else the meshed specimen.
 TriMesh make_mesh(const Scene& scene, const std::filesystem::path& msh_out = {});

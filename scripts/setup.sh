@@ -3,6 +3,7 @@
 #   scripts/setup.sh run     runs the main job (the default study on the paper specimen)
 #   scripts/setup.sh test    runs the test suite (CTest) and the find_package(rbdem) consumer check
 #   scripts/setup.sh build   only installs and builds
+# clang, libclang-rt-14-dev and libomp-dev are for the fuzz targets (tests/fuzz/run.sh, run by .ci/run).
 # Idempotent: packages already present are not reinstalled; the build is incremental.
 # Works as root or through sudo. Environment: BUILD_DIR (default build), JOBS (default: all cores).
 set -euo pipefail
@@ -17,6 +18,7 @@ packages=(
   libgtest-dev libbenchmark-dev
   python3 python3-matplotlib python3-h5py python3-numpy
   openmpi-bin
+  clang libclang-rt-14-dev libomp-dev
 )
 missing=()
 for p in "${packages[@]}"; do

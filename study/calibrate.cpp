@@ -43,6 +43,10 @@ bool optimised(const CalibrationTarget& t) { return t.quantity != "min_angle"; }
 
 CalibrationSpec load_calibration(const std::filesystem::path& path) {
   const std::string where = path.string();
+  if (!std::filesystem::is_regular_file(path))
+    throw SceneError(fmt::format("cannot read calibration file '{}': check the path (shipped: "
+                                 "scenes/calibrate_paper.toml)",
+                                 where));
   toml::table root;
   try {
     root = toml::parse_file(path.string());

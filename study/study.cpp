@@ -70,6 +70,9 @@ StudySpec dip_study(const Scene& base, std::string name) {
 
 StudySpec load_study(const std::filesystem::path& path) {
   const std::string where = path.string();
+  if (!std::filesystem::is_regular_file(path))
+    throw SceneError(fmt::format("cannot read study file '{}': check the path (shipped studies are in scenes/)",
+                                 where));
   toml::table root;
   try {
     root = toml::parse_file(path.string());

@@ -240,5 +240,77 @@ TEST(Mesh, MissingMeshFileIsAClearError) {
   EXPECT_THROW(read_msh("/nonexistent/specimen.msh"), SceneError);
 }
 
+// Two unit-square triangles over [0, 1]^2, for the import checks.
+TriMesh square() {
+  TriMesh m;
+  m.nodes = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  m.layer = {0, 0};
+  m.layer_names = {"layer_0"};
+  return m;
+}
+
+std::string refusal(TriMesh m) {
+  try {
+    check_user_mesh(m, "m.msh");
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(MeshImport, ClockwiseTrianglesAreTurnedAndNoted) {
+  TriMesh m = square();
+  std::swap(m.triangles[1][1], m.triangles[1][2]);
+  check_user_mesh(m, "m.msh");
+  EXPECT_GT(signed_area(m, 1), 0.0);
+  ASSERT_EQ(m.notes.size(), 1u);
+  EXPECT_NE(m.notes[0].find("1 clockwise"), std::string::npos) << m.notes[0];
+}
+
+TEST(MeshImport, ZeroAreaTriangleIsRefused) {
+  TriMesh m = square();
+  m.nodes.push_back({0.5, 0});
+  m.triangles.push_back({0, 4, 1});
+  m.layer.push_back(0);
+  EXPECT_NE(refusal(m).find("degenerate"), std::string::npos) << refusal(m);
+}
+
+TEST(MeshImport, DuplicateNodesAreRefused) {
+  TriMesh m = square();
+  m.nodes.push_back({1, 1});  // a second node on top of node 2
+  m.triangles[1] = {0, 4, 3};
+  EXPECT_NE(refusal(m).find("two nodes at (1, 1)"), std::string::npos) << refusal(m);
+}
+
+TEST(MeshImport, TJunctionIsRefused) {
+  TriMesh m = square();
+  // A second cell right of x = 1, split at (1, 0.5): that node hangs on the first cell's edge x = 1.
+  m.nodes.insert(m.nodes.end(), {{2, 0}, {2, 1}, {1, 0.5}});
+  for (std::array<int, 3> t : {std::array<int, 3>{1, 4, 6}, {6, 4, 5}, {6, 5, 2}}) {
+    m.triangles.push_back(t);
+    m.layer.push_back(0);
+  }
+  EXPECT_NE(refusal(m).find("T-junction"), std::string::npos) << refusal(m);
+  // The same cells, conforming: the left cell split at (1, 0.5) too.
+  m.triangles[0] = {0, 1, 6};
+  m.triangles[1] = {0, 6, 2};
+  m.triangles.push_back({0, 2, 3});
+  m.layer.push_back(0);
+  EXPECT_EQ(refusal(m), "");
+}
+
+TEST(MeshImport, NonMeshFileIsRefusedBeforeGmshReadsIt) {
+  const auto path = std::filesystem::temp_directory_path() / "rbdem_test_script.msh";
+  std::ofstream(path) << "Point(1) = {0, 0, 0, 1};\n";
+  try {
+    read_msh(path);
+    FAIL();
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("$MeshFormat"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
 }  // namespace
 }  // namespace rbdem

@@ -126,6 +126,36 @@ TEST(Scene, BadOverrideNamesTheKey) {
   EXPECT_THROW(apply_override(s, "rock.nothing=1"), SceneError);
 }
 
+TEST(Scene, SpacingUnderTwoMeshSizesIsRejectedBeforeMeshing) {
+  Scene s;
+  s.joint_set.spacing = 0.0015;
+  EXPECT_THROW(validate(s), SceneError);
+  s.joint_set.enabled = false;  // no joints, no layers to resolve
+  EXPECT_NO_THROW(validate(s));
+}
+
+TEST(Scene, StrengthAtOrAboveTheModulusIsALikelyUnitMistake) {
+  Scene s;
+  EXPECT_NO_THROW(check_plausible(s));
+  s.rock.effective_modulus = 160;  // GPa written where Pa is meant
+  EXPECT_NO_THROW(validate(s));    // every key is within its range ...
+  try {
+    check_plausible(s);            // ... but not together
+    FAIL();
+  } catch (const SceneError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("rock.effective_modulus"), std::string::npos) << m;
+    EXPECT_NE(m.find("--force"), std::string::npos) << m;
+  }
+  s = Scene{};
+  s.joint.cohesion = s.joint.effective_modulus;
+  EXPECT_THROW(check_plausible(s), SceneError);
+}
+
+TEST(Scene, FolderGivenAsSceneFileIsRefused) {
+  EXPECT_THROW(load_scene_file(std::filesystem::temp_directory_path()), SceneError);
+}
+
 TEST(Scene, SyntaxErrorGivesLine) {
   try {
     parse_scene("[rock]\ncohesion = = 3\n", "broken.toml");

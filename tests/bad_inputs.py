@@ -1,0 +1,209 @@
+#!/usr/bin/env python3
+"""Runs the rbdem binary on every bad input we know of and checks that each is refused cleanly: exit status 2
+(bad input), no crash, and a message that names the input (the key, option or file) and says what to do.
+Writes the Markdown table of inputs and messages and fails when docs/bad_inputs.md differs from it.
+
+    tests/bad_inputs.py --rbdem build/bin/rbdem --work build/bad_inputs        # the CTest test
+    RBDEM_UPDATE_DOCS=1 tests/bad_inputs.py --rbdem build/bin/rbdem --work build/bad_inputs   # refresh the page
+
+Each case runs in --work with relative file names, so the messages (and the page) do not depend on the machine.
+"""
+import argparse
+import difflib
+import os
+import shutil
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SOURCE = os.path.dirname(HERE)
+DATA = os.path.join(HERE, "data", "bad_inputs")
+
+# Scene files written into the work folder: name -> TOML text.
+SCENES = {
+    "syntax.toml": "[rock]\ncohesion = = 3e6\n",
+    "unclosed.toml": "[rock\ncohesion = 3e6\n",
+    "typo_key.toml": "[rock]\ncohesoin = 3e6\n",
+    "unknown_section.toml": "[specimens]\nwidth = 0.05\n",
+    "no_section.toml": "width = 0.05\n",
+    "string_number.toml": "[joint_set]\nspacing = \"10 mm\"\n",
+    "number_bool.toml": "[joint_set]\nenabled = 1\n",
+    "real_integer.toml": "[numerics]\nthreads = 2.5\n",
+    "table_value.toml": "[rock.effective_modulus]\nvalue = 160e9\n",
+    "array_value.toml": "[mesh]\nsize = [0.001, 0.002]\n",
+    "nan.toml": "[rock]\ndensity = nan\n",
+    "zero_modulus.toml": "[rock]\neffective_modulus = 0\n",
+    "negative_modulus.toml": "[joint]\neffective_modulus = -50e9\n",
+    "zero_strength.toml": "[rock]\ntensile_strength = 0.0\n",
+    "negative_cohesion.toml": "[joint]\ncohesion = -1e6\n",
+    "zero_density.toml": "[rock]\ndensity = 0\n",
+    "zero_thickness.toml": "[specimen]\nthickness = 0\n",
+    "negative_width.toml": "[specimen]\nwidth = -0.05\n",
+    "zero_spacing.toml": "[joint_set]\nspacing = 0\n",
+    "friction_90.toml": "[rock]\nfriction_deg = 90\n",
+    "joint_friction_120.toml": "[joint]\nfriction_deg = 120\n",
+    "dip_negative.toml": "[joint_set]\ndip_deg = -15\n",
+    "dip_120.toml": "[joint_set]\ndip_deg = 120\n",
+    "fine_spacing.toml": "[joint_set]\nspacing = 0.0015\n[mesh]\nsize = 0.001\n",
+    "coarse_mesh.toml": "[mesh]\nsize = 0.2\n",
+    "modulus_in_gpa.toml": "[rock]\neffective_modulus = 160   # GPa meant; the file is in Pa\n",
+    "strength_in_kpa.toml": "[joint]\neffective_modulus = 5e6\ncohesion = 3.36e9\n",
+    "bad_model.toml": "[specimen]\nmodel = \"plain_strain\"\n",
+}
+
+# (input tried, command line after `rbdem`, text the message must contain: the name of the input)
+CASES = [
+    # --- scene files: TOML and keys
+    ("malformed TOML (`= =`)", "mesh syntax.toml", "syntax.toml:2"),
+    ("malformed TOML (unclosed `[rock`)", "mesh unclosed.toml", "unclosed.toml:1"),
+    ("misspelt key `rock.cohesoin`", "mesh typo_key.toml", "rock.cohesoin"),
+    ("unknown section `[specimens]`", "mesh unknown_section.toml", "specimens.width"),
+    ("key outside any section", "mesh no_section.toml", "width"),
+    ("string for a number", "mesh string_number.toml", "joint_set.spacing"),
+    ("number for a boolean", "mesh number_bool.toml", "joint_set.enabled"),
+    ("real for an integer", "mesh real_integer.toml", "numerics.threads"),
+    ("table for a number", "mesh table_value.toml", "rock.effective_modulus"),
+    ("array for a number", "mesh array_value.toml", "mesh.size"),
+    ("not-a-number value", "mesh nan.toml", "rock.density"),
+    ("choice not in the list", "mesh bad_model.toml", "specimen.model"),
+    ("missing scene file", "mesh missing.toml", "missing.toml"),
+    ("scene path is a folder", "mesh folder", "folder"),
+    # --- values
+    ("zero rock modulus", "mesh zero_modulus.toml", "rock.effective_modulus"),
+    ("negative joint modulus", "mesh negative_modulus.toml", "joint.effective_modulus"),
+    ("zero tensile strength", "mesh zero_strength.toml", "rock.tensile_strength"),
+    ("negative joint cohesion", "mesh negative_cohesion.toml", "joint.cohesion"),
+    ("zero density", "mesh zero_density.toml", "rock.density"),
+    ("zero thickness", "mesh zero_thickness.toml", "specimen.thickness"),
+    ("negative width", "mesh negative_width.toml", "specimen.width"),
+    ("zero spacing", "mesh zero_spacing.toml", "joint_set.spacing"),
+    ("negative spacing (`--spacing`)", "mesh --spacing -0.01", "--spacing"),
+    ("rock friction angle 90 deg", "mesh friction_90.toml", "rock.friction_deg"),
+    ("joint friction angle 120 deg", "mesh joint_friction_120.toml", "joint.friction_deg"),
+    ("dip -15 deg", "mesh dip_negative.toml", "joint_set.dip_deg"),
+    ("dip 120 deg", "mesh dip_120.toml", "joint_set.dip_deg"),
+    ("dip 95 deg (`--beta`)", "mesh --beta 95", "--beta"),
+    ("spacing under two mesh sizes", "mesh fine_spacing.toml", "joint_set.spacing"),
+    ("mesh size larger than the specimen", "mesh coarse_mesh.toml", "mesh.size"),
+    ("modulus in GPa (strength above the modulus)", "mesh modulus_in_gpa.toml", "rock.effective_modulus"),
+    ("joint cohesion above the joint modulus", "mesh strength_in_kpa.toml", "joint.effective_modulus"),
+    ("strength above the modulus by `--set`", "ucs --set rock.cohesion=200e9", "rock.cohesion"),
+    # --- command line
+    ("`--set` without `=`", "mesh --set rock.cohesion", "rock.cohesion"),
+    ("`--set` with an empty value", "mesh --set rock.cohesion=", "rock.cohesion"),
+    ("`--set` of an unknown key", "mesh --set rock.modulus=1e9", "rock.modulus"),
+    ("`--set` with a unit", "mesh --set joint_set.spacing=10mm", "joint_set.spacing"),
+    ("unknown option", "ucs --bta 60", "--bta"),
+    ("option without its value", "ucs --beta", "--beta"),
+    ("unknown command", "ucss", "ucss"),
+    ("sweep without its study file", "sweep", "study"),
+    ("missing study file", "sweep missing_study.toml", "missing_study.toml"),
+    ("missing calibration file", "calibrate missing_targets.toml", "missing_targets.toml"),
+    # --- user meshes (--mesh)
+    ("mesh file missing", "mesh --mesh missing.msh", "missing.msh"),
+    ("empty mesh file", "mesh --mesh empty.msh", "empty.msh"),
+    ("text file, not a mesh", "mesh --mesh not_a_mesh.msh", "not_a_mesh.msh"),
+    ("gmsh .geo script named .msh", "mesh --mesh script.msh", "script.msh"),
+    ("truncated .msh", "mesh --mesh truncated.msh", "truncated.msh"),
+    ("element on a node the file lacks (crashed gmsh 4.8)", "mesh --mesh missing_node.msh", "missing_node.msh"),
+    ("node line with a number too many (crashed gmsh 4.8)", "mesh --mesh node_line.msh", "node_line.msh"),
+    ("no physical groups", "mesh --mesh no_physical.msh", "no_physical.msh"),
+    ("quadrangles", "mesh --mesh quads.msh", "quads.msh"),
+    ("second-order triangles", "mesh --mesh second_order.msh", "second_order.msh"),
+    ("zero-area triangle", "mesh --mesh degenerate.msh", "degenerate.msh"),
+    ("duplicate nodes", "mesh --mesh duplicate_nodes.msh", "duplicate_nodes.msh"),
+    ("T-junction (non-conforming)", "mesh --mesh t_junction.msh", "t_junction.msh"),
+    ("3D: a node off the plane", "mesh --mesh nonplanar.msh", "nonplanar.msh"),
+    ("3D: volume elements", "mesh --mesh volume.msh", "volume.msh"),
+]
+
+# Inputs that must be accepted (exit 0): the overrides and the tolerated cases, so the refusals cannot be blanket.
+ACCEPTED = [
+    ("strength above the modulus with --force", "mesh -q modulus_in_gpa.toml --force --set mesh.size=0.005"),
+    ("clockwise triangles are turned, not refused", "mesh -q --mesh clockwise.msh"),
+    ("a good mesh", "mesh -q --mesh good_square.msh"),
+]
+
+
+def run(rbdem, work, command):
+    proc = subprocess.run([rbdem] + command.split(), cwd=work, capture_output=True, text=True, timeout=60)
+    return proc.returncode, proc.stdout, proc.stderr
+
+
+def cell(text):
+    return " ".join(text.split()).replace("|", "\\|")
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--rbdem", required=True)
+    ap.add_argument("--work", required=True)
+    ap.add_argument("--docs", default=os.path.join(SOURCE, "docs", "bad_inputs.md"))
+    args = ap.parse_args()
+    rbdem = os.path.abspath(args.rbdem)
+    work = os.path.abspath(args.work)
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(os.path.join(work, "folder"))
+    for name in os.listdir(DATA):
+        shutil.copy(os.path.join(DATA, name), work)
+    for name, text in SCENES.items():
+        with open(os.path.join(work, name), "w") as f:
+            f.write(text)
+
+    failures = []
+    rows = []
+    for what, command, name in CASES:
+        code, out, err = run(rbdem, work, command)
+        message = err.strip()
+        if message.startswith("rbdem: error: "):
+            message = message[len("rbdem: error: "):]
+        if code != 2:
+            failures.append(f"{what}: `rbdem {command}` exited {code}, expected 2 (bad input)\n{err}")
+        if name not in message:
+            failures.append(f"{what}: the message does not name `{name}`:\n{err}")
+        if "rbdem: run failed" in err or code < 0:
+            failures.append(f"{what}: crashed or failed instead of refusing:\n{err}")
+        rows.append(f"| {cell(what)} | `rbdem {command}` | {code} | {cell(message)} |")
+    for what, command in ACCEPTED:
+        code, out, err = run(rbdem, work, command)
+        if code != 0:
+            failures.append(f"{what}: `rbdem {command}` exited {code}, expected 0\n{err}")
+
+    page = (
+        "# Bad input and what rbdem says\n\n"
+        "Every input below is refused with exit status 2 (bad input) and a message naming the key, option or file\n"
+        "and the fix. Generated by `tests/bad_inputs.py`, which the test `BadInputs.RefusedWithExitStatus2` runs;\n"
+        "refresh with `RBDEM_UPDATE_DOCS=1 ctest --test-dir build -R BadInputs`. Scene cases run `rbdem mesh`, which\n"
+        "resolves the scene exactly as `ucs` and `elastic` do. Strengths at or above their modulus are\n"
+        "refused as a likely unit mistake; `--force` runs them anyway. Keys left out of a scene take their defaults\n"
+        "(`rbdem --help-scene`), so a missing key is not an error; a missing file or value is. Clockwise triangles in a\n"
+        "user mesh are turned counter-clockwise with a note, not refused. See docs/reliability.md.\n\n"
+        f"{len(rows)} inputs.\n\n"
+        "| input tried | command | exit status | message |\n"
+        "|---|---|---:|---|\n" + "\n".join(rows) + "\n"
+    )
+    generated = os.path.join(work, "bad_inputs.md")
+    with open(generated, "w") as f:
+        f.write(page)
+    if os.environ.get("RBDEM_UPDATE_DOCS"):
+        with open(args.docs, "w") as f:
+            f.write(page)
+        print(f"bad_inputs: wrote {args.docs}")
+    try:
+        with open(args.docs) as f:
+            current = f.read()
+    except OSError:
+        current = ""
+    if current != page:
+        diff = "".join(difflib.unified_diff(current.splitlines(True), page.splitlines(True), args.docs, generated))
+        failures.append(f"{args.docs} differs from the generated table ({generated}):\n{diff}\n"
+                        "refresh it: RBDEM_UPDATE_DOCS=1 ctest --test-dir build -R BadInputs")
+    for f in failures:
+        print("FAIL:", f, file=sys.stderr)
+    print(f"bad_inputs: {len(CASES)} bad inputs refused, {len(ACCEPTED)} good ones accepted; "
+          f"{len(failures)} failures")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
