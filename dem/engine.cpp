@@ -445,9 +445,13 @@ void Engine::broad_phase() {
     const double cell = 2.0 * rmax + skin_;
     double xmin = 1e300, ymin = 1e300;
     for (int b : eligible) xmin = std::min(xmin, S[b].x), ymin = std::min(ymin, S[b].y);
-    auto cell_of = [&](int b) {
-      return std::pair<long, long>{long((S[b].x - xmin) / cell), long((S[b].y - ymin) / cell)};
+    // Cell indices clamped to [0, 2e9]: a run going unstable (stopped by the watchdog a few steps later) may carry
+    // huge or non-finite positions here, which must not overflow the conversion (NaN fails q >= 0 and maps to 0).
+    auto index = [cell](double v) {
+      const double q = v / cell;
+      return q >= 0 ? (q < 2e9 ? long(q) : 2000000000L) : 0L;
     };
+    auto cell_of = [&](int b) { return std::pair<long, long>{index(S[b].x - xmin), index(S[b].y - ymin)}; };
     auto cell_key = [](long cx, long cy) { return (std::uint64_t(cx) << 32) | std::uint64_t(cy); };
     std::vector<std::pair<std::uint64_t, int>> cells;
     cells.reserve(eligible.size());
