@@ -128,7 +128,9 @@ std::vector<Entry> make_registry() {
   // [numerics]
   e.push_back(real("numerics.damping", "-", 0.0, 0.99, "Cundall local damping coefficient alpha",
                    [](Scene& s) -> double& { return s.numerics.damping; }));
-  e.push_back(positive("numerics.dt_safety", "-", 1.0, "fraction of the critical time step used",
+  e.push_back(positive("numerics.dt_safety", "-", 0.7,
+                       "fraction of the critical time step used (above 0.7 the failure phase was found unstable: "
+                       "docs/performance.md)",
                        [](Scene& s) -> double& { return s.numerics.dt_safety; }));
   e.push_back(real("numerics.dt", "s", 0.0, 1.0,
                    "requested time step; 0 = automatic; a step above the critical one is refused",

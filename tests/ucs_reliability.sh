@@ -54,7 +54,7 @@ else
   echo "OK: SIGTERM -> exit 143 with a checkpoint; --resume reproduces summary.json"
 fi
 
-# 3. The watchdog: three times the exact stability limit (numerics.dt_safety stops at 1: a hidden test flag lets
+# 3. The watchdog: three times the exact stability limit (numerics.dt_safety stops at 0.7: a hidden test flag lets
 #    numerics.dt through).
 dt3=$(python3 -c "import json,sys; print(3 * json.load(open(sys.argv[1]))['dt_critical_s'])" "$work/full/summary.json")
 set +e; "$rbdem" "${args[@]}" --set numerics.dt=$dt3 --allow-supercritical-dt --out "$work/wd" > "$work/wd.log" 2>&1; rc=$?; set -e
