@@ -137,7 +137,8 @@ Engine::Engine(const Topology& topo, const Scene& scene, const EngineOptions& op
     kinds_[k].inv_kappa = 1.0 / mat[k]->stiffness_ratio;
     kinds_[k].mu = mat[k]->contact_friction;
     kinds_[k].slip_bonded = mat[k]->slip_when_bonded;
-    kinds_[k].inertia_factor = fault_injected("bond_inertia") ? 1.0 / 6.0 : 1.0 / 12.0;
+    kinds_[k].inertia_divisor = fault_injected("bond_inertia") ? 6.0 : 12.0;
+    kinds_[k].inertia_factor = 1.0 / kinds_[k].inertia_divisor;
     kinds_[k].strength = {mat[k]->tensile_strength, mat[k]->cohesion, std::tan(mat[k]->friction_deg * deg),
                           mat[k]->moment_factor};
   }
@@ -195,7 +196,7 @@ BondStiffness Engine::stiffness(int b) const {
   const BondFrame& f = bonds.frame[std::size_t(b)];
   const KindParams& kp = kinds_[int(bonds.kind[std::size_t(b)])];
   const double A = f.L * thickness_;
-  return {f.kA, f.kA / kp.kappa, f.kA * f.L * f.L * kp.inertia_factor, f.kA, f.kA / kp.kappa, kp.mu, kp.slip_bonded,
+  return {f.kA, f.kA / kp.kappa, f.kA * f.L * f.L / kp.inertia_divisor, f.kA, f.kA / kp.kappa, kp.mu, kp.slip_bonded,
           A, A * f.L * f.L / 12.0, f.L};
 }
 

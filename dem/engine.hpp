@@ -226,7 +226,8 @@ class Engine {
   struct KindParams {
     double modulus = 0, kappa = 1, inv_kappa = 1, mu = 0;
     bool slip_bonded = false;  // the linear part of an intact bond slides at mu F_n
-    double inertia_factor = 1.0 / 12.0;  // I = inertia_factor t L^3 (1/12; dem/fault_injection.hpp)
+    double inertia_divisor = 12.0;       // I = t L^3 / inertia_divisor (12; dem/fault_injection.hpp)
+    double inertia_factor = 1.0 / 12.0;  // its inverse, for the per-step kernel
     BondStrength strength;
   };
 
