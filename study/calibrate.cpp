@@ -12,6 +12,7 @@
 #include <toml++/toml.h>
 
 #include "io/results.hpp"
+#include "study/toml_file.hpp"
 
 namespace rbdem::study {
 
@@ -43,19 +44,7 @@ bool optimised(const CalibrationTarget& t) { return t.quantity != "min_angle"; }
 
 CalibrationSpec load_calibration(const std::filesystem::path& path) {
   const std::string where = path.string();
-  if (!std::filesystem::is_regular_file(path))
-    throw SceneError(fmt::format("cannot read calibration file '{}': check the path (shipped: "
-                                 "scenes/calibrate_paper.toml)",
-                                 where));
-  toml::table root;
-  try {
-    root = toml::parse_file(path.string());
-  } catch (const toml::parse_error& e) {
-    throw SceneError(fmt::format("{}:{}:{}: TOML syntax error: {}", where, e.source().begin.line,
-                                 e.source().begin.column, e.description()));
-  } catch (const std::exception&) {
-    throw SceneError(fmt::format("cannot read calibration file '{}': check the path", where));
-  }
+  const toml::table root = read_toml_file(path, "calibration", "shipped: scenes/calibrate_paper.toml");
   CalibrationSpec spec;
   for (const auto& [k, v] : root)
     if (k != "calibrate" && k != "parameter" && k != "target")

@@ -21,6 +21,7 @@
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
 #include "io/results.hpp"
+#include "study/toml_file.hpp"
 
 namespace rbdem::study {
 
@@ -70,19 +71,7 @@ StudySpec dip_study(const Scene& base, std::string name) {
 
 StudySpec load_study(const std::filesystem::path& path) {
   const std::string where = path.string();
-  if (!std::filesystem::is_regular_file(path))
-    throw SceneError(fmt::format("cannot read study file '{}': check the path (shipped studies are in scenes/)",
-                                 where));
-  toml::table root;
-  try {
-    root = toml::parse_file(path.string());
-  } catch (const toml::parse_error& e) {
-    throw SceneError(fmt::format("{}:{}:{}: TOML syntax error: {}", where, e.source().begin.line,
-                                 e.source().begin.column, e.description()));
-  } catch (const std::exception&) {
-    throw SceneError(fmt::format("cannot read study file '{}': check the path (shipped studies are in scenes/)",
-                                 where));
-  }
+  const toml::table root = read_toml_file(path, "study", "shipped studies are in scenes/");
   check_keys(root, {"study", "axis"}, where);
   StudySpec spec;
   spec.source = path;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "compare/verify/dem_measures.hpp"
 #include "compare/verify/specimens.hpp"
 #include "dem/engine.hpp"
 #include "dem/specimen_mesh.hpp"
@@ -26,88 +27,30 @@ EngineOptions free_blocks(const Scene& s) {
   return o;
 }
 
+// The experiments are the ones `rbdem verify` reports (compare/verify/dem_measures.hpp); here with the unit tests'
+// own acceptance limits.
 TEST(Engine, RigidTranslationAndRotationCreateNoForce) {
-  const Scene scene = elastic_scene();
-  SpecimenGeometry g;
-  const Topology topo = build_topology(mesh_specimen(g, 0.005), 1.0, 2700.0);
-  Engine e(topo, scene, free_blocks(scene));
-  const double q = 1.0, c = std::cos(q), s = std::sin(q), tx = 0.3, ty = -0.2;
-  for (auto& st : e.blocks.state) {
-    const double x = st.x, y = st.y;
-    st.x = tx + c * x - s * y;
-    st.y = ty + s * x + c * y;
-    st.theta = q;
-  }
-  e.refresh();
-  e.set_dt(1e-12);
-  e.step();
-  double fmax = 0;
-  for (std::size_t b = 0; b < e.bonds.size(); ++b) {
-    const BondForces f = e.bond_forces(int(b));
-    fmax = std::max({fmax, std::abs(f.fn_b), std::abs(f.fs_b), std::abs(f.m_b), std::abs(f.fn_lin)});
-  }
+  const verify::RigidMotionMeasure m = verify::rigid_motion_forces();
   // A strain of 1e-6 would give forces of order E* L t 1e-6 = 1e5 N here; round-off of 1 rad rotations is ~1e-16.
-  EXPECT_LT(fmax, 1e-3);
-  EXPECT_TRUE(e.cracks().empty());
+  EXPECT_LT(m.max_force, 1e-3);
+  EXPECT_EQ(m.cracks, 0u);
 }
 
 // Period of block 1 against a fixed block 0, preloaded into compression so the linear part stays closed:
 // stiffness (kb_n + k_n) A, omega = sqrt(k / m).
 TEST(Engine, BondedPairOscillatesAtSqrtKOverM) {
-  const Scene scene = elastic_scene();
-  const double a = 1e-3, b = 0.8e-3;
-  const Topology topo = build_topology(rhombus(a, b), 1.0, 2700.0);
-  Engine e(topo, scene, free_blocks(scene));
-  e.blocks.fixed[0] = 1;
-  const double k = e.stiffness(0).kbnA + e.stiffness(0).knA;
-  const double m = e.blocks.mass[1];
-  const double preload = 1e3;  // N
-  e.blocks.ext_fy[1] = -preload;
-  const double y_eq = e.blocks.state[1].y - preload / k;
-  e.blocks.state[1].y = y_eq + 0.3 * preload / k;  // amplitude 30 % of the preload: the edge stays compressed
-  e.refresh();
-  const double period = 2 * std::numbers::pi * std::sqrt(m / k);
-  e.set_dt(period / 2000);
-  // Time the upward zero crossings of y - y_eq over 10 periods.
-  std::vector<double> crossings;
-  double prev = e.blocks.state[1].y - y_eq;
-  while (crossings.size() < 11 && e.time() < 20 * period) {
-    e.step();
-    const double now = e.blocks.state[1].y - y_eq;
-    if (prev < 0 && now >= 0) crossings.push_back(e.time() - e.dt() * now / (now - prev));
-    prev = now;
-  }
-  ASSERT_EQ(crossings.size(), 11u);
-  const double measured = (crossings.back() - crossings.front()) / 10.0;
-  EXPECT_NEAR(measured / period, 1.0, 0.01);
-  EXPECT_NEAR(e.blocks.state[1].x, 0.0, 1e-12);  // symmetric: no sideways motion
+  const verify::PairPeriodMeasure m = verify::bonded_pair_period(2000);
+  EXPECT_NEAR(m.period / m.expected, 1.0, 0.01);
+  EXPECT_NEAR(m.max_sideways, 0.0, 1e-12);  // symmetric: no sideways motion
 }
 
 // Two separate blocks (no bond) meet face to face and bounce apart: no damping, no friction.
 TEST(Engine, FrictionlessElasticImpactConservesEnergy) {
   for (double angle_deg : {0.0, 20.0}) {
-    Scene scene = elastic_scene();
-    scene.rock.contact_friction = scene.joint.contact_friction = 0.0;
-    const double a = 1e-3;
-    const Topology topo = build_topology(verify::facing_triangles(a), 1.0, 2700.0);
-    ASSERT_EQ(topo.bonds.size(), 0u);
-    Engine e(topo, scene, free_blocks(scene));
-    const double v = 1.0, q = angle_deg * std::numbers::pi / 180;
-    e.blocks.state[0].vx = v * std::cos(q), e.blocks.state[0].vy = -v * std::sin(q);  // oblique for 20 deg
-    e.blocks.state[1].vx = -v * std::cos(q);
-    e.refresh();
-    const double k = scene.rock.effective_modulus / (e.blocks.inradius[0] + e.blocks.inradius[1]) * a * std::sqrt(2.0);
-    e.set_dt(0.02 * std::sqrt(e.blocks.mass[0] / k));
-    const double e0 = e.energies().kinetic;
-    bool touched = false;
-    for (int s = 0; s < 200000; ++s) {
-      e.step();
-      if (e.active_contacts() > 0) touched = true;
-      if (touched && e.active_contacts() == 0) break;
-    }
-    ASSERT_TRUE(touched);
-    EXPECT_EQ(e.active_contacts(), 0u);
-    EXPECT_NEAR(e.energies().kinetic / e0, 1.0, 0.005) << "impact angle " << angle_deg;
+    const verify::ImpactMeasure m = verify::frictionless_impact(angle_deg);
+    ASSERT_TRUE(m.touched) << "impact angle " << angle_deg;
+    EXPECT_TRUE(m.separated) << "impact angle " << angle_deg;
+    EXPECT_NEAR(m.energy_ratio, 1.0, 0.005) << "impact angle " << angle_deg;
   }
 }
 

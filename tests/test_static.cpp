@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "compare/verify/dem_measures.hpp"
 #include "dem/engine.hpp"
 #include "dem/specimen_mesh.hpp"
 #include "dem/static_solve.hpp"
@@ -21,38 +22,19 @@ Scene unbreakable_scene() {
   return s;
 }
 
-// Least-squares slope of stress over strain for the curve points with strain >= from.
-double slope(const std::vector<CurvePoint>& curve, double from) {
-  double sx = 0, sy = 0, sxx = 0, sxy = 0, n = 0;
-  for (const auto& p : curve)
-    if (p.strain >= from) {
-      sx += p.strain, sy += p.stress(), sxx += p.strain * p.strain, sxy += p.strain * p.stress(), n += 1;
-    }
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
-
 // An explicit UCS run from rest (no static elastic start, nothing breaks): the slope of its stress-strain curve
 // after the start-up transient equals the static solve's apparent modulus of the same mesh, across the layers
-// (beta = 0) and with sliding joints (beta = 60).
+// (beta = 0) and with sliding joints (beta = 60). The experiment is `rbdem verify`'s (compare/verify/dem_measures.hpp).
 TEST(Static, ExplicitInitialSlopeMatchesStaticSolveWithin2Percent) {
   for (const bool slip : {false, true})  // bonded interfaces stick (default) or slide (PFC's LPB)
   for (const double beta : {0.0, 60.0}) {
     SCOPED_TRACE(testing::Message() << "beta = " << beta << ", slip_when_bonded = " << slip);
-    Scene scene = unbreakable_scene();
-    scene.rock.slip_when_bonded = scene.joint.slip_when_bonded = slip;
-    scene.mesh.size = 0.004;
-    scene.joint_set.dip_deg = beta;
-    scene.numerics.elastic_start = false;
-    scene.loading.max_strain = 2e-4;
-    const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-    const Engine engine(topo, scene, EngineOptions::from_scene(scene));
-    const StaticResult st = solve_static(engine);
-    const UcsResult run = run_ucs(scene, topo);
-    ASSERT_TRUE(run.cracks.empty());
-    ASSERT_GT(run.curve.size(), 100u);
-    const double explicit_modulus = slope(run.curve, 0.3 * scene.loading.max_strain);
-    EXPECT_NEAR(explicit_modulus / st.apparent_modulus, 1.0, 0.02)
-        << "explicit " << explicit_modulus << " Pa, static " << st.apparent_modulus << " Pa";
+    const verify::SlopeMeasure m = verify::static_and_explicit_moduli(beta, slip);
+    const StaticResult& st = m.static_state;
+    ASSERT_EQ(m.cracks, 0u);
+    ASSERT_GT(m.curve_points, 100u);
+    EXPECT_NEAR(m.explicit_modulus / st.apparent_modulus, 1.0, 0.02)
+        << "explicit " << m.explicit_modulus << " Pa, static " << st.apparent_modulus << " Pa";
     EXPECT_NEAR(st.top_force / st.bottom_force, 1.0, 1e-8);
     if (slip) EXPECT_GT(st.sliding_bonds, 0u);  // the slip states are exercised
     else EXPECT_EQ(st.sliding_bonds, 0u);

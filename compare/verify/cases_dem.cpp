@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "compare/verify/dem_measures.hpp"
 #include "compare/verify/specimens.hpp"
 #include "compare/verify/verify.hpp"
 #include "dem/engine.hpp"
@@ -25,39 +26,17 @@ EngineOptions free_blocks(const Scene& s) {
   return o;
 }
 
-// A rigid rotation by 1 rad and a translation of the whole specimen: every bond force must vanish. The measure is
-// the spurious strain max |F| / (E* L t) over all bonds (force, shear, moment / L, linear part).
 CaseResult objectivity(const Context&) {
   CaseResult r;
   r.checks = "a rigid translation (0.3 m, -0.2 m) and rotation (1 rad) of the bonded specimen create no bond force";
   r.reference = "objectivity of the co-rotated bond kinematics (THEORY.md 4, 6): zero force";
   r.unit = "strain";
-  const Scene scene = elastic_scene();
-  SpecimenGeometry g;
-  const Topology topo = build_topology(mesh_specimen(g, 0.005), 1.0, 2700.0);
-  Engine e(topo, scene, free_blocks(scene));
-  const double q = 1.0, c = std::cos(q), s = std::sin(q), tx = 0.3, ty = -0.2;
-  for (auto& st : e.blocks.state) {
-    const double x = st.x, y = st.y;
-    st.x = tx + c * x - s * y;
-    st.y = ty + s * x + c * y;
-    st.theta = q;
-  }
-  e.refresh();
-  e.set_dt(1e-12);
-  e.step();
-  double worst = 0;
-  for (std::size_t b = 0; b < e.bonds.size(); ++b) {
-    const BondForces f = e.bond_forces(int(b));
-    const double L = e.bonds.frame[b].L, scale = scene.rock.effective_modulus * L * 1.0;
-    worst = std::max({worst, std::abs(f.fn_b) / scale, std::abs(f.fs_b) / scale, std::abs(f.m_b) / (scale * L),
-                      std::abs(f.fn_lin) / scale});
-  }
-  r.measured = worst, r.reference_value = 0, r.error = worst;
+  const RigidMotionMeasure m = rigid_motion_forces();
+  r.measured = m.spurious_strain, r.reference_value = 0, r.error = m.spurious_strain;
   r.error_definition = "max over bonds of |force| / (E* L t): the spurious strain";
   r.tolerance = 1e-12;
   r.tolerance_source = "round-off: positions of 0.3 m carry 1e-16 relative error, 3e-14 of a 1 mm bond";
-  r.cost = fmt::format("{} blocks, {} bonds, one step", e.blocks.size(), e.bonds.size());
+  r.cost = fmt::format("{} blocks, {} bonds, one step", m.blocks, m.bonds);
   return r;
 }
 
@@ -84,40 +63,15 @@ CaseResult bond_moment(const Context&) {
   return r;
 }
 
-// Block 1 oscillates against a fixed block 0, preloaded into compression so that the linear part stays closed:
-// stiffness (kb_n + k_n) A = 2 E* L t / d, period 2 pi sqrt(m / k).
 CaseResult pair_frequency(const Context&) {
   CaseResult r;
   r.checks = "the period of a bonded block oscillating against a fixed one (bond and closed linear part in parallel)";
   r.reference = "T = 2 pi sqrt(m / k), k = 2 E* L t / d (parallel bond + linear part, THEORY.md 4, 4b)";
   r.unit = "s";
-  const Scene scene = elastic_scene();
-  const double a = 1e-3, b = 0.8e-3, t = 1.0;
-  const Topology topo = build_topology(rhombus(a, b), t, 2700.0);
-  Engine e(topo, scene, free_blocks(scene));
-  e.blocks.fixed[0] = 1;
-  const double k = 2.0 * scene.rock.effective_modulus * (2 * a) * t / (2 * b / 3);
-  const double m = 2700.0 * t * a * b;  // triangle of base 2a and height b
-  const double preload = 1e3;           // N
-  e.blocks.ext_fy[1] = -preload;
-  const double y_eq = e.blocks.state[1].y - preload / k;
-  e.blocks.state[1].y = y_eq + 0.3 * preload / k;
-  e.refresh();
-  const double period = 2 * std::numbers::pi * std::sqrt(m / k);
-  r.reference_value = period;
   const double steps_per_period = 200;
-  e.set_dt(period / steps_per_period);
-  std::vector<double> crossings;
-  double prev = e.blocks.state[1].y - y_eq;
-  while (crossings.size() < 11 && e.time() < 20 * period) {
-    e.step();
-    const double now = e.blocks.state[1].y - y_eq;
-    if (prev < 0 && now >= 0) crossings.push_back(e.time() - e.dt() * now / (now - prev));
-    prev = now;
-  }
-  if (crossings.size() < 11) throw std::runtime_error("the pair did not oscillate");
-  r.measured = (crossings.back() - crossings.front()) / 10.0;
-  r.error = std::abs(r.measured / period - 1.0);
+  const PairPeriodMeasure m = bonded_pair_period(steps_per_period);
+  r.measured = m.period, r.reference_value = m.expected;
+  r.error = std::abs(m.period / m.expected - 1.0);
   r.error_definition = "|T / T_ref - 1|, T from 10 upward zero crossings";
   // Central difference lengthens the period by (omega dt)^2 / 24 to leading order.
   const double wdt = 2 * std::numbers::pi / steps_per_period;
@@ -125,11 +79,10 @@ CaseResult pair_frequency(const Context&) {
   r.tolerance_source = fmt::format("twice the central difference's period error (omega dt)^2 / 24 = {:.2e} at "
                                    "{:g} steps per period",
                                    wdt * wdt / 24.0, steps_per_period);
-  r.cost = fmt::format("2 blocks, {} steps", e.steps());
+  r.cost = fmt::format("2 blocks, {} steps", m.steps);
   return r;
 }
 
-// Two unbonded blocks meet face to face (head on and at 20 deg) and bounce apart: no damping, no friction.
 CaseResult impact_energy(const Context&) {
   CaseResult r;
   r.checks = "kinetic energy after a frictionless elastic impact of two blocks (head on and oblique at 20 deg)";
@@ -138,29 +91,11 @@ CaseResult impact_energy(const Context&) {
   double worst = 0;
   long steps = 0;
   for (double angle_deg : {0.0, 20.0}) {
-    Scene scene = elastic_scene();
-    scene.rock.contact_friction = scene.joint.contact_friction = 0.0;
-    const double a = 1e-3;
-    const Topology topo = build_topology(facing_triangles(a), 1.0, 2700.0);
-    Engine e(topo, scene, free_blocks(scene));
-    const double v = 1.0, q = angle_deg * std::numbers::pi / 180;
-    e.blocks.state[0].vx = v * std::cos(q), e.blocks.state[0].vy = -v * std::sin(q);
-    e.blocks.state[1].vx = -v * std::cos(q);
-    e.refresh();
-    const double k = scene.rock.effective_modulus / (e.blocks.inradius[0] + e.blocks.inradius[1]) * a * std::sqrt(2.0);
-    e.set_dt(0.02 * std::sqrt(e.blocks.mass[0] / k));
-    const double e0 = e.energies().kinetic;
-    bool touched = false;
-    for (int s = 0; s < 200000; ++s) {
-      e.step();
-      if (e.active_contacts() > 0) touched = true;
-      if (touched && e.active_contacts() == 0) break;
-    }
-    if (!touched || e.active_contacts() != 0) throw std::runtime_error("the blocks did not meet and separate");
-    const double ratio = e.energies().kinetic / e0;
-    r.table.push_back({{"impact_angle_deg", angle_deg}, {"energy_ratio", ratio}, {"steps", e.steps()}});
-    if (std::abs(ratio - 1.0) >= worst) worst = std::abs(ratio - 1.0), r.measured = ratio;
-    steps += e.steps();
+    const ImpactMeasure m = frictionless_impact(angle_deg);
+    if (!m.touched || !m.separated) throw std::runtime_error("the blocks did not meet and separate");
+    r.table.push_back({{"impact_angle_deg", angle_deg}, {"energy_ratio", m.energy_ratio}, {"steps", m.steps}});
+    if (std::abs(m.energy_ratio - 1.0) >= worst) worst = std::abs(m.energy_ratio - 1.0), r.measured = m.energy_ratio;
+    steps += m.steps;
   }
   r.reference_value = 1.0;
   r.error = worst;
@@ -182,7 +117,6 @@ double slope(const std::vector<CurvePoint>& curve, double from) {
   return least_squares_slope(x, y);
 }
 
-// An explicit UCS run from rest without breakage: the slope of its curve equals the static solve's modulus.
 CaseResult static_vs_explicit(const Context& ctx) {
   CaseResult r;
   r.checks = "the static elastic solve's apparent modulus against the slope of an explicit run from rest";
@@ -192,24 +126,13 @@ CaseResult static_vs_explicit(const Context& ctx) {
   std::size_t blocks = 0;
   long steps = 0;
   for (const double beta : ctx.quick ? std::vector<double>{0.0} : std::vector<double>{0.0, 60.0}) {
-    Scene scene = elastic_scene();
-    scene.numerics.damping = Scene{}.numerics.damping;
-    scene.numerics.threads = 1;
-    scene.mesh.size = 0.004;
-    scene.joint_set.dip_deg = beta;
-    scene.numerics.elastic_start = false;
-    scene.loading.max_strain = 2e-4;
-    const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-    const Engine engine(topo, scene, EngineOptions::from_scene(scene));
-    const StaticResult st = solve_static(engine);
-    const UcsResult run = run_ucs(scene, topo);
-    const double explicit_modulus = slope(run.curve, 0.3 * scene.loading.max_strain);
-    const double err = std::abs(st.apparent_modulus / explicit_modulus - 1.0);
-    r.table.push_back({{"beta_deg", beta}, {"static_pa", st.apparent_modulus}, {"explicit_pa", explicit_modulus},
-                       {"error", err}, {"steps", run.steps}});
-    if (err > worst) worst = err, r.measured = st.apparent_modulus, r.reference_value = explicit_modulus;
-    blocks = topo.blocks.size();
-    steps += run.steps;
+    const SlopeMeasure m = static_and_explicit_moduli(beta, false);
+    const double E = m.static_state.apparent_modulus, err = std::abs(E / m.explicit_modulus - 1.0);
+    r.table.push_back({{"beta_deg", beta}, {"static_pa", E}, {"explicit_pa", m.explicit_modulus}, {"error", err},
+                       {"steps", m.steps}});
+    if (err > worst) worst = err, r.measured = E, r.reference_value = m.explicit_modulus;
+    blocks = m.blocks;
+    steps += m.steps;
   }
   r.error = worst;
   r.error_definition = "max |E_static / E_explicit - 1| over the dips";
@@ -221,6 +144,109 @@ CaseResult static_vs_explicit(const Context& ctx) {
 }
 
 }  // namespace
+
+RigidMotionMeasure rigid_motion_forces() {
+  const Scene scene = elastic_scene();
+  SpecimenGeometry g;
+  const Topology topo = build_topology(mesh_specimen(g, 0.005), 1.0, 2700.0);
+  Engine e(topo, scene, free_blocks(scene));
+  const double q = 1.0, c = std::cos(q), s = std::sin(q), tx = 0.3, ty = -0.2;
+  for (auto& st : e.blocks.state) {
+    const double x = st.x, y = st.y;
+    st.x = tx + c * x - s * y;
+    st.y = ty + s * x + c * y;
+    st.theta = q;
+  }
+  e.refresh();
+  e.set_dt(1e-12);
+  e.step();
+  RigidMotionMeasure m;
+  for (std::size_t b = 0; b < e.bonds.size(); ++b) {
+    const BondForces f = e.bond_forces(int(b));
+    const double L = e.bonds.frame[b].L, scale = scene.rock.effective_modulus * L * topo.thickness;
+    const double worst = std::max({std::abs(f.fn_b), std::abs(f.fs_b), std::abs(f.m_b) / L, std::abs(f.fn_lin)});
+    m.max_force = std::max({m.max_force, worst, std::abs(f.m_b)});
+    m.spurious_strain = std::max(m.spurious_strain, worst / scale);
+  }
+  m.blocks = e.blocks.size(), m.bonds = e.bonds.size(), m.cracks = e.cracks().size();
+  return m;
+}
+
+PairPeriodMeasure bonded_pair_period(double steps_per_period) {
+  const Scene scene = elastic_scene();
+  const double a = 1e-3, b = 0.8e-3, t = 1.0;
+  const Topology topo = build_topology(rhombus(a, b), t, 2700.0);
+  Engine e(topo, scene, free_blocks(scene));
+  e.blocks.fixed[0] = 1;
+  const double k = 2.0 * scene.rock.effective_modulus * (2 * a) * t / (2 * b / 3);
+  const double mass = 2700.0 * t * a * b;  // triangle of base 2a and height b
+  const double preload = 1e3;              // N
+  e.blocks.ext_fy[1] = -preload;
+  const double y_eq = e.blocks.state[1].y - preload / k;
+  e.blocks.state[1].y = y_eq + 0.3 * preload / k;  // amplitude 30 % of the preload: the edge stays compressed
+  e.refresh();
+  PairPeriodMeasure m;
+  m.expected = 2 * std::numbers::pi * std::sqrt(mass / k);
+  e.set_dt(m.expected / steps_per_period);
+  std::vector<double> crossings;
+  double prev = e.blocks.state[1].y - y_eq;
+  while (crossings.size() < 11 && e.time() < 20 * m.expected) {
+    e.step();
+    const double now = e.blocks.state[1].y - y_eq;
+    if (prev < 0 && now >= 0) crossings.push_back(e.time() - e.dt() * now / (now - prev));
+    prev = now;
+  }
+  if (crossings.size() < 11) throw std::runtime_error("the pair did not oscillate");
+  m.period = (crossings.back() - crossings.front()) / 10.0;
+  m.max_sideways = std::abs(e.blocks.state[1].x);
+  m.steps = e.steps();
+  return m;
+}
+
+ImpactMeasure frictionless_impact(double angle_deg) {
+  Scene scene = elastic_scene();
+  scene.rock.contact_friction = scene.joint.contact_friction = 0.0;
+  const double a = 1e-3;
+  const Topology topo = build_topology(facing_triangles(a), 1.0, 2700.0);
+  Engine e(topo, scene, free_blocks(scene));
+  const double v = 1.0, q = angle_deg * std::numbers::pi / 180;
+  e.blocks.state[0].vx = v * std::cos(q), e.blocks.state[0].vy = -v * std::sin(q);
+  e.blocks.state[1].vx = -v * std::cos(q);
+  e.refresh();
+  const double k = scene.rock.effective_modulus / (e.blocks.inradius[0] + e.blocks.inradius[1]) * a * std::sqrt(2.0);
+  e.set_dt(0.02 * std::sqrt(e.blocks.mass[0] / k));
+  const double e0 = e.energies().kinetic;
+  ImpactMeasure m;
+  for (int s = 0; s < 200000; ++s) {
+    e.step();
+    if (e.active_contacts() > 0) m.touched = true;
+    if (m.touched && e.active_contacts() == 0) break;
+  }
+  m.separated = m.touched && e.active_contacts() == 0;
+  m.energy_ratio = e.energies().kinetic / e0;
+  m.steps = e.steps();
+  return m;
+}
+
+SlopeMeasure static_and_explicit_moduli(double beta_deg, bool slip_when_bonded) {
+  Scene scene = elastic_scene();
+  scene.numerics.damping = Scene{}.numerics.damping;
+  scene.numerics.threads = 1;
+  scene.rock.slip_when_bonded = scene.joint.slip_when_bonded = slip_when_bonded;
+  scene.mesh.size = 0.004;
+  scene.joint_set.dip_deg = beta_deg;
+  scene.numerics.elastic_start = false;
+  scene.loading.max_strain = 2e-4;
+  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  const Engine engine(topo, scene, EngineOptions::from_scene(scene));
+  SlopeMeasure m;
+  m.static_state = solve_static(engine);
+  const UcsResult run = run_ucs(scene, topo);
+  m.explicit_modulus = slope(run.curve, 0.3 * scene.loading.max_strain);
+  m.curve_points = run.curve.size(), m.cracks = run.cracks.size(), m.blocks = topo.blocks.size();
+  m.steps = run.steps;
+  return m;
+}
 
 std::vector<CaseSpec> dem_cases() {
   return {make_case("dem.objectivity", true, objectivity), make_case("dem.bond_moment_stiffness", true, bond_moment),

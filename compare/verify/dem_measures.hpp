@@ -1,0 +1,48 @@
+// The DEM's closed-form experiments as plain measurements, shared by `rbdem verify` (compare/verify/cases_dem.cpp,
+// which adds the tolerances and their sources) and the unit tests (tests/test_engine.cpp, tests/test_static.cpp).
+#pragma once
+
+#include <cstddef>
+
+#include "dem/static_solve.hpp"
+
+namespace rbdem::verify {
+
+// A rigid rotation by 1 rad and a translation (0.3, -0.2) m of a bonded 5 mm-mesh specimen, one step.
+struct RigidMotionMeasure {
+  double max_force = 0;        // N (and N m / L for the moment): the largest bond force of any kind
+  double spurious_strain = 0;  // max over bonds of |force| / (E* L t)
+  std::size_t blocks = 0, bonds = 0, cracks = 0;
+};
+RigidMotionMeasure rigid_motion_forces();
+
+// Block 1 of the rhombus (verify::rhombus(1 mm, 0.8 mm)) oscillates against the fixed block 0, preloaded into
+// compression so that the linear part stays closed. Expected period 2 pi sqrt(m / k), k = 2 E* L t / d.
+// Throws std::runtime_error when fewer than ten periods are found.
+struct PairPeriodMeasure {
+  double period = 0, expected = 0;  // s, from ten upward zero crossings
+  double max_sideways = 0;          // m, |x| of block 1 at the end (symmetry: 0)
+  long steps = 0;
+};
+PairPeriodMeasure bonded_pair_period(double steps_per_period);
+
+// Two facing unbonded triangles (verify::facing_triangles(1 mm)) meet at 1 m/s, head on or at angle_deg, without
+// friction or damping; dt = 0.02 sqrt(m / k).
+struct ImpactMeasure {
+  double energy_ratio = 0;  // kinetic energy after / before
+  long steps = 0;
+  bool touched = false, separated = false;
+};
+ImpactMeasure frictionless_impact(double angle_deg);
+
+// The static solve and an explicit UCS run from rest (no elastic start, unbreakable bonds, 4 mm mesh, 2e-4
+// strain) of the paper specimen at dip beta; the explicit modulus is the slope over 30-100 % of the strain.
+struct SlopeMeasure {
+  StaticResult static_state;
+  double explicit_modulus = 0;  // Pa
+  std::size_t curve_points = 0, cracks = 0, blocks = 0;
+  long steps = 0;
+};
+SlopeMeasure static_and_explicit_moduli(double beta_deg, bool slip_when_bonded);
+
+}  // namespace rbdem::verify
