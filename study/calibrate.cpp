@@ -25,17 +25,7 @@ namespace {
 
 double number(const toml::node* node, const std::string& where) {
   if (!node) throw SceneError(where + ": missing");
-  if (auto f = node->as_floating_point()) return f->get();
-  if (auto i = node->as_integer()) return double(i->get());
-  throw SceneError(where + ": expected a number");
-}
-
-std::string value_text(const toml::node& node, const std::string& where) {
-  if (auto f = node.as_floating_point()) return fmt::format("{}", f->get());
-  if (auto i = node.as_integer()) return fmt::format("{}", i->get());
-  if (auto b = node.as_boolean()) return b->get() ? "true" : "false";
-  if (auto s = node.as_string()) return s->get();
-  throw SceneError(where + ": expected a number, a boolean or a string");
+  return toml_number(*node, where);
 }
 
 bool optimised(const CalibrationTarget& t) { return t.quantity != "min_angle"; }
@@ -64,7 +54,8 @@ CalibrationSpec load_calibration(const std::filesystem::path& path) {
       for (const auto& x : *d) spec.dips.push_back(number(&x, where + " calibrate.dips"));
     }
     if (auto set = c->get_as<toml::table>("set"))
-      for (const auto& [k, v] : *set) set_parameter(spec.base, k.str(), value_text(v, where + " " + std::string(k.str())));
+      for (const auto& [k, v] : *set)
+        set_parameter(spec.base, k.str(), toml_value_text(v, where + " " + std::string(k.str())));
   }
   if (!(spec.tolerance > 0 && spec.tolerance < 1))
     throw SceneError(where + ": calibrate.tolerance must lie in (0, 1), e.g. 0.03");
@@ -76,7 +67,7 @@ CalibrationSpec load_calibration(const std::filesystem::path& path) {
       if (auto n = t->get_as<std::string>("name")) p.name = n->get();
       const std::string pw = where + " parameter '" + p.name + "'";
       if (auto keys = t->get_as<toml::array>("keys"))
-        for (const auto& k : *keys) p.keys.push_back(value_text(k, pw + " keys"));
+        for (const auto& k : *keys) p.keys.push_back(toml_value_text(k, pw + " keys"));
       if (p.keys.empty()) throw SceneError(pw + ": give keys = [\"section.key\", ...]");
       if (auto ratios = t->get_as<toml::array>("ratios"))
         for (const auto& r : *ratios) p.ratios.push_back(number(&r, pw + " ratios"));

@@ -27,20 +27,6 @@ namespace rbdem::study {
 
 namespace {
 
-std::string value_text(const toml::node& node, const std::string& where) {
-  if (auto f = node.as_floating_point()) return fmt::format("{}", f->get());
-  if (auto i = node.as_integer()) return fmt::format("{}", i->get());
-  if (auto b = node.as_boolean()) return b->get() ? "true" : "false";
-  if (auto s = node.as_string()) return s->get();
-  throw SceneError(where + ": expected a number, a boolean or a string");
-}
-
-double number(const toml::node& node, const std::string& where) {
-  if (auto f = node.as_floating_point()) return f->get();
-  if (auto i = node.as_integer()) return double(i->get());
-  throw SceneError(where + ": expected a number");
-}
-
 void check_keys(const toml::table& t, std::initializer_list<std::string_view> allowed, const std::string& where) {
   for (const auto& [k, v] : t) {
     if (std::find(allowed.begin(), allowed.end(), k.str()) == allowed.end()) {
@@ -87,7 +73,7 @@ StudySpec load_study(const std::filesystem::path& path) {
   if (auto dips = st->get_as<toml::array>("dips")) {
     spec.dips.clear();
     for (const auto& d : *dips) {
-      const double beta = number(d, where + " study.dips");
+      const double beta = toml_number(d, where + " study.dips");
       if (!(beta >= 0 && beta <= 90))
         throw SceneError(fmt::format("{}: study.dips holds {}: dips must lie in [0, 90] deg", where, beta));
       spec.dips.push_back(beta);
@@ -95,7 +81,8 @@ StudySpec load_study(const std::filesystem::path& path) {
     if (spec.dips.empty()) throw SceneError(where + ": study.dips is empty: list at least one dip");
   }
   if (auto set = st->get_as<toml::table>("set"))
-    for (const auto& [k, v] : *set) set_parameter(spec.base, k.str(), value_text(v, where + " study.set." + std::string(k.str())));
+    for (const auto& [k, v] : *set)
+      set_parameter(spec.base, k.str(), toml_value_text(v, where + " study.set." + std::string(k.str())));
   validate(spec.base);
 
   if (auto axes = root["axis"].as_array()) {
@@ -108,21 +95,21 @@ StudySpec load_study(const std::filesystem::path& path) {
       else throw SceneError(where + ": an [[axis]] has no name");
       const std::string aw = where + " axis '" + axis.name + "'";
       if (auto labels = at->get_as<toml::array>("labels"))
-        for (const auto& l : *labels) axis.labels.push_back(value_text(l, aw + " labels"));
+        for (const auto& l : *labels) axis.labels.push_back(toml_value_text(l, aw + " labels"));
       const toml::table* set = at->get_as<toml::table>("set");
       if (!set || set->empty()) throw SceneError(aw + ": needs a set table of varied keys");
       for (const auto& [k, v] : *set) {
         const std::string key(k.str());
         std::vector<std::string> values;
         if (auto arr = v.as_array()) {
-          for (const auto& x : *arr) values.push_back(value_text(x, aw + " " + key));
+          for (const auto& x : *arr) values.push_back(toml_value_text(x, aw + " " + key));
         } else if (auto tab = v.as_table()) {
           check_keys(*tab, {"of", "factors"}, aw + " " + key);
           auto of = tab->get_as<std::string>("of");
           auto factors = tab->get_as<toml::array>("factors");
           if (!of || !factors) throw SceneError(aw + " " + key + ": a scaled value needs `of` (a key) and `factors`");
           const double ref = std::stod(parameter_text(spec.base, of->get()));
-          for (const auto& f : *factors) values.push_back(fmt::format("{}", ref * number(f, aw + " " + key)));
+          for (const auto& f : *factors) values.push_back(fmt::format("{}", ref * toml_number(f, aw + " " + key)));
         } else {
           throw SceneError(aw + " " + key + ": give a list of values or { of = \"key\", factors = [...] }");
         }

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 #include <string_view>
 
 #include <fmt/format.h>
@@ -26,6 +27,22 @@ inline toml::table read_toml_file(const std::filesystem::path& path, std::string
   } catch (const std::exception&) {
     throw unreadable();
   }
+}
+
+// A TOML number (integer or floating point) as double; `where` names the key in the error.
+inline double toml_number(const toml::node& node, const std::string& where) {
+  if (auto f = node.as_floating_point()) return f->get();
+  if (auto i = node.as_integer()) return double(i->get());
+  throw SceneError(where + ": expected a number");
+}
+
+// A TOML scalar as the text `--set key=value` takes.
+inline std::string toml_value_text(const toml::node& node, const std::string& where) {
+  if (auto f = node.as_floating_point()) return fmt::format("{}", f->get());
+  if (auto i = node.as_integer()) return fmt::format("{}", i->get());
+  if (auto b = node.as_boolean()) return b->get() ? "true" : "false";
+  if (auto s = node.as_string()) return s->get();
+  throw SceneError(where + ": expected a number, a boolean or a string");
 }
 
 }  // namespace rbdem::study

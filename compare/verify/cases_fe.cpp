@@ -238,7 +238,8 @@ CaseResult hole_order(const Context& ctx) {
 }  // namespace
 
 std::vector<CaseSpec> continuum_cases() {
-  return {make_case("fe.patch_plane_strain", true, patch_strain), make_case("fe.patch_plane_stress", true, patch_stress),
+  return {make_case("fe.patch_plane_strain", true, patch_strain),
+          make_case("fe.patch_plane_stress", true, patch_stress),
           make_case("fe.isotropic_limit", true, isotropic_limit), make_case("fe.hole_scf", true, hole_scf),
           make_case("fe.hole_order", true, hole_order), make_case("dem_fe.elastic_gate", true, gate),
           make_case("dem_fe.displacement_fields", true, fields)};

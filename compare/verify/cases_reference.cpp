@@ -15,7 +15,8 @@ namespace {
 CaseResult cd_order(const Context&) {
   CaseResult r;
   r.checks = "the order of the engine's central difference in dt (positions, undamped, bonded, jointed specimen)";
-  r.reference = "SUNDIALS ARKODE ERKStep order 8 at rtol 1e-12 on the engine's own forces (docs/reference_integrator.md)";
+  r.reference = "SUNDIALS ARKODE ERKStep order 8 at rtol 1e-12 on the engine's own forces "
+                "(docs/reference_integrator.md)";
   r.unit = "-";
   const ReferenceSpecimen sp;
   const ReferenceProblem p = make_reference_problem(sp);
@@ -41,7 +42,8 @@ CaseResult cd_order(const Context&) {
   r.measured = least_squares_slope(lx, ly);
   r.reference_value = 2.0;
   r.error = std::abs(r.measured - 2.0);
-  r.error_definition = "|fitted slope of log(position error) over log(dt) - 2|, dt = 1/8 to 1/64 of the stability limit";
+  r.error_definition =
+      "|fitted slope of log(position error) over log(dt) - 2|, dt = 1/8 to 1/64 of the stability limit";
   r.tolerance = 0.2;
   r.tolerance_source = "second order of central difference; 0.2 allows the next term over a factor 8 in dt "
                        "(the issue's 1.8-2.2)";
