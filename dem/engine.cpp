@@ -28,6 +28,8 @@ EngineOptions EngineOptions::from_scene(const Scene& scene) {
   o.platen_velocity = scene.loading.platen_velocity;
   o.platen_friction = scene.loading.platen_friction;
   o.threads = scene.numerics.threads;
+  o.skip_bonded_pairs = scene.numerics.skip_bonded_pairs;
+  o.search_free_faces_only = scene.numerics.search_free_faces_only;
   return o;
 }
 
@@ -187,6 +189,7 @@ Engine::Engine(const Topology& topo, const Scene& scene, const EngineOptions& op
 
   const int nthreads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
   thread_breaks_.assign(std::size_t(std::max(nthreads, 1)), {});
+  nthreads_ = int(thread_breaks_.size());
   rebuild_active();
   rebuild_ = true;
   dt_ = critical_step();
@@ -397,6 +400,10 @@ void Engine::process_breaks() {
     bonds.broken[b] = 1;
     bonds.slot[b] = BondSlot{0, 0, 0, 0};  // the pair's contact carries the linear part from now on
     blocks.free_face[std::size_t(bonds.i[b])] = blocks.free_face[std::size_t(bonds.j[b])] = 1;
+    // With skip_bonded_pairs = false the pair is in the contact list already: it takes over the linear part's shear.
+    const std::uint64_t key = pair_key(std::min(bonds.i[b], bonds.j[b]), std::max(bonds.i[b], bonds.j[b]));
+    const auto at = std::lower_bound(contacts.key.begin(), contacts.key.end(), key);
+    if (at != contacts.key.end() && *at == key) contacts.fs[std::size_t(at - contacts.key.begin())] = bonds.fs_lin[b];
     cracks_.push_back(c);
     if (on_crack) on_crack(c);
   }
@@ -417,7 +424,8 @@ bool Engine::needs_rebuild() const {
 }
 
 // Stage: candidate pairs among blocks with a free face (a broken bond or a boundary edge), on a cell grid with
-// a skin; pairs joined by an intact bond need no narrow phase. Shear history carries over by pair key.
+// a skin; pairs joined by an intact bond need no narrow phase. Shear history carries over by pair key. The two
+// savings can be switched off to measure them (numerics.search_free_faces_only, numerics.skip_bonded_pairs).
 void Engine::broad_phase() {
   if (!needs_rebuild()) return;
   rebuild_ = false;
@@ -427,7 +435,8 @@ void Engine::broad_phase() {
   eligible.clear();
   double rmax = 0;
   for (std::size_t b = 0; b < nb; ++b)
-    if (blocks.free_face[b]) eligible.push_back(int(b)), rmax = std::max(rmax, blocks.radius[b]);
+    if (blocks.free_face[b] || !options_.search_free_faces_only)
+      eligible.push_back(int(b)), rmax = std::max(rmax, blocks.radius[b]);
   ref_x_.resize(eligible.size()), ref_y_.resize(eligible.size());
   for (std::size_t k = 0; k < eligible.size(); ++k) ref_x_[k] = S[eligible[k]].x, ref_y_[k] = S[eligible[k]].y;
   ref_top_ = top_y_;
@@ -474,7 +483,7 @@ void Engine::broad_phase() {
             const double rr = blocks.radius[a] + blocks.radius[b] + skin_;
             const double ex = S[b].x - S[a].x, ey = S[b].y - S[a].y;
             if (ex * ex + ey * ey > rr * rr) continue;
-            if (bonded(a, b)) continue;
+            if (options_.skip_bonded_pairs && bonded(a, b)) continue;
             keys.push_back(pair_key(a, b));
           }
         }
@@ -532,7 +541,10 @@ void Engine::contact_forces() {
       block_vertices(j, vj);
       touching = overlap_polygons(vi, 3, vj, 3, ov);
     }
-    if (!touching) {
+    // A pair still joined by its bond (listed only with skip_bonded_pairs = false): the bond's linear part is its
+    // contact, so the narrow phase above was the whole of its cost.
+    const bool intact = C.bond[c] >= 0 && !bonds.broken[std::size_t(C.bond[c])];
+    if (!touching || intact) {
       C.fs[c] = 0.0, C.fn[c] = 0.0, C.chord[c] = 0.0;
       continue;
     }

@@ -10,7 +10,9 @@
 // Forces are gathered per block over a CSR list in a fixed order, so results are bit-identical at any thread count.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <stdexcept>
@@ -43,9 +45,14 @@ struct EngineOptions {
   double mass_scaling = 1.0;     // density multiplier
   double platen_velocity = 0.0;  // m/s, top platen moves down at this speed; bottom fixed
   double platen_friction = 0.0;  // Coulomb coefficient block-platen
-  int threads = 0;               // 0 = all
+  int threads = 0;               // 0 = all; the most the run may use
+  // When set, each step uses min(*thread_budget, threads) threads (at least one): a sweep hands the cores of its
+  // idle workers to the runs still going. Results do not depend on the thread count (engine.hpp header).
+  const std::atomic<int>* thread_budget = nullptr;
   bool platens = true;           // false: free blocks (unit tests)
   bool contacts = true;          // false: no block-block contacts (diagnostics)
+  bool skip_bonded_pairs = true;       // numerics.skip_bonded_pairs: no narrow phase for intact-bonded pairs
+  bool search_free_faces_only = true;  // numerics.search_free_faces_only: broad phase over free-face blocks only
 
   static EngineOptions from_scene(const Scene& scene);
 };
@@ -139,7 +146,8 @@ class Engine {
   } bonds;
 
   struct ContactPairs {
-    std::vector<int> i, j, bond;                 // bond = -1 for pairs that were never neighbours
+    std::vector<int> i, j, bond;                 // bond = -1 for pairs that were never neighbours; an intact bond
+                                                 // (only with skip_bonded_pairs = false) makes the pair exert no force
     std::vector<LinearContact> law;
     std::vector<double> fs, fn, chord;           // shear history; normal force and chord of the last step
     std::vector<std::uint64_t> key;              // (i << 32) | j, sorted
@@ -244,7 +252,12 @@ class Engine {
   void block_vertices(int b, double* out) const;
   std::uint64_t pair_key(int i, int j) const { return (std::uint64_t(std::uint32_t(i)) << 32) | std::uint32_t(j); }
   bool bonded(int i, int j) const;
-  int threads() const { return int(thread_breaks_.size()); }
+  // The threads of the next parallel stage. With a budget every stage reads it, so that no team is ever larger
+  // than the cores the sweep gave the run (idle extra threads make libgomp stop spinning and wake slowly).
+  int threads() const {
+    return options_.thread_budget ? std::clamp(options_.thread_budget->load(std::memory_order_relaxed), 1, nthreads_)
+                                  : nthreads_;
+  }
 
   const Topology& topo_;
   EngineOptions options_;
@@ -256,7 +269,8 @@ class Engine {
   std::array<KindParams, 2> kinds_;
   std::vector<int> active_;                  // intact bonds
   std::vector<int> csr_offset_, csr_entry_;  // per block: 2 * bond + (1 if block is j)
-  std::vector<std::vector<Crack>> thread_breaks_;
+  std::vector<std::vector<Crack>> thread_breaks_;  // one list per thread the run may use
+  int nthreads_ = 1;                               // the most threads the run may use
 
   // contact accumulators (serial stages)
   std::vector<double> cfx_, cfy_, cm_;

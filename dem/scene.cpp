@@ -146,6 +146,14 @@ std::vector<Entry> make_registry() {
   e.push_back(real("numerics.elastic_start_fraction", "-", 0.0, 0.99,
                    "fraction of the first-break load at which the explicit run takes over from the static state",
                    [](Scene& s) -> double& { return s.numerics.elastic_start_fraction; }, true));
+  e.push_back(boolean("numerics.skip_bonded_pairs",
+                      "no narrow phase for pairs joined by an intact bond (false: clip them too and discard the "
+                      "result, the same answer at a higher cost; docs/performance.md)",
+                      [](Scene& s) -> bool& { return s.numerics.skip_bonded_pairs; }));
+  e.push_back(boolean("numerics.search_free_faces_only",
+                      "contact search only among blocks with a broken bond or a boundary edge (false: all blocks, "
+                      "which adds corner contacts inside intact rock; docs/performance.md)",
+                      [](Scene& s) -> bool& { return s.numerics.search_free_faces_only; }));
   e.push_back(integer("numerics.checkpoint_every_steps", "-", 0, 2000000000,
                       "rbdem ucs writes checkpoint.h5 every this many explicit steps (0 = off); --resume continues",
                       [](Scene& s) -> int& { return s.numerics.checkpoint_every_steps; }));

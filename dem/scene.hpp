@@ -61,12 +61,14 @@ struct LoadingParams {
 
 struct NumericsParams {
   double damping = 0.7;         // -, Cundall local damping coefficient alpha
-  double dt_safety = 0.5;       // -, fraction of the critical time step used
+  double dt_safety = 0.6;       // -, fraction of the critical time step used
   double dt = 0.0;              // s, requested step; 0 = automatic (dt_safety x critical)
   double mass_scaling = 1.0;    // -, density multiplier (>= 1) for quasi-static runs; reported
   int threads = 0;              // -, OpenMP threads; 0 = all cores
   bool elastic_start = true;    // start failure runs from the static elastic state below first break
-  double elastic_start_fraction = 0.9;  // -, of the first-break load at which the explicit run takes over
+  double elastic_start_fraction = 0.99; // -, of the first-break load at which the explicit run takes over
+  bool skip_bonded_pairs = true;         // no narrow phase for pairs joined by an intact bond (saving b)
+  bool search_free_faces_only = true;    // contact search only among blocks with a free face (saving c)
   int checkpoint_every_steps = 0;        // -, explicit steps between checkpoints of rbdem ucs (0 = off)
   double checkpoint_every_seconds = 600.0;  // s, wall time between checkpoints of rbdem ucs (0 = off)
 };

@@ -109,7 +109,9 @@ std::string watchdog_check(const Engine& engine, double energy0, const WatchdogC
 
 UcsResult run_ucs(const Scene& scene, const Topology& topo, const UcsOptions& options) {
   const auto wall0 = std::chrono::steady_clock::now();
-  Engine engine(topo, scene, EngineOptions::from_scene(scene));
+  EngineOptions engine_options = EngineOptions::from_scene(scene);
+  engine_options.thread_budget = options.thread_budget;
+  Engine engine(topo, scene, engine_options);
   const UcsCheckpoint* resume = options.resume;
   if (resume && resume->scene_toml != to_toml(scene))
     throw SceneError("the checkpoint was written for another scene: resume with the same scene file, --set options "

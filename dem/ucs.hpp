@@ -122,6 +122,7 @@ struct UcsOptions {
   int curve_points = 2000;                           // about this many samples up to max_strain
   bool allow_supercritical_dt = false;               // tests only: accept numerics.dt above the critical step
   const std::atomic<bool>* cancel = nullptr;         // checked every 256 steps; set -> RunCancelled
+  const std::atomic<int>* thread_budget = nullptr;   // EngineOptions::thread_budget (numerics.threads is the cap)
   // Called with the run's state every numerics.checkpoint_every_steps steps, every checkpoint_every_seconds of
   // wall time, and on cancel, each time right after the state passed the watchdog. Writing it is the caller's job.
   std::function<void(const UcsCheckpoint&)> checkpoint;

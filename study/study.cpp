@@ -7,6 +7,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <set>
 #include <sstream>
@@ -161,28 +162,32 @@ std::vector<Case> expand(const StudySpec& spec) {
 
 namespace {
 
-bool read_summary(const std::filesystem::path& file, nlohmann::json& out) {
+bool read_summary(const std::filesystem::path& file, const Scene& scene, nlohmann::json& out) {
   std::ifstream in(file);
   if (!in) return false;
   try {
     in >> out;
-    // A case counts as done only with a complete result: a run the watchdog stopped has "completed": false.
-    return out.contains("peak_stress_pa") && out.contains("scene") && out.value("completed", true) == true;
+    // A case counts as done only with a complete result of the same scene: a run the watchdog stopped has
+    // "completed": false, and a result left by another scene (an edited study, another rbdem's defaults) is rerun.
+    return out.contains("peak_stress_pa") && out.contains("scene") && out.value("completed", true) == true &&
+           out["scene"] == scene_json(scene);
   } catch (...) {
     return false;
   }
 }
 
-CaseResult run_one(const Case& c, const std::filesystem::path& dir, const std::atomic<bool>* cancel) {
+CaseResult run_one(const Case& c, const std::filesystem::path& dir, const std::atomic<bool>* cancel,
+                   const std::atomic<int>* threads, int max_threads) {
   const auto t0 = std::chrono::steady_clock::now();
   std::filesystem::remove_all(dir);  // an interrupted run leaves partial files: start clean
   std::filesystem::create_directories(dir);
   Scene scene = c.scene;
-  scene.numerics.threads = 1;  // cases run side by side: one thread each
+  scene.numerics.threads = max_threads;  // cases run side by side, each with the threads it is given (`threads`)
   const TriMesh mesh = make_mesh(scene);
   const Topology topo = build_topology(mesh, scene.specimen.thickness, scene.rock.density);
   UcsOptions uo;
   uo.cancel = cancel;
+  uo.thread_budget = threads;
   const UcsResult r = run_ucs(scene, topo, uo);
   io::write_ucs(dir, c.scene, mesh, topo, r);
   if (!r.completed) throw std::runtime_error(r.watchdog_message);  // its summary says so; the case is not done
@@ -206,7 +211,7 @@ std::vector<CaseResult> run_cases(const std::vector<Case>& cases, const std::fil
   std::vector<std::size_t> todo;
   for (std::size_t k : mine) {
     nlohmann::json s;
-    if (read_summary(out / cases[k].id / "summary.json", s)) {
+    if (read_summary(out / cases[k].id / "summary.json", cases[k].scene, s)) {
       results[k].c = cases[k], results[k].summary = s, results[k].reused = true, have[k] = 1;
     } else {
       todo.push_back(k);
@@ -220,15 +225,32 @@ std::vector<CaseResult> run_cases(const std::vector<Case>& cases, const std::fil
   std::string first_error;
   bool cancelled = false;
   std::size_t done = mine.size() - todo.size();
+  // Each case starts with one thread. A worker that finds the queue empty hands its thread to the running case
+  // with the fewest, so the last cases of a sweep do not leave cores idle; results do not depend on the count.
+  const auto threads = std::make_unique<std::atomic<int>[]>(todo.size());
+  std::vector<char> running(todo.size(), 0);
+  for (std::size_t n = 0; n < todo.size(); ++n) threads[n] = 1;
   auto worker = [&]() {
     while (true) {
       if (options.cancel && options.cancel->load()) return;
       const std::size_t n = next.fetch_add(1);
-      if (n >= todo.size()) return;
-      const std::size_t k = todo[n];
-      try {
-        CaseResult r = run_one(cases[k], out / cases[k].id, options.cancel);
+      if (n >= todo.size()) {
         std::lock_guard<std::mutex> g(lock);
+        std::size_t to = todo.size();
+        for (std::size_t m = 0; m < todo.size(); ++m)
+          if (running[m] && (to == todo.size() || threads[m] < threads[to])) to = m;
+        if (to < todo.size()) threads[to] += 1;
+        return;
+      }
+      const std::size_t k = todo[n];
+      {
+        std::lock_guard<std::mutex> g(lock);
+        running[n] = 1;
+      }
+      try {
+        CaseResult r = run_one(cases[k], out / cases[k].id, options.cancel, &threads[n], workers);
+        std::lock_guard<std::mutex> g(lock);
+        running[n] = 0;
         results[k] = std::move(r);
         have[k] = 1;
         ++done;
@@ -239,11 +261,13 @@ std::vector<CaseResult> run_cases(const std::vector<Case>& cases, const std::fil
         if (options.on_done) options.on_done(results[k]);
       } catch (const RunCancelled&) {
         std::lock_guard<std::mutex> g(lock);
+        running[n] = 0;
         cancelled = true;
         std::filesystem::remove_all(out / cases[k].id);
         return;
       } catch (const std::exception& e) {
         std::lock_guard<std::mutex> g(lock);
+        running[n] = 0;
         if (first_error.empty()) first_error = fmt::format("case {}: {}", cases[k].id, e.what());
       }
     }
@@ -264,7 +288,7 @@ std::vector<CaseResult> collect(const std::vector<Case>& cases, const std::files
   std::vector<CaseResult> list;
   for (const auto& c : cases) {
     CaseResult r;
-    if (read_summary(out / c.id / "summary.json", r.summary)) {
+    if (read_summary(out / c.id / "summary.json", c.scene, r.summary)) {
       r.c = c, r.reused = true;
       list.push_back(std::move(r));
     }

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# A sweep interrupted with SIGINT and rerun finishes with the same table.csv as an uninterrupted one.
+# A sweep interrupted with SIGINT and rerun finishes with the same table.csv as an uninterrupted one; results of
+# another scene are never reused.
 # Usage: sweep_resume.sh RBDEM STUDY
 set -euo pipefail
 rbdem=$1; study=$2
@@ -25,3 +26,8 @@ echo "interrupted run: exit $rc with $done_cases of $total cases complete"
 cmp "$work/full/table.csv" "$work/cut/table.csv" || { echo "FAIL: tables differ"; diff "$work/full/table.csv" "$work/cut/table.csv"; exit 1; }
 cmp "$work/full/groups.csv" "$work/cut/groups.csv"
 echo "OK: resumed sweep reproduces table.csv"
+# Results of another scene are not reused: after an edit every case runs again.
+"$rbdem" sweep "$study" --out "$work/cut" -q -j 1 --skip-elastic-gate --set loading.stop_fraction=0.69 > /dev/null
+reused=$(awk -F, 'NR > 1 && $2 != 0' "$work/cut/timing.csv" | wc -l)
+[ "$reused" -eq 0 ] || { echo "FAIL: $reused cases of another scene were reused"; cat "$work/cut/timing.csv"; exit 1; }
+echo "OK: an edited scene reruns every case"

@@ -3,6 +3,7 @@
 // the watchdog stops an unstable run without a plausible number, and file writers report a full disk.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -116,6 +117,43 @@ TEST(Determinism, SameInputsGiveBitIdenticalSummaryAtOneAndTwoThreads) {
   const std::string c = comparable(io::ucs_summary(scene, run_ucs(scene, topo)), true);
   EXPECT_EQ(a, b) << "two runs with the same inputs differ";
   EXPECT_EQ(a, c) << "1 and 2 threads differ";
+}
+
+// A sweep hands idle cores to the runs still going (study.cpp): a thread count that changes during the run must
+// not change its result either.
+TEST(Determinism, ThreadCountChangingDuringTheRunGivesTheSameSummary) {
+  Scene scene = small_scene();
+  scene.numerics.checkpoint_every_steps = 25;  // the hook that switches the count (nothing is written)
+  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  const std::string one = comparable(io::ucs_summary(scene, run_ucs(scene, topo)), true);
+  scene.numerics.threads = 2;  // the cap; the budget below switches between 1 and 2
+  std::atomic<int> budget{1};
+  int switches = 0;
+  UcsOptions o;
+  o.thread_budget = &budget;
+  o.checkpoint = [&](const UcsCheckpoint&) { budget = 3 - budget, ++switches; };
+  const std::string changing = comparable(io::ucs_summary(scene, run_ucs(scene, topo, o)), true);
+  EXPECT_GE(switches, 2) << "the thread count never changed during the run";
+  EXPECT_EQ(one, changing);
+}
+
+// Saving (b) of docs/performance.md: the narrow phase of a pair still joined by its bond is wasted work, the bond's
+// linear part being its contact. Clipping those pairs too must give the same run, bit for bit. The paper's specimen
+// at 3 mm and 45 deg (0.2 s) breaks bonds in shear under compression, whose linear part hands its shear force to
+// the pair's contact: without that hand-over the two runs part after a few hundred steps.
+TEST(Savings, SkippingTheNarrowPhaseOfBondedPairsChangesNothing) {
+  Scene scene;
+  scene.mesh.size = 0.003, scene.joint_set.dip_deg = 45, scene.numerics.threads = 1;
+  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  const UcsResult skip = run_ucs(scene, topo);
+  scene.numerics.skip_bonded_pairs = false;
+  const UcsResult clip = run_ucs(scene, topo);
+  ASSERT_GT(skip.crack_counts.total(), 0);
+  nlohmann::json a = io::ucs_summary(scene, skip), b = io::ucs_summary(scene, clip);
+  a["scene"]["numerics"].erase("skip_bonded_pairs"), b["scene"]["numerics"].erase("skip_bonded_pairs");
+  EXPECT_EQ(comparable(a), comparable(b));
+  ASSERT_EQ(skip.curve.size(), clip.curve.size());
+  for (std::size_t k = 0; k < skip.curve.size(); ++k) EXPECT_EQ(skip.curve[k].stress_top, clip.curve[k].stress_top);
 }
 
 TEST(Watchdog, UnstableStepStopsTheRunWithoutAPlausibleNumber) {

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "compare/theory/elasticity.hpp"
 #include "study/calibrate.hpp"
@@ -122,16 +123,27 @@ namespace rbdem::study {
 namespace {
 
 // A case whose run the watchdog stopped has a summary.json with "completed": false: a rerun of the sweep must run
-// it again, not count it as done (an interrupted case has no summary.json at all).
+// it again, not count it as done (an interrupted case has no summary.json at all). Nor does a result left by
+// another scene (an edited study file, another version's defaults) count.
 TEST(Study, CaseStoppedByTheWatchdogDoesNotCountAsDone) {
   namespace fs = std::filesystem;
   const fs::path out = fs::temp_directory_path() / ("rbdem_study_incomplete_" + std::to_string(::getpid()));
   fs::remove_all(out);
-  std::vector<Case> cases(2);
-  cases[0].id = "done", cases[1].id = "stopped";
+  std::vector<Case> cases(3);
+  cases[0].id = "done", cases[1].id = "stopped", cases[2].id = "other_scene";
   for (const auto& c : cases) fs::create_directories(out / c.id);
-  std::ofstream(out / "done" / "summary.json") << R"({"peak_stress_pa": 1e7, "completed": true, "scene": {}})";
-  std::ofstream(out / "stopped" / "summary.json") << R"({"peak_stress_pa": null, "completed": false, "scene": {}})";
+  auto summary = [](bool completed, const Scene& scene) {
+    nlohmann::json j;
+    j["peak_stress_pa"] = completed ? nlohmann::json(1e7) : nlohmann::json(nullptr);
+    j["completed"] = completed;
+    j["scene"] = scene_json(scene);
+    return j.dump();
+  };
+  Scene edited = cases[2].scene;
+  edited.joint.cohesion *= 1.01;
+  std::ofstream(out / "done" / "summary.json") << summary(true, cases[0].scene);
+  std::ofstream(out / "stopped" / "summary.json") << summary(false, cases[1].scene);
+  std::ofstream(out / "other_scene" / "summary.json") << summary(true, edited);
   const auto found = collect(cases, out);
   ASSERT_EQ(found.size(), 1u);
   EXPECT_EQ(found[0].c.id, "done");
