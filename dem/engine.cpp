@@ -415,12 +415,16 @@ bool Engine::needs_rebuild() const {
   if (rebuild_) return true;
   if (std::abs(top_y_ - ref_top_) > 0.5 * skin_) return true;
   const double lim2 = 0.25 * skin_ * skin_;
-  for (std::size_t k = 0; k < eligible_.size(); ++k) {
-    const BlockState& s = blocks.state[std::size_t(eligible_[k])];
-    const double dx = s.x - ref_x_[k], dy = s.y - ref_y_[k];
-    if (dx * dx + dy * dy > lim2) return true;
+  const int ne = int(eligible_.size());
+  bool moved = false;
+  const BlockState* st = blocks.state.data();
+#pragma omp parallel for schedule(static) num_threads(threads()) reduction(|| : moved) if (ne > 1024)
+  for (int k = 0; k < ne; ++k) {
+    const BlockState& s = st[eligible_[std::size_t(k)]];
+    const double dx = s.x - ref_x_[std::size_t(k)], dy = s.y - ref_y_[std::size_t(k)];
+    moved = moved || dx * dx + dy * dy > lim2;
   }
-  return false;
+  return moved;
 }
 
 // Stage: candidate pairs among blocks with a free face (a broken bond or a boundary edge), on a cell grid with
@@ -470,24 +474,35 @@ void Engine::broad_phase() {
       cells.push_back({cell_key(cx, cy), b});
     }
     std::sort(cells.begin(), cells.end());
-    for (int a : eligible) {
-      const auto [cx, cy] = cell_of(a);
-      for (long dx = -1; dx <= 1; ++dx)
-        for (long dy = -1; dy <= 1; ++dy) {
-          if (cx + dx < 0 || cy + dy < 0) continue;
-          const std::uint64_t key = cell_key(cx + dx, cy + dy);
-          auto it = std::lower_bound(cells.begin(), cells.end(), std::pair<std::uint64_t, int>{key, -1});
-          for (; it != cells.end() && it->first == key; ++it) {
-            const int b = it->second;
-            if (b <= a) continue;
-            const double rr = blocks.radius[a] + blocks.radius[b] + skin_;
-            const double ex = S[b].x - S[a].x, ey = S[b].y - S[a].y;
-            if (ex * ex + ey * ey > rr * rr) continue;
-            if (options_.skip_bonded_pairs && bonded(a, b)) continue;
-            keys.push_back(pair_key(a, b));
+    // Pairs from each eligible block's 3 x 3 cell neighbourhood, found in parallel into per-thread lists; the
+    // sorted union does not depend on how the blocks were split among threads.
+    const int ne = int(eligible.size());
+    std::vector<std::vector<std::uint64_t>> found(static_cast<std::size_t>(threads()));
+#pragma omp parallel num_threads(threads()) if (ne > 256)
+    {
+      auto& mine = found[std::size_t(omp_get_thread_num())];
+#pragma omp for schedule(static)
+      for (int k = 0; k < ne; ++k) {
+        const int a = eligible[std::size_t(k)];
+        const auto [cx, cy] = cell_of(a);
+        for (long dx = -1; dx <= 1; ++dx)
+          for (long dy = -1; dy <= 1; ++dy) {
+            if (cx + dx < 0 || cy + dy < 0) continue;
+            const std::uint64_t key = cell_key(cx + dx, cy + dy);
+            auto it = std::lower_bound(cells.begin(), cells.end(), std::pair<std::uint64_t, int>{key, -1});
+            for (; it != cells.end() && it->first == key; ++it) {
+              const int b = it->second;
+              if (b <= a) continue;
+              const double rr = blocks.radius[a] + blocks.radius[b] + skin_;
+              const double ex = S[b].x - S[a].x, ey = S[b].y - S[a].y;
+              if (ex * ex + ey * ey > rr * rr) continue;
+              if (options_.skip_bonded_pairs && bonded(a, b)) continue;
+              mine.push_back(pair_key(a, b));
+            }
           }
-        }
+      }
     }
+    for (const auto& list : found) keys.insert(keys.end(), list.begin(), list.end());
     std::sort(keys.begin(), keys.end());
   }
 
@@ -520,15 +535,21 @@ void Engine::broad_phase() {
   contacts = std::move(next);
 }
 
-// Stage: polygon contacts, serially in pair order into the contact accumulators.
+// Stage: polygon contacts. Each pair's narrow phase and contact law run in parallel into the pair's own record;
+// the records are then summed into the contact accumulators serially in pair order, so the sums do not depend on
+// the thread count.
 void Engine::contact_forces() {
   std::fill(cfx_.begin(), cfx_.end(), 0.0);
   std::fill(cfy_.begin(), cfy_.end(), 0.0);
   std::fill(cm_.begin(), cm_.end(), 0.0);
   auto& C = contacts;
   const auto& S = blocks.state;
-  const double t = thickness_;
-  for (std::size_t c = 0; c < C.i.size(); ++c) {
+  const double t = thickness_, dt = dt_;
+  const int n = int(C.i.size());
+  pair_force_.resize(C.i.size());
+  PairForce* out = pair_force_.data();
+#pragma omp parallel for schedule(static) num_threads(threads()) if (n > 64)
+  for (int c = 0; c < n; ++c) {
     const int i = C.i[c], j = C.j[c];
     const BlockState &si = S[std::size_t(i)], &sj = S[std::size_t(j)];
     const double ex = sj.x - si.x, ey = sj.y - si.y;
@@ -546,6 +567,7 @@ void Engine::contact_forces() {
     const bool intact = C.bond[c] >= 0 && !bonds.broken[std::size_t(C.bond[c])];
     if (!touching || intact) {
       C.fs[c] = 0.0, C.fn[c] = 0.0, C.chord[c] = 0.0;
+      out[c] = PairForce{0, 0, 0, 0, 0};
       continue;
     }
     const double nx = -ov.nx, ny = -ov.ny;  // from i to j, as for bonds
@@ -555,13 +577,19 @@ void Engine::contact_forces() {
     const double cjx = ov.px - sj.x, cjy = ov.py - sj.y;
     const double vrx = (sj.vx - sj.omega * cjy) - (si.vx - si.omega * ciy);
     const double vry = (sj.vy + sj.omega * cjx) - (si.vy + si.omega * cix);
-    const double ds = (vrx * tx + vry * ty) * dt_;
+    const double ds = (vrx * tx + vry * ty) * dt;
     double fs = C.fs[c];
-    if (C.law[c].update_shear(fn, ov.chord, t, ds, fs)) e_friction_ += std::abs(fs * ds);
+    const double friction = C.law[c].update_shear(fn, ov.chord, t, ds, fs) ? std::abs(fs * ds) : 0.0;
     C.fs[c] = fs, C.fn[c] = fn, C.chord[c] = ov.chord;
     const double fx = fn * nx + fs * tx, fy = fn * ny + fs * ty;  // on j
-    cfx_[j] += fx, cfy_[j] += fy, cm_[j] += cross(cjx, cjy, fx, fy);
-    cfx_[i] -= fx, cfy_[i] -= fy, cm_[i] -= cross(cix, ciy, fx, fy);
+    out[c] = PairForce{fx, fy, cross(cix, ciy, fx, fy), cross(cjx, cjy, fx, fy), friction};
+  }
+  for (int c = 0; c < n; ++c) {
+    const PairForce& p = out[c];
+    const int i = C.i[c], j = C.j[c];
+    cfx_[j] += p.fx, cfy_[j] += p.fy, cm_[j] += p.mj;
+    cfx_[i] -= p.fx, cfy_[i] -= p.fy, cm_[i] -= p.mi;
+    e_friction_ += p.friction;
   }
 }
 

@@ -6,7 +6,8 @@
 // state is one 64-byte record (BlockState), a bond's constant frame another (BondFrame), and each bond writes its
 // forces into its own slot (BondSlot). One step runs stages with one job each (STYLE.md 3):
 //   bond forces (parallel, one slot per bond) -> breakage events -> broad phase (when needed)
-//   -> contact forces -> platen forces -> per-block gather in fixed order + damping + integration.
+//   -> contact forces (parallel, one record per pair, summed in pair order) -> platen forces
+//   -> per-block gather in fixed order + damping + integration.
 // Forces are gathered per block over a CSR list in a fixed order, so results are bit-identical at any thread count.
 #pragma once
 
@@ -274,6 +275,11 @@ class Engine {
 
   // contact accumulators (serial stages)
   std::vector<double> cfx_, cfy_, cm_;
+  // per contact pair, written in parallel and gathered in pair order: force on j, moments on i and j, friction work
+  struct PairForce {
+    double fx, fy, mi, mj, friction;
+  };
+  std::vector<PairForce> pair_force_;
   // broad phase
   double skin_ = 0;
   std::vector<int> eligible_;                // blocks with a free face at the last rebuild
