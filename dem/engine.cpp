@@ -654,8 +654,10 @@ void Engine::integrate() {
     for (int o = offset[b]; o < offset[b + 1]; ++o) {
       const int e = entry[o];
       const BondSlot& s = slot[e >> 1];
-      if (e & 1) fx += s.fx, fy += s.fy, m += s.mj;
-      else fx -= s.fx, fy -= s.fy, m += s.mi;
+      // Without branches (the block's role in its bonds follows no pattern): x + (-1) a is x - a exactly.
+      const bool is_j = e & 1;
+      const double sign = is_j ? 1.0 : -1.0;
+      fx += sign * s.fx, fy += sign * s.fy, m += is_j ? s.mj : s.mi;
     }
     B.fx[b] = fx, B.fy[b] = fy, B.moment[b] = m;
     if (B.fixed[b]) continue;

@@ -332,9 +332,9 @@ int nodes_of_type(int type) {
   }
 }
 
-// Checks that every element of an ASCII .msh (2.2 or 4.x) has the right number of nodes and refers only to nodes
-// the file defines. gmsh 4.8 dereferences a missing node of a second-order element and crashes (found by
-// tests/fuzz/fuzz_msh), so rbdem checks this before gmsh reads the file. Binary files go to gmsh unchecked.
+// Checks that the file is ASCII MSH 2.x or 4.x and that every element has the right number of nodes and refers only
+// to nodes the file defines. gmsh 4.8 dereferences a missing node of a second-order element and crashes (found by
+// tests/fuzz/fuzz_msh), so rbdem checks this before gmsh reads the file; binary and MSH 3 files are refused.
 void prescan_msh(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
@@ -349,7 +349,17 @@ void prescan_msh(const std::filesystem::path& path) {
                                    "data-size` (e.g. `4.1 0 8`); export the mesh from gmsh again",
                                    path.string()));
   }
-  if (binary != 0) return;
+  // Only what the scan below understands reaches gmsh: gmsh 4.8 reads a damaged MSH 3 or binary file without
+  // checking its counts, and tests/fuzz/fuzz_msh made it allocate 3.4 GB from a file of 199 bytes.
+  if (!((version >= 2.0 && version < 3.0) || (version >= 4.0 && version < 5.0)))
+    throw SceneError(fmt::format("mesh file '{}' is MSH version {:g}, which rbdem does not read: export the mesh from "
+                                 "gmsh as MSH 4.1 or 2.2 (File > Export, or `gmsh -2 -format msh41`)",
+                                 path.string(), version));
+  if (binary != 0)
+    throw SceneError(fmt::format("mesh file '{}' is {}: rbdem reads ASCII .msh files only (it checks a mesh before "
+                                 "gmsh reads it); export it again without `Save in binary format` (or with "
+                                 "`Mesh.Binary = 0;`)",
+                                 path.string(), binary == 1 ? "a binary .msh file" : "of an unknown file type"));
   const bool v4 = version >= 4.0;
   auto bad = [&](const std::string& what) {
     return SceneError(fmt::format("mesh file '{}' is malformed: {}; export the mesh from gmsh again", path.string(),

@@ -300,6 +300,24 @@ TEST(MeshImport, TJunctionIsRefused) {
   EXPECT_EQ(refusal(m), "");
 }
 
+// gmsh 4.8 reads damaged MSH 3 and binary files without checking their counts (tests/fuzz/fuzz_msh found a
+// 199-byte file that made it allocate 3.4 GB): rbdem reads ASCII MSH 2.x and 4.x only, which it checks first.
+TEST(MeshImport, OnlyAsciiMsh2And4AreRead) {
+  const auto path = std::filesystem::temp_directory_path() / "rbdem_test_format.msh";
+  for (const char* head : {"3.2 0 8", "3.2 2 8", "4.1 1 8", "4.1 2 8", "5 0 8", "1.0 0 8"}) {
+    std::ofstream(path) << "$MeshFormat\n" << head << "\n$EndMeshFormat\n";
+    try {
+      read_msh(path);
+      FAIL() << "a file with `" << head << "` was read";
+    } catch (const SceneError& e) {
+      const std::string what = e.what();
+      EXPECT_TRUE(what.find("MSH 4.1 or 2.2") != std::string::npos || what.find("ASCII") != std::string::npos)
+          << head << ": " << what;
+    }
+  }
+  std::filesystem::remove(path);
+}
+
 TEST(MeshImport, NonMeshFileIsRefusedBeforeGmshReadsIt) {
   const auto path = std::filesystem::temp_directory_path() / "rbdem_test_script.msh";
   std::ofstream(path) << "Point(1) = {0, 0, 0, 1};\n";
