@@ -93,6 +93,15 @@ inline void eval_bond(const BondFrame& f, const BlockState& bi, const BlockState
   out.slot.mi = -cross(cix, ciy, fx, fy) - lever - out.mb;
 }
 
+// Adds the slot of one CSR entry (2 bond + 1 if the block is the bond's j) to a block's force and moment. Without
+// branches: a block's role in its bonds follows no pattern, so an `if` mispredicts, and x + (-1) a is x - a exactly.
+inline void add_slot(int e, const BondSlot* slot, double& fx, double& fy, double& m) {
+  const BondSlot& s = slot[e >> 1];
+  const bool is_j = e & 1;
+  const double sign = is_j ? 1.0 : -1.0;
+  fx += sign * s.fx, fy += sign * s.fy, m += is_j ? s.mj : s.mi;
+}
+
 // The parallel bond's failure test of contact_law.hpp (BondStrength::check) in force units, without divisions:
 // with A = L t and I = t L^3 / 12, sigma A = -F_n + beta_m |M| 6 / L and tau A = |F_s|.
 inline BreakMode bond_failure(const BondEval& ev, const BondStrength& st, double A) {
@@ -234,10 +243,7 @@ void Engine::bonded_forces(std::vector<double>& fx, std::vector<double>& fy, std
     double f_x = blocks.ext_fx[b], f_y = blocks.ext_fy[b], m = blocks.ext_m[b];
     for (int o = csr_offset_[b]; o < csr_offset_[b + 1]; ++o) {
       const int e = csr_entry_[o];
-      if (bonds.broken[std::size_t(e >> 1)]) continue;
-      const BondSlot& s = slot[e >> 1];
-      if (e & 1) f_x += s.fx, f_y += s.fy, m += s.mj;
-      else f_x -= s.fx, f_y -= s.fy, m += s.mi;
+      if (!bonds.broken[std::size_t(e >> 1)]) add_slot(e, slot, f_x, f_y, m);
     }
     fx[b] = f_x, fy[b] = f_y, moment[b] = m;
   }
@@ -651,14 +657,7 @@ void Engine::integrate() {
 #pragma omp parallel for schedule(static) num_threads(threads()) reduction(+ : e_damp) reduction(&& : finite)
   for (int b = 0; b < n; ++b) {
     double fx = cfx_[b] + B.ext_fx[b], fy = cfy_[b] + B.ext_fy[b], m = cm_[b] + B.ext_m[b];
-    for (int o = offset[b]; o < offset[b + 1]; ++o) {
-      const int e = entry[o];
-      const BondSlot& s = slot[e >> 1];
-      // Without branches (the block's role in its bonds follows no pattern): x + (-1) a is x - a exactly.
-      const bool is_j = e & 1;
-      const double sign = is_j ? 1.0 : -1.0;
-      fx += sign * s.fx, fy += sign * s.fy, m += is_j ? s.mj : s.mi;
-    }
+    for (int o = offset[b]; o < offset[b + 1]; ++o) add_slot(entry[o], slot, fx, fy, m);
     B.fx[b] = fx, B.fy[b] = fy, B.moment[b] = m;
     if (B.fixed[b]) continue;
     BlockState& s = st[b];
