@@ -373,9 +373,18 @@ void prescan_msh(const std::filesystem::path& path) {
     ls.str(line);
   };
   std::istringstream ls;
+  bool have_elements = false;
   while (std::getline(in, line)) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line == "$Nodes" && !have_nodes) {
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t')) line.pop_back();
+    // gmsh takes a section by the start of its header line ("$ElementsX" is read as $Elements, "$NOD" and "$ELM"
+    // as MSH 1 nodes and elements; found by tests/fuzz/fuzz_msh): only the exact headers, once each, get past.
+    auto starts = [&](const char* key) { return line.rfind(key, 0) == 0; };
+    const bool nodes_like = starts("$NO") || starts("$Nodes") || starts("$ParametricNodes");
+    const bool elements_like = starts("$ELM") || starts("$Elements");
+    if ((nodes_like && (line != "$Nodes" || have_nodes)) || (elements_like && (line != "$Elements" || have_elements)))
+      throw bad(fmt::format("the section header `{}` is not a single $Nodes or $Elements",
+                            line.substr(0, std::min<std::size_t>(line.size(), 40))));
+    if (line == "$Nodes") {
       have_nodes = true;
       long long blocks = 1, count = 0;
       read_line(ls, "$Nodes");
@@ -415,6 +424,7 @@ void prescan_msh(const std::filesystem::path& path) {
           }
       }
     } else if (line == "$Elements") {
+      have_elements = true;
       long long blocks = 1, count = 0;
       read_line(ls, "$Elements");
       if (v4 ? !(ls >> blocks >> count) : !(ls >> count)) throw bad("the $Elements header is not numbers");

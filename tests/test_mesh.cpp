@@ -318,6 +318,25 @@ TEST(MeshImport, OnlyAsciiMsh2And4AreRead) {
   std::filesystem::remove(path);
 }
 
+// gmsh takes a section by the start of its header (`$ElementsH2` is read as $Elements) and then crashes on the
+// unchecked elements (tests/fuzz/fuzz_msh): only exact, single $Nodes and $Elements headers get past rbdem.
+TEST(MeshImport, SectionHeadersMustBeExact) {
+  const auto path = std::filesystem::temp_directory_path() / "rbdem_test_headers.msh";
+  const std::string nodes = "$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n";
+  for (const std::string& body : {nodes + "$ElementsH2\n1\n1 2 2 0 1 1 2 5\n$EndElements\n",
+                                  std::string("$NOD\n1\n1 0 0 0\n$ENDNOD\n"),
+                                  nodes + nodes + "$Elements\n1\n1 2 2 0 1 1 2 3\n$EndElements\n"}) {
+    std::ofstream(path) << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n" << body;
+    try {
+      read_msh(path);
+      FAIL() << "read: " << body;
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find("section header"), std::string::npos) << e.what();
+    }
+  }
+  std::filesystem::remove(path);
+}
+
 TEST(MeshImport, NonMeshFileIsRefusedBeforeGmshReadsIt) {
   const auto path = std::filesystem::temp_directory_path() / "rbdem_test_script.msh";
   std::ofstream(path) << "Point(1) = {0, 0, 0, 1};\n";
