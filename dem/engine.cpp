@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include <fmt/format.h>
@@ -37,7 +38,8 @@ namespace {
 
 // One bond's forces from the kinematics of its two blocks: the parallel bond (total, co-rotated) and the linear
 // part (overlap of the compressed part of the edge, incremental shear at the bond centre). `fs` is the linear
-// part's shear history in and out; dt = 0 evaluates without advancing it.
+// part's shear history in and out; dt = 0 evaluates without advancing it. `keep` (1 - damage) scales the parallel
+// bond's forces in the slot; fnb, fsb and mb stay the undamaged (effective) forces the failure index reads.
 struct BondEval {
   double fnb, fsb, mb, fnl, fsl;  // forces in the co-rotated frame
   double inv_L;
@@ -46,7 +48,7 @@ struct BondEval {
 };
 
 inline void eval_bond(const BondFrame& f, const BlockState& bi, const BlockState& bj, const Engine::KindParams& kp,
-                      double dt, double fs, BondEval& out) {
+                      double dt, double fs, BondEval& out, double keep = 1.0) {
   // Material points of the bond on each block, and the co-rotated frame: the bisector of the two rotated normals,
   // R_i n0 + R_j n0 = 2 cos(dtheta / 2) R_mean n0 (normalised by a series while |dtheta| is small).
   const double rix = bi.cos_t * f.rix - bi.sin_t * f.riy, riy = bi.sin_t * f.rix + bi.cos_t * f.riy;
@@ -86,11 +88,11 @@ inline void eval_bond(const BondFrame& f, const BlockState& bi, const BlockState
   out.fsl = fs;
   out.inv_L = inv_L;
   const double flx = out.fnl * nx + fs * tx, fly = out.fnl * ny + fs * ty;
-  const double fx = out.fnb * nx + out.fsb * tx + flx, fy = out.fnb * ny + out.fsb * ty + fly;
+  const double fx = keep * (out.fnb * nx + out.fsb * tx) + flx, fy = keep * (out.fnb * ny + out.fsb * ty) + fly;
   const double lever = cross(eo.s_c * tx, eo.s_c * ty, flx, fly);  // the linear part acts at s_c along the edge
   out.slot.fx = fx, out.slot.fy = fy;
-  out.slot.mj = cross(cjx, cjy, fx, fy) + lever + out.mb;
-  out.slot.mi = -cross(cix, ciy, fx, fy) - lever - out.mb;
+  out.slot.mj = cross(cjx, cjy, fx, fy) + lever + keep * out.mb;
+  out.slot.mi = -cross(cix, ciy, fx, fy) - lever - keep * out.mb;
 }
 
 // Adds the slot of one CSR entry (2 bond + 1 if the block is the bond's j) to a block's force and moment. Without
@@ -104,10 +106,31 @@ inline void add_slot(int e, const BondSlot* slot, double& fx, double& fy, double
 
 // The parallel bond's failure test of contact_law.hpp (BondStrength::check) in force units, without divisions:
 // with A = L t and I = t L^3 / 12, sigma A = -F_n + beta_m |M| 6 / L and tau A = |F_s|.
-inline BreakMode bond_failure(const BondEval& ev, const BondStrength& st, double A) {
-  if (-ev.fnb + st.beta_m * std::abs(ev.mb) * 6.0 * ev.inv_L >= st.sigma_c * A) return BreakMode::tensile;
-  if (std::abs(ev.fsb) >= st.cohesion * A - std::min(-ev.fnb, st.sigma_c * A) * st.tan_phi) return BreakMode::shear;
+// With `scale` > 1 it tests the failure index against `scale` instead of 1 (softening bonds).
+inline BreakMode bond_failure(const BondEval& ev, const BondStrength& st, double A, double scale = 1.0) {
+  if (-ev.fnb + st.beta_m * std::abs(ev.mb) * 6.0 * ev.inv_L >= scale * (st.sigma_c * A)) return BreakMode::tensile;
+  if (std::abs(ev.fsb) >= scale * (st.cohesion * A - std::min(-ev.fnb, st.sigma_c * A) * st.tan_phi))
+    return BreakMode::shear;
   return BreakMode::none;
+}
+
+// The same test as a failure index for softening bonds (docs/model.md, "Softening bonds"): the larger of
+// sigma / sigma_c and tau / (c - sigma_n tan phi_b), both of the undamaged forces; 1 at the strength (infinite when
+// the shear limit is not positive, where the brittle test breaks too). `tensile` tells which is larger.
+inline double failure_index(const BondEval& ev, const BondStrength& st, double A, bool& tensile) {
+  const double ft = (-ev.fnb + st.beta_m * std::abs(ev.mb) * 6.0 * ev.inv_L) / (st.sigma_c * A);
+  const double limit = st.cohesion * A - std::min(-ev.fnb, st.sigma_c * A) * st.tan_phi;
+  const double fs = limit > 0.0 ? std::abs(ev.fsb) / limit : std::numeric_limits<double>::infinity();
+  tensile = ft >= fs;
+  return tensile ? ft : fs;
+}
+
+// Linear softening in the failure index r (the largest reached): the bond carries (1 - D) of its elastic forces,
+// falling linearly from the strength at r = 1 to zero at r = r_u. For r_u <= 1 the bond is brittle.
+inline double intact_fraction_of(double r, double r_u) {
+  if (r <= 1.0) return 1.0;
+  if (r >= r_u) return 0.0;
+  return (r_u - r) / (r * (r_u - 1.0));
 }
 
 }  // namespace
@@ -152,6 +175,8 @@ Engine::Engine(const Topology& topo, const Scene& scene, const EngineOptions& op
     kinds_[k].inertia_factor = 1.0 / kinds_[k].inertia_divisor;
     kinds_[k].strength = {mat[k]->tensile_strength, mat[k]->cohesion, std::tan(mat[k]->friction_deg * deg),
                           mat[k]->moment_factor};
+    const double sc = mat[k]->tensile_strength;
+    kinds_[k].softening = 2.0 * mat[k]->fracture_energy / (sc * sc * thickness_);
   }
 
   const auto& N = topo.bonds;
@@ -166,6 +191,7 @@ Engine::Engine(const Topology& topo, const Scene& scene, const EngineOptions& op
   }
   D.broken.assign(nbond, 0);
   D.fs_lin.assign(nbond, 0.0);
+  D.drive.assign(nbond, 0.0);
   D.slot.assign(nbond, BondSlot{0, 0, 0, 0});
 
   // CSR with the block's role encoded: entry = 2 bond + (block is j).
@@ -198,6 +224,7 @@ Engine::Engine(const Topology& topo, const Scene& scene, const EngineOptions& op
 
   const int nthreads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
   thread_breaks_.assign(std::size_t(std::max(nthreads, 1)), {});
+  thread_onsets_.assign(thread_breaks_.size(), 0);
   nthreads_ = int(thread_breaks_.size());
   rebuild_active();
   rebuild_ = true;
@@ -212,6 +239,14 @@ BondStiffness Engine::stiffness(int b) const {
           A, A * f.L * f.L / 12.0, f.L};
 }
 
+double Engine::intact_fraction(int b) const {
+  const KindParams& kp = kinds_[int(bonds.kind[std::size_t(b)])];
+  if (bonds.broken[std::size_t(b)]) return 0.0;
+  if (!(kp.softening > 0.0) || !(bonds.drive[std::size_t(b)] > 1.0)) return 1.0;
+  const BondFrame& f = bonds.frame[std::size_t(b)];
+  return intact_fraction_of(bonds.drive[std::size_t(b)], kp.softening * f.kA / f.L);
+}
+
 BondForces Engine::bond_forces(int b) const {
   BondForces out;
   if (bonds.broken[std::size_t(b)]) return out;
@@ -220,7 +255,8 @@ BondForces Engine::bond_forces(int b) const {
   BondEval ev;
   eval_bond(bonds.frame[k], blocks.state[std::size_t(bonds.i[k])], blocks.state[std::size_t(bonds.j[k])], kp, 0.0,
             bonds.fs_lin[k], ev);
-  out.fn_b = ev.fnb, out.fs_b = ev.fsb, out.m_b = ev.mb, out.fn_lin = ev.fnl, out.fs_lin = ev.fsl;
+  const double keep = intact_fraction(b);
+  out.fn_b = keep * ev.fnb, out.fs_b = keep * ev.fsb, out.m_b = keep * ev.mb, out.fn_lin = ev.fnl, out.fs_lin = ev.fsl;
   const double A = bonds.frame[k].L * thickness_;
   kp.strength.check(ev.fnb, ev.fsb, ev.mb, A, A * bonds.frame[k].L * bonds.frame[k].L / 12.0, 0.5 * bonds.frame[k].L,
                     out.sigma, out.tau);
@@ -231,11 +267,14 @@ void Engine::bonded_forces(std::vector<double>& fx, std::vector<double>& fy, std
   update_rotations();
   const BlockState* st = blocks.state.data();
   BondSlot* slot = bonds.slot.data();
-  for (int b : active_) {
-    const std::size_t k = std::size_t(b);
-    BondEval ev;
-    eval_bond(bonds.frame[k], st[bonds.i[k]], st[bonds.j[k]], kinds_[int(bonds.kind[k])], 0.0, bonds.fs_lin[k], ev);
-    slot[k] = ev.slot;
+  for (const auto* list : {&active_, &softened_}) {
+    for (int b : *list) {
+      const std::size_t k = std::size_t(b);
+      BondEval ev;
+      eval_bond(bonds.frame[k], st[bonds.i[k]], st[bonds.j[k]], kinds_[int(bonds.kind[k])], 0.0, bonds.fs_lin[k],
+                ev, intact_fraction(b));
+      slot[k] = ev.slot;
+    }
   }
   const std::size_t n = blocks.size();
   fx.resize(n), fy.resize(n), moment.resize(n);
@@ -261,9 +300,9 @@ void Engine::refresh() {
 }
 
 void Engine::rebuild_active() {
-  active_.clear();
+  active_.clear(), softened_.clear();
   for (std::size_t b = 0; b < bonds.i.size(); ++b)
-    if (!bonds.broken[b]) active_.push_back(int(b));
+    if (!bonds.broken[b]) (bonds.drive[b] > 0.0 ? softened_ : active_).push_back(int(b));
 }
 
 bool Engine::bonded(int i, int j) const {
@@ -355,38 +394,64 @@ void Engine::step() {
 
 // Stage: every intact bond computes its parallel bond and linear part and writes one slot. Pure per-bond work.
 void Engine::compute_bond_forces() {
+  for (auto& v : thread_breaks_) v.clear();
+  std::fill(thread_onsets_.begin(), thread_onsets_.end(), 0);
+#pragma omp parallel num_threads(threads())
+  {
+    const std::size_t me = std::size_t(omp_get_thread_num());
+    bond_loop<false>(active_, thread_breaks_[me], thread_onsets_[me]);
+    bond_loop<true>(softened_, thread_breaks_[me], thread_onsets_[me]);
+  }
+}
+
+// One list of intact bonds, inside the parallel region of compute_bond_forces. Undamaged bonds (`Softened` false)
+// run the brittle kernel: when the failure test holds, a brittle bond breaks and a softening bond starts to soften
+// (its drive set, `onsets` counted so that it moves to the softened list). Softened bonds (docs/model.md,
+// "Softening bonds") carry the fraction of their forces set by the largest failure index reached up to the
+// previous step, and break at r_u.
+template <bool Softened>
+void Engine::bond_loop(const std::vector<int>& list, std::vector<Crack>& breaks, int& onsets) {
   const BondFrame* frame = bonds.frame.data();
   const int* bi = bonds.i.data();
   const int* bj = bonds.j.data();
   const BondKind* kind = bonds.kind.data();
   double* fs_lin = bonds.fs_lin.data();
+  double* drive = bonds.drive.data();
   BondSlot* slot = bonds.slot.data();
   const BlockState* st = blocks.state.data();
-  const int* active = active_.data();
+  const int* active = list.data();
   const double t = thickness_, dt = dt_;
-  const int n = int(active_.size());
+  const int n = int(list.size());
   const bool breakage = breakage_;
-  for (auto& v : thread_breaks_) v.clear();
-#pragma omp parallel num_threads(threads())
-  {
-    auto& breaks = thread_breaks_[std::size_t(omp_get_thread_num())];
-#pragma omp for schedule(static)
-    for (int k = 0; k < n; ++k) {
-      const int b = active[k];
-      const KindParams& kp = kinds_[int(kind[b])];
-      BondEval ev;
+#pragma omp for schedule(static) nowait
+  for (int k = 0; k < n; ++k) {
+    const int b = active[k];
+    const KindParams& kp = kinds_[int(kind[b])];
+    BondEval ev;
+    if constexpr (Softened)
+      eval_bond(frame[b], st[bi[b]], st[bj[b]], kp, dt, fs_lin[b], ev,
+                intact_fraction_of(drive[b], kp.softening * frame[b].kA / frame[b].L));
+    else
       eval_bond(frame[b], st[bi[b]], st[bj[b]], kp, dt, fs_lin[b], ev);
-      fs_lin[b] = ev.fsl;
-      slot[b] = ev.slot;
-      if (!breakage) continue;
-      const double L = frame[b].L, A = L * t;
-      const BreakMode mode = bond_failure(ev, kp.strength, A);
-      if (mode != BreakMode::none) {
-        Crack c;
-        kp.strength.check(ev.fnb, ev.fsb, ev.mb, A, A * L * L / 12.0, 0.5 * L, c.sigma, c.tau);
-        c.mode = mode, c.bond = b, c.kind = kind[b], c.x = ev.px, c.y = ev.py;
-        breaks.push_back(c);
-      }
+    fs_lin[b] = ev.fsl;
+    slot[b] = ev.slot;
+    if (!breakage) continue;
+    const double L = frame[b].L, A = L * t;
+    // A softened bond tests against its largest index so far; only past it does it compute the index (divisions).
+    BreakMode mode = bond_failure(ev, kp.strength, A, Softened ? drive[b] : 1.0);
+    if (mode != BreakMode::none && kp.softening > 0.0) {
+      bool tensile = false;
+      const double r = std::max({drive[b], 1.0, failure_index(ev, kp.strength, A, tensile)});
+      if (!Softened) ++onsets;
+      drive[b] = r;
+      mode = r >= std::max(kp.softening * frame[b].kA / L, 1.0) ? (tensile ? BreakMode::tensile : BreakMode::shear)
+                                                                 : BreakMode::none;
+    }
+    if (mode != BreakMode::none) {
+      Crack c;
+      kp.strength.check(ev.fnb, ev.fsb, ev.mb, A, A * L * L / 12.0, 0.5 * L, c.sigma, c.tau);
+      c.mode = mode, c.bond = b, c.kind = kind[b], c.x = ev.px, c.y = ev.py;
+      breaks.push_back(c);
     }
   }
 }
@@ -395,7 +460,11 @@ void Engine::compute_bond_forces() {
 void Engine::process_breaks() {
   std::size_t count = 0;
   for (const auto& v : thread_breaks_) count += v.size();
-  if (count == 0) return;
+  if (count == 0) {
+    // Bonds that started to soften this step move to the softened list.
+    if (std::any_of(thread_onsets_.begin(), thread_onsets_.end(), [](int k) { return k > 0; })) rebuild_active();
+    return;
+  }
   std::vector<Crack> events;
   events.reserve(count);
   for (const auto& v : thread_breaks_) events.insert(events.end(), v.begin(), v.end());
@@ -687,6 +756,7 @@ Engine::Snapshot Engine::snapshot() const {
   Snapshot s;
   s.state = blocks.state, s.fx = blocks.fx, s.fy = blocks.fy, s.moment = blocks.moment;
   s.free_face = blocks.free_face, s.broken = bonds.broken, s.fs_lin = bonds.fs_lin, s.slot = bonds.slot;
+  s.drive = bonds.drive;
   s.contacts = contacts, s.cracks = cracks_;
   s.dt = dt_, s.time = time_, s.platen_velocity = options_.platen_velocity, s.strain_for_log = strain_for_log;
   s.steps = steps_, s.breakage = breakage_, s.rebuild = rebuild_;
@@ -703,7 +773,7 @@ void Engine::restore(const Snapshot& s) {
   const std::size_t nc = C.key.size();
   const bool fits = s.state.size() == nb && s.fx.size() == nb && s.fy.size() == nb && s.moment.size() == nb &&
                     s.free_face.size() == nb && s.top_fs.size() == nb && s.bottom_fs.size() == nb &&
-                    s.broken.size() == nd && s.fs_lin.size() == nd && s.slot.size() == nd && C.i.size() == nc &&
+                    s.broken.size() == nd && s.fs_lin.size() == nd && s.drive.size() == nd && s.slot.size() == nd && C.i.size() == nc &&
                     C.j.size() == nc && C.bond.size() == nc && C.law.size() == nc && C.fs.size() == nc &&
                     C.fn.size() == nc && C.chord.size() == nc && s.ref_x.size() == s.eligible.size() &&
                     s.ref_y.size() == s.eligible.size();
@@ -720,6 +790,7 @@ void Engine::restore(const Snapshot& s) {
     throw std::invalid_argument("the checkpoint refers to blocks or bonds this model does not have");
   blocks.state = s.state, blocks.fx = s.fx, blocks.fy = s.fy, blocks.moment = s.moment;
   blocks.free_face = s.free_face, bonds.broken = s.broken, bonds.fs_lin = s.fs_lin, bonds.slot = s.slot;
+  bonds.drive = s.drive;
   contacts = s.contacts, cracks_ = s.cracks;
   dt_ = s.dt, time_ = s.time, options_.platen_velocity = s.platen_velocity, strain_for_log = s.strain_for_log;
   steps_ = s.steps, breakage_ = s.breakage, rebuild_ = s.rebuild;
@@ -744,7 +815,10 @@ Energies Engine::energies() const {
     if (bonds.broken[b]) continue;
     const BondForces f = bond_forces(int(b));
     const BondStiffness k = stiffness(int(b));
-    e.strain += 0.5 * (f.fn_b * f.fn_b / k.kbnA + f.fs_b * f.fs_b / k.kbsA + f.m_b * f.m_b / k.kbnI +
+    // A damaged bond stores keep k delta^2 / 2 = f^2 / (2 keep k) in its parallel part (f = keep k delta).
+    const double keep = intact_fraction(int(b));
+    const double inv_keep = keep > 0.0 ? 1.0 / keep : 0.0;
+    e.strain += 0.5 * ((f.fn_b * f.fn_b / k.kbnA + f.fs_b * f.fs_b / k.kbsA + f.m_b * f.m_b / k.kbnI) * inv_keep +
                        f.fn_lin * f.fn_lin / k.knA + f.fs_lin * f.fs_lin / k.ksA);
   }
   const double t = thickness_;

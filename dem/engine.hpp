@@ -142,6 +142,8 @@ class Engine {
     std::vector<BondKind> kind;
     std::vector<std::uint8_t> broken;
     std::vector<double> fs_lin;                  // linear part shear force (history), N
+    std::vector<double> drive;                   // softening bonds: 0 below the strength, then the largest
+                                                 // failure index reached (1 = strength)
     std::vector<BondSlot> slot;
     std::size_t size() const { return i.size(); }
   } bonds;
@@ -183,7 +185,7 @@ class Engine {
   double time() const { return time_; }
   long steps() const { return steps_; }
   const std::vector<Crack>& cracks() const { return cracks_; }
-  std::size_t intact_bonds() const { return active_.size(); }
+  std::size_t intact_bonds() const { return active_.size() + softened_.size(); }
   std::size_t active_contacts() const;
   Energies energies() const;
   double specimen_height() const { return height_; }
@@ -215,7 +217,7 @@ class Engine {
     std::vector<BlockState> state;
     std::vector<double> fx, fy, moment;
     std::vector<std::uint8_t> free_face, broken;
-    std::vector<double> fs_lin;
+    std::vector<double> fs_lin, drive;
     std::vector<BondSlot> slot;
     ContactPairs contacts;
     std::vector<Crack> cracks;
@@ -238,11 +240,18 @@ class Engine {
     double inertia_divisor = 12.0;       // I = t L^3 / inertia_divisor (12; dem/fault_injection.hpp)
     double inertia_factor = 1.0 / 12.0;  // its inverse, for the per-step kernel
     BondStrength strength;
+    // Softening (docs/model.md, "Softening bonds"): a bond of edge L and stiffness kA breaks at failure index
+    // r_u = softening kA / L, with softening = 2 G_f / (sigma_c^2 t); 0 = brittle (r_u = 1).
+    double softening = 0;
   };
+  // The fraction of its elastic forces that bond b still carries (1 - damage; 1 for brittle bonds).
+  double intact_fraction(int b) const;
 
  private:
   void update_rotations();
   void compute_bond_forces();
+  template <bool Softened>
+  void bond_loop(const std::vector<int>& list, std::vector<Crack>& breaks, int& onsets);
   void process_breaks();
   void broad_phase();
   void contact_forces();
@@ -268,9 +277,11 @@ class Engine {
   bool breakage_ = true;
 
   std::array<KindParams, 2> kinds_;
-  std::vector<int> active_;                  // intact bonds
+  std::vector<int> active_;                  // intact bonds that have not started to soften
+  std::vector<int> softened_;                // intact softening bonds past their strength (drive > 0)
   std::vector<int> csr_offset_, csr_entry_;  // per block: 2 * bond + (1 if block is j)
   std::vector<std::vector<Crack>> thread_breaks_;  // one list per thread the run may use
+  std::vector<int> thread_onsets_;                 // bonds that started to soften, per thread
   int nthreads_ = 1;                               // the most threads the run may use
 
   // contact accumulators (serial stages)

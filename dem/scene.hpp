@@ -44,6 +44,7 @@ struct MaterialParams {
   double friction_deg = 0;       // deg, parallel bond friction angle phi_b (shear strength)
   double contact_friction = 0;   // -, Coulomb coefficient mu of the linear part and later contacts
   double moment_factor = 1.0;    // -, beta_m, moment contribution to the bond's tensile stress
+  double fracture_energy = 0;    // J/m^2, G_f of a softening bond (docs/model.md, "Softening bonds"); 0 = brittle
   bool slip_when_bonded = false; // linear part may slide while its parallel bond is intact (PFC's LPB)
 };
 

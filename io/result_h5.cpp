@@ -667,7 +667,7 @@ std::optional<std::vector<std::uint64_t>> h5_dataset_shape(const std::filesystem
 
 namespace {
 
-constexpr int checkpoint_version = 1;
+constexpr int checkpoint_version = 2;  // 2: softening bonds (engine/drive)
 
 void write_curve(const Writer& w, hid_t loc, const std::string& name, const std::vector<CurvePoint>& curve) {
   const Id g = w.group(loc, name);
@@ -772,6 +772,7 @@ void write_checkpoint_file(const std::string& tmp, const UcsCheckpoint& c) {
     w.dataset(g, "free_face", as_int32(e.free_face));
     w.dataset(g, "broken", as_int32(e.broken));
     w.dataset(g, "fs_lin", e.fs_lin);
+    w.dataset(g, "drive", e.drive);
     write_rows(w, g, "slot", e.slot);
     w.dataset(g, "eligible", e.eligible);
     w.dataset(g, "top_candidates", e.top_candidates);
@@ -853,6 +854,7 @@ UcsCheckpoint read_checkpoint_file(const std::string& path) {
     for (int v : rd.dataset<std::int32_t>(g, "free_face")) e.free_face.push_back(std::uint8_t(v));
     for (int v : rd.dataset<std::int32_t>(g, "broken")) e.broken.push_back(std::uint8_t(v));
     e.fs_lin = rd.dataset<double>(g, "fs_lin");
+    e.drive = rd.dataset<double>(g, "drive");
     e.slot = read_rows<BondSlot>(rd, g, "slot");
     e.eligible = rd.dataset<std::int32_t>(g, "eligible");
     e.top_candidates = rd.dataset<std::int32_t>(g, "top_candidates");

@@ -133,6 +133,8 @@ TEST(HardCases, GranularPileWithEveryBondBroken) {
   // loose blocks, held only by contacts.
   scene.rock.tensile_strength = scene.rock.cohesion = scene.joint.tensile_strength = scene.joint.cohesion = 1e-6;
   scene.rock.friction_deg = scene.joint.friction_deg = 0.0;  // compression does not strengthen them either
+  // Brittle: a softening bond must still dissipate its fracture energy, over an opening of 2 G_f / sigma_c.
+  scene.rock.fracture_energy = scene.joint.fracture_energy = 0.0;
   scene.loading.max_strain = 0.01;
   const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
   const UcsResult r = run_ucs(scene, topo);

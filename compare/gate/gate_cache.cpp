@@ -30,7 +30,8 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 bool elastically_irrelevant(const std::string& key) {
   if (key == "joint_set.dip_deg" || key == "rock.density") return true;
   if (starts_with(key, "loading.") || starts_with(key, "numerics.") || starts_with(key, "output.")) return true;
-  for (const char* strength : {".tensile_strength", ".cohesion", ".friction_deg", ".moment_factor"})
+  for (const char* strength : {".tensile_strength", ".cohesion", ".friction_deg", ".moment_factor",
+                               ".fracture_energy"})
     if ((starts_with(key, "rock.") || starts_with(key, "joint.")) && ends_with(key, strength)) return true;
   return false;
 }
