@@ -111,52 +111,14 @@ TEST(Engine, CompressedBondBreaksWithoutForceJumpInTheLinearPart) {
   EXPECT_NEAR(e.contacts.fn[0] / fn_bond, 1.0, 0.01);
 }
 
-// A softening bond (docs/model.md, "Softening bonds") pulled open, or slid, quasi-statically: block 1 is moved
-// along the bond's frame in small increments and the bond force integrated over the displacement. Returns the
-// energy the bond dissipated until it broke, per unit bond area, and the peak stress it carried.
-struct SofteningPull {
-  double energy_per_area = 0, peak_stress = 0, break_opening = 0;
-  bool broke = false;
-};
-SofteningPull pull_softening_bond(double a, double fracture_energy, bool shear) {
-  Scene scene = elastic_scene();
-  // c = sigma_c as in the paper scene (with c / tan(phi_b) < sigma_c, tension would end in shear at c / tan(phi_b)).
-  scene.rock.tensile_strength = 7.5e6, scene.rock.cohesion = 7.5e6, scene.rock.friction_deg = 40.0;
-  scene.rock.fracture_energy = fracture_energy;
-  const Topology topo = build_topology(rhombus(a, 0.8 * a), 1.0, 2700.0);
-  Engine e(topo, scene, free_blocks(scene));
-  e.blocks.fixed[0] = e.blocks.fixed[1] = 1;
-  e.refresh();
-  e.set_dt(1e-12);
-  const BondFrame& f = e.bonds.frame[0];
-  const double ux = shear ? -f.n0y : f.n0x, uy = shear ? f.n0x : f.n0y;  // normal or tangent
-  const double A = f.L * 1.0;
-  const int j = e.bonds.j[0];
-  // Elastic limit of the displacement: sigma_c d / E* (normal) or c kappa d / E* (shear); go 400 times as far.
-  const double step = 0.005 * (shear ? 7.5e6 * 1.5 : 7.5e6) * topo.bonds.d[0] / scene.rock.effective_modulus;
-  SofteningPull out;
-  double previous = 0, moved = 0;
-  for (int k = 0; k < 80000 && !out.broke; ++k) {
-    e.blocks.state[std::size_t(j)].x += step * ux, e.blocks.state[std::size_t(j)].y += step * uy;
-    moved += step;
-    e.step();
-    out.broke = e.bonds.broken[0] != 0;
-    const BondForces bf = e.bond_forces(0);
-    const double force = shear ? std::abs(bf.fs_b) : -bf.fn_b;  // resisting force, positive
-    out.energy_per_area += 0.5 * (previous + force) * step / A;
-    out.peak_stress = std::max(out.peak_stress, force / A);
-    previous = force;
-    if (out.broke) out.break_opening = moved;
-  }
-  return out;
-}
+using verify::softening_pull;
 
 // Pulled open, the bond reaches sigma_c, then softens linearly and breaks at 2 G_f / sigma_c, having dissipated
 // G_f per unit area, on a small block and on one twice as large (the energy must not follow the block size).
 TEST(SofteningBond, DissipatesItsFractureEnergyInTensionWhateverTheBlockSize) {
   const double gf = 0.5;  // J/m^2; the brittle bond of the larger block stores sigma_c^2 d / (2 E*) = 0.1 J/m^2
   for (double a : {0.5e-3, 1e-3}) {
-    const SofteningPull p = pull_softening_bond(a, gf, false);
+    const verify::SofteningPullMeasure p = softening_pull(a, gf, false);
     ASSERT_TRUE(p.broke) << "a = " << a;
     EXPECT_NEAR(p.peak_stress / 7.5e6, 1.0, 0.01) << "a = " << a;
     EXPECT_NEAR(p.energy_per_area / gf, 1.0, 0.01) << "a = " << a;
@@ -168,7 +130,7 @@ TEST(SofteningBond, DissipatesItsFractureEnergyInTensionWhateverTheBlockSize) {
 // in the slip, so it dissipates G_f kappa (c / sigma_c)^2 per unit area (docs/model.md).
 TEST(SofteningBond, DissipatesKappaCOverSigmaSquaredTimesGfInShear) {
   const double gf = 0.5;
-  const SofteningPull p = pull_softening_bond(1e-3, gf, true);
+  const verify::SofteningPullMeasure p = softening_pull(1e-3, gf, true);
   ASSERT_TRUE(p.broke);
   EXPECT_NEAR(p.peak_stress / 7.5e6, 1.0, 0.01);
   EXPECT_NEAR(p.energy_per_area / (gf * 1.5 * 1.0 * 1.0), 1.0, 0.01);  // kappa = 1.5, c = sigma_c
@@ -178,8 +140,8 @@ TEST(SofteningBond, DissipatesKappaCOverSigmaSquaredTimesGfInShear) {
 // brittle bond, and releases sigma_c^2 d / (2 E*).
 TEST(SofteningBond, TooSmallAFractureEnergyBreaksAsABrittleBond) {
   const double a = 1e-3;
-  const SofteningPull p = pull_softening_bond(a, 0.01, false);
-  const SofteningPull brittle = pull_softening_bond(a, 0.0, false);
+  const verify::SofteningPullMeasure p = softening_pull(a, 0.01, false);
+  const verify::SofteningPullMeasure brittle = softening_pull(a, 0.0, false);
   ASSERT_TRUE(p.broke && brittle.broke);
   EXPECT_EQ(p.break_opening, brittle.break_opening);
   const double d = 2.0 * 0.8 * a / 3.0, stored = 7.5e6 * 7.5e6 * d / (2.0 * 160e9);

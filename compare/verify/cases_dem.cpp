@@ -109,6 +109,33 @@ CaseResult impact_energy(const Context&) {
   return r;
 }
 
+CaseResult softening_energy(const Context&) {
+  CaseResult r;
+  r.checks = "energy a softening bond dissipates until it breaks, per unit area, pulled open on two block sizes";
+  r.reference = "G_f (docs/model.md, \"Softening bonds\"): the fracture energy, whatever the block size";
+  r.unit = "J/m^2";
+  const double gf = 0.5;
+  double worst = -1;
+  long steps = 0;
+  for (const double a : {0.5e-3, 1e-3}) {
+    const SofteningPullMeasure m = softening_pull(a, gf, false);
+    if (!m.broke) throw std::runtime_error("the softening bond did not break");
+    r.table.push_back({{"edge_half_length_m", a}, {"energy_per_area", m.energy_per_area},
+                       {"peak_stress_pa", m.peak_stress}, {"break_opening_m", m.break_opening}});
+    const double err = std::abs(m.energy_per_area / gf - 1.0);
+    if (err > worst) worst = err, r.measured = m.energy_per_area;
+    steps += m.steps;
+  }
+  r.reference_value = gf;
+  r.error = worst;
+  r.error_definition = "max |energy / G_f - 1| over both block sizes";
+  // Trapezoidal integration over 1/200 of the elastic limit per step, with the break inside the last step.
+  r.tolerance = 0.01;
+  r.tolerance_source = "trapezoidal rule over steps of 1/200 of the elastic opening, the break within one step";
+  r.cost = fmt::format("2 blocks, {} steps", steps);
+  return r;
+}
+
 // Least-squares slope of stress over strain for the curve points with strain >= from.
 double slope(const std::vector<CurvePoint>& curve, double from) {
   std::vector<double> x, y;
@@ -228,6 +255,41 @@ ImpactMeasure frictionless_impact(double angle_deg) {
   return m;
 }
 
+SofteningPullMeasure softening_pull(double a, double fracture_energy, bool shear) {
+  Scene scene = elastic_scene();
+  scene.rock.effective_modulus = 160e9, scene.rock.stiffness_ratio = 1.5;
+  scene.rock.tensile_strength = 7.5e6, scene.rock.cohesion = 7.5e6, scene.rock.friction_deg = 40.0;
+  scene.rock.fracture_energy = fracture_energy;
+  const Topology topo = build_topology(rhombus(a, 0.8 * a), 1.0, 2700.0);
+  Engine e(topo, scene, free_blocks(scene));
+  e.blocks.fixed[0] = e.blocks.fixed[1] = 1;
+  e.refresh();
+  e.set_dt(1e-12);
+  const BondFrame& f = e.bonds.frame[0];
+  const double ux = shear ? -f.n0y : f.n0x, uy = shear ? f.n0x : f.n0y;  // normal or tangent
+  const double A = f.L * 1.0;
+  const std::size_t j = std::size_t(e.bonds.j[0]);
+  // Elastic limit of the displacement: sigma_c d / E* (normal) or c kappa d / E* (shear).
+  const double limit = (shear ? 7.5e6 * 1.5 : 7.5e6) * topo.bonds.d[0] / scene.rock.effective_modulus;
+  const double step = limit / 200.0;
+  SofteningPullMeasure m;
+  double previous = 0, moved = 0;
+  for (int k = 0; k < 400000 && !m.broke; ++k) {
+    e.blocks.state[j].x += step * ux, e.blocks.state[j].y += step * uy;
+    moved += step;
+    e.step();
+    m.broke = e.bonds.broken[0] != 0;
+    const BondForces bf = e.bond_forces(0);
+    const double force = shear ? std::abs(bf.fs_b) : -bf.fn_b;  // resisting force, positive
+    m.energy_per_area += 0.5 * (previous + force) * step / A;
+    m.peak_stress = std::max(m.peak_stress, force / A);
+    previous = force;
+    if (m.broke) m.break_opening = moved;
+  }
+  m.steps = e.steps();
+  return m;
+}
+
 SlopeMeasure static_and_explicit_moduli(double beta_deg, bool slip_when_bonded) {
   Scene scene = elastic_scene();
   scene.numerics.damping = Scene{}.numerics.damping;
@@ -251,7 +313,8 @@ SlopeMeasure static_and_explicit_moduli(double beta_deg, bool slip_when_bonded) 
 std::vector<CaseSpec> dem_cases() {
   return {make_case("dem.objectivity", true, objectivity), make_case("dem.bond_moment_stiffness", true, bond_moment),
           make_case("dem.pair_frequency", true, pair_frequency), make_case("dem.impact_energy", true, impact_energy),
-          make_case("dem.static_vs_explicit", true, static_vs_explicit)};
+          make_case("dem.static_vs_explicit", true, static_vs_explicit),
+          make_case("dem.softening_energy", true, softening_energy)};
 }
 
 }  // namespace rbdem::verify

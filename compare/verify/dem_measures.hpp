@@ -35,6 +35,19 @@ struct ImpactMeasure {
 };
 ImpactMeasure frictionless_impact(double angle_deg);
 
+// A softening bond (docs/model.md, "Softening bonds") of the rhombus verify::rhombus(a, 0.8 a), sigma_c = c =
+// 7.5 MPa, phi_b = 40 deg, E* = 160 GPa, kappa = 1.5, pulled open (or slid, `shear`) quasi-statically: block 1 is
+// moved along the bond's normal (tangent) in steps of 1/200 of the elastic limit, and the bond force integrated
+// over the displacement until the bond breaks.
+struct SofteningPullMeasure {
+  double energy_per_area = 0;  // J/m^2 dissipated until the break
+  double peak_stress = 0;      // Pa, the largest traction carried
+  double break_opening = 0;    // m, displacement at the break
+  bool broke = false;
+  long steps = 0;
+};
+SofteningPullMeasure softening_pull(double a, double fracture_energy, bool shear);
+
 // The static solve and an explicit UCS run from rest (no elastic start, unbreakable bonds, 4 mm mesh, 2e-4
 // strain) of the paper specimen at dip beta; the explicit modulus is the slope over 30-100 % of the strain.
 struct SlopeMeasure {
