@@ -19,8 +19,8 @@ const rbdem::Topology& default_topology() {
   return topo;
 }
 
-void BM_EngineStep(benchmark::State& state) {
-  rbdem::Scene scene;
+// One engine step of `scene` on the default specimen, at state.range(0) threads.
+void engine_steps(benchmark::State& state, rbdem::Scene scene) {
   scene.numerics.threads = int(state.range(0));
   const auto& topo = default_topology();
   rbdem::Engine engine(topo, scene, rbdem::EngineOptions::from_scene(scene));
@@ -34,22 +34,15 @@ void BM_EngineStep(benchmark::State& state) {
       benchmark::Counter(bond_steps, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["bond_steps_per_s"] = benchmark::Counter(bond_steps, benchmark::Counter::kIsRate);
 }
+
+void BM_EngineStep(benchmark::State& state) { engine_steps(state, rbdem::Scene{}); }
 BENCHMARK(BM_EngineStep)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 
-// The same with the seed paper's brittle bonds (fracture_energy = 0: the kernel without the softening branch).
+// The same with the seed paper's brittle bonds (fracture_energy = 0: no bond ever enters the softened list).
 void BM_EngineStepBrittle(benchmark::State& state) {
   rbdem::Scene scene;
   scene.rock.fracture_energy = scene.joint.fracture_energy = 0.0;
-  scene.numerics.threads = int(state.range(0));
-  const auto& topo = default_topology();
-  rbdem::Engine engine(topo, scene, rbdem::EngineOptions::from_scene(scene));
-  engine.set_dt(0.5 * rbdem::stability_limit(engine));
-  engine.run(200);
-  const long steps = 500;
-  for (auto _ : state) engine.run(steps);
-  const double bond_steps = double(topo.bonds.size()) * double(steps) * double(state.iterations());
-  state.counters["ns_per_bond_step"] =
-      benchmark::Counter(bond_steps, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  engine_steps(state, scene);
 }
 BENCHMARK(BM_EngineStepBrittle)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 

@@ -105,25 +105,35 @@ inline void add_slot(int e, const BondSlot* slot, double& fx, double& fy, double
 }
 
 // The parallel bond's failure test of contact_law.hpp (BondStrength::check) in force units, without divisions:
-// with A = L t and I = t L^3 / 12, sigma A = -F_n + beta_m |M| 6 / L and tau A = |F_s|.
-// With `scale` > 1 it tests the failure index against `scale` instead of 1 (softening bonds).
-inline BreakMode bond_failure(const BondEval& ev, const BondStrength& st, double A, double scale = 1.0) {
-  if (-ev.fnb + st.beta_m * std::abs(ev.mb) * 6.0 * ev.inv_L >= scale * (st.sigma_c * A)) return BreakMode::tensile;
-  if (std::abs(ev.fsb) >= scale * (st.cohesion * A - std::min(-ev.fnb, st.sigma_c * A) * st.tan_phi))
-    return BreakMode::shear;
+// with A = L t and I = t L^3 / 12, sigma A = -F_n + beta_m |M| 6 / L and tau A = |F_s|, against the limits
+// sigma_c A and (c - min(sigma_n, sigma_c) tan phi_b) A. One evaluation serves the test and the failure index.
+struct BondLoad {
+  double tension, tension_limit, shear, shear_limit;  // N
+};
+inline BondLoad bond_load(const BondEval& ev, const BondStrength& st, double A) {
+  return {-ev.fnb + st.beta_m * std::abs(ev.mb) * 6.0 * ev.inv_L, st.sigma_c * A, std::abs(ev.fsb),
+          st.cohesion * A - std::min(-ev.fnb, st.sigma_c * A) * st.tan_phi};
+}
+
+// Fails when the failure index reaches `scale` (1: the strength; a softened bond's largest index so far).
+inline BreakMode bond_failure(const BondLoad& q, double scale = 1.0) {
+  if (q.tension >= scale * q.tension_limit) return BreakMode::tensile;
+  if (q.shear >= scale * q.shear_limit) return BreakMode::shear;
   return BreakMode::none;
 }
 
 // The same test as a failure index for softening bonds (docs/model.md, "Softening bonds"): the larger of
 // sigma / sigma_c and tau / (c - sigma_n tan phi_b), both of the undamaged forces; 1 at the strength (infinite when
 // the shear limit is not positive, where the brittle test breaks too). `tensile` tells which is larger.
-inline double failure_index(const BondEval& ev, const BondStrength& st, double A, bool& tensile) {
-  const double ft = (-ev.fnb + st.beta_m * std::abs(ev.mb) * 6.0 * ev.inv_L) / (st.sigma_c * A);
-  const double limit = st.cohesion * A - std::min(-ev.fnb, st.sigma_c * A) * st.tan_phi;
-  const double fs = limit > 0.0 ? std::abs(ev.fsb) / limit : std::numeric_limits<double>::infinity();
+inline double failure_index(const BondLoad& q, bool& tensile) {
+  const double ft = q.tension / q.tension_limit;
+  const double fs = q.shear_limit > 0.0 ? q.shear / q.shear_limit : std::numeric_limits<double>::infinity();
   tensile = ft >= fs;
   return tensile ? ft : fs;
 }
+
+// The failure index at which a softening bond of kind kp breaks: r_u = 2 G_f E* / (sigma_c^2 d) = softening kA / L.
+inline double rupture_index(const Engine::KindParams& kp, const BondFrame& f) { return kp.softening * f.kA / f.L; }
 
 // Linear softening in the failure index r (the largest reached): the bond carries (1 - D) of its elastic forces,
 // falling linearly from the strength at r = 1 to zero at r = r_u. For r_u <= 1 the bond is brittle.
@@ -244,7 +254,7 @@ double Engine::intact_fraction(int b) const {
   if (bonds.broken[std::size_t(b)]) return 0.0;
   if (!(kp.softening > 0.0) || !(bonds.drive[std::size_t(b)] > 1.0)) return 1.0;
   const BondFrame& f = bonds.frame[std::size_t(b)];
-  return intact_fraction_of(bonds.drive[std::size_t(b)], kp.softening * f.kA / f.L);
+  return intact_fraction_of(bonds.drive[std::size_t(b)], rupture_index(kp, f));
 }
 
 BondForces Engine::bond_forces(int b) const {
@@ -430,7 +440,7 @@ void Engine::bond_loop(const std::vector<int>& list, std::vector<Crack>& breaks,
     BondEval ev;
     if constexpr (Softened)
       eval_bond(frame[b], st[bi[b]], st[bj[b]], kp, dt, fs_lin[b], ev,
-                intact_fraction_of(drive[b], kp.softening * frame[b].kA / frame[b].L));
+                intact_fraction_of(drive[b], rupture_index(kp, frame[b])));
     else
       eval_bond(frame[b], st[bi[b]], st[bj[b]], kp, dt, fs_lin[b], ev);
     fs_lin[b] = ev.fsl;
@@ -438,14 +448,15 @@ void Engine::bond_loop(const std::vector<int>& list, std::vector<Crack>& breaks,
     if (!breakage) continue;
     const double L = frame[b].L, A = L * t;
     // A softened bond tests against its largest index so far; only past it does it compute the index (divisions).
-    BreakMode mode = bond_failure(ev, kp.strength, A, Softened ? drive[b] : 1.0);
+    const BondLoad q = bond_load(ev, kp.strength, A);
+    BreakMode mode = bond_failure(q, Softened ? drive[b] : 1.0);
     if (mode != BreakMode::none && kp.softening > 0.0) {
       bool tensile = false;
-      const double r = std::max({drive[b], 1.0, failure_index(ev, kp.strength, A, tensile)});
+      const double r = std::max({drive[b], 1.0, failure_index(q, tensile)});
       if (!Softened) ++onsets;
       drive[b] = r;
-      mode = r >= std::max(kp.softening * frame[b].kA / L, 1.0) ? (tensile ? BreakMode::tensile : BreakMode::shear)
-                                                                 : BreakMode::none;
+      mode = r >= std::max(rupture_index(kp, frame[b]), 1.0) ? (tensile ? BreakMode::tensile : BreakMode::shear)
+                                                              : BreakMode::none;
     }
     if (mode != BreakMode::none) {
       Crack c;
@@ -773,8 +784,8 @@ void Engine::restore(const Snapshot& s) {
   const std::size_t nc = C.key.size();
   const bool fits = s.state.size() == nb && s.fx.size() == nb && s.fy.size() == nb && s.moment.size() == nb &&
                     s.free_face.size() == nb && s.top_fs.size() == nb && s.bottom_fs.size() == nb &&
-                    s.broken.size() == nd && s.fs_lin.size() == nd && s.drive.size() == nd && s.slot.size() == nd && C.i.size() == nc &&
-                    C.j.size() == nc && C.bond.size() == nc && C.law.size() == nc && C.fs.size() == nc &&
+                    s.broken.size() == nd && s.fs_lin.size() == nd && s.drive.size() == nd && s.slot.size() == nd &&
+                    C.i.size() == nc && C.j.size() == nc && C.bond.size() == nc && C.law.size() == nc && C.fs.size() == nc &&
                     C.fn.size() == nc && C.chord.size() == nc && s.ref_x.size() == s.eligible.size() &&
                     s.ref_y.size() == s.eligible.size();
   if (!fits)

@@ -3,8 +3,8 @@
 //
 // Cache key: a hash of every scene key that can change the elastic response, i.e. every key except
 // joint_set.dip_deg (the gate runs every dip), the bond strengths (tensile_strength, cohesion, friction_deg,
-// moment_factor, fracture_energy), rock.density (statics see no mass), loading.* (the gate uses frictionless platens; the rest are
-// stop criteria and speed), numerics.* (time integration) and output.*. Keys added to the scene later are in the
+// moment_factor, fracture_energy), rock.density (statics see no mass), loading.* (the gate uses frictionless
+// platens; the rest are stop criteria and speed), numerics.* (time integration) and output.*. Keys added to the scene later are in the
 // key until listed here, so a stale verdict is never reused. A user mesh (mesh.file) enters with its contents.
 // The key also holds a gate version string (gate_cache.cpp), bumped when the measurement changes; a change of
 // the DEM code itself does not invalidate old verdicts: clear the cache folder after one.
