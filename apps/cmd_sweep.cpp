@@ -21,7 +21,7 @@
 #include "apps/cli_common.hpp"
 #include "apps/commands.hpp"
 #include "compare/gate/gate_cache.hpp"
-#include "compare/theory/elasticity.hpp"
+#include "theory/elasticity.hpp"
 #include "io/results.hpp"
 #include "study/report.hpp"
 #include "study/study.hpp"
@@ -106,7 +106,7 @@ int run_study(study::StudySpec spec, const std::filesystem::path& out, int worke
     fmt::print("sweep {}: {} cases ({} dips{}) into {}{}\n", spec.name, cases.size(), spec.dips.size(),
                spec.axes.empty() ? "" : fmt::format(" x {} variations", cases.size() / spec.dips.size()), out.string(),
                mpi.size > 1 ? fmt::format(" over {} MPI ranks", mpi.size) : "");
-  study::RunOptions ro;
+  study::SweepOptions ro;
   ro.workers = workers > 0 ? workers : (mpi.size > 1 ? 1 : 0);
   ro.progress = tty;
   ro.cancel = &interrupted;

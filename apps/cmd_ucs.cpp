@@ -23,7 +23,7 @@
 #include "compare/gate/gate_cache.hpp"
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
-#include "dem/ucs.hpp"
+#include "dem/driver/ucs.hpp"
 #include "io/checkpoint.hpp"
 #include "io/results.hpp"
 
@@ -55,7 +55,7 @@ int run_ucs_command(const UcsCommandOptions& opt) {
   const fs::path ckpt_file = out / "checkpoint.h5";
   // Before anything runs: the output folder must take files, and a resume needs its checkpoint.
   io::require_writable_dir(out);
-  UcsCheckpoint resume_from;
+  TestCheckpoint resume_from;
   if (opt.resume) {
     if (!fs::exists(ckpt_file))
       throw std::invalid_argument(fmt::format("--resume: there is no checkpoint {} to continue from{}; run without "
@@ -73,26 +73,26 @@ int run_ucs_command(const UcsCommandOptions& opt) {
   const Topology topo = build_topology(mesh, scene.specimen.thickness, scene.rock.density);
   fmt::print("ucs: {} blocks, {} bonds ({} joint), beta = {} deg\n", topo.blocks.size(), topo.bonds.size(),
              topo.count(BondKind::joint), scene.joint_set.dip_deg);
-  UcsOptions uo;
+  RunOptions uo;
   const bool tty = isatty(fileno(stderr));
   if (tty && !opt.scene.quiet)
-    uo.progress = [](const UcsProgress& p) {
+    uo.progress = [](const RunProgress& p) {
       fmt::print(stderr, "\r  step {:>8}  strain {:.3e}  stress {:7.2f} MPa  peak {:7.2f} MPa  cracks {:>6}", p.step,
                  p.strain, p.stress / 1e6, p.peak / 1e6, p.cracks);
     };
-  uo.checkpoint = [&](const UcsCheckpoint& c) { io::write_checkpoint(ckpt_file, c); };
+  uo.checkpoint = [&](const TestCheckpoint& c) { io::write_checkpoint(ckpt_file, c); };
   uo.cancel = &interrupted;
   uo.interrupt_at_step = opt.interrupt_at_step;
   uo.allow_supercritical_dt = opt.allow_supercritical_dt;
   if (opt.resume) {
     uo.resume = &resume_from;
     fmt::print("ucs: resuming from {} at step {} (strain {:.4e})\n", ckpt_file.string(), resume_from.engine.steps,
-               resume_from.partial.curve.empty() ? 0.0 : resume_from.partial.curve.back().strain);
+               resume_from.record.curve.empty() ? 0.0 : resume_from.record.curve.back().strain);
   }
   interrupted.store(false);
   auto old_int = std::signal(SIGINT, on_signal);
   auto old_term = std::signal(SIGTERM, on_signal);
-  UcsResult r;
+  TestResult r;
   try {
     r = run_ucs(scene, topo, uo);
   } catch (const RunCancelled& c) {
@@ -110,7 +110,7 @@ int run_ucs_command(const UcsCommandOptions& opt) {
   }
   std::signal(SIGINT, old_int), std::signal(SIGTERM, old_term);
   if (tty && !opt.scene.quiet) fmt::print(stderr, "\n");
-  io::write_ucs(out, scene, mesh, topo, r);
+  io::write_run(out, scene, mesh, topo, r);
   if (!r.completed) {
     fmt::print(stderr, "rbdem: run failed: {}\n", r.watchdog_message);
     fmt::print(stderr, "rbdem: wrote {}/summary.json with \"completed\": false (results up to the last sound state); "

@@ -42,7 +42,7 @@ void run_case(const CaseSetup& c, const std::vector<double>& implicit_rtols) {
   fmt::print("\n## case {}: E_rock / E_joint = {:g}, initial field {}, {} blocks, {} bonds, stability limit {:.4g} s, "
              "t_end = {:g} x limit = {:.4g} s\n",
              c.name, sp.joint_contrast, sp.field == InitialField::smooth ? "smooth" : "layer_rigid",
-             p.engine->blocks.size(), p.engine->bonds.size(), p.stability_limit, c.periods, t_end);
+             p.engine->model().num_blocks(), p.engine->model().num_bonds(), p.stability_limit, c.periods, t_end);
 
   const IntegrationResult ref = integrate_explicit(*e, p.y0, t_end, tol(c.ref_rtol));
   const IntegrationResult check = integrate_explicit(*e, p.y0, t_end, tol(100.0 * c.ref_rtol));

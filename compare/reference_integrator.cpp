@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <string>
 #include <time.h>
+#include <type_traits>
 
 #include <arkode/arkode_arkstep.h>
 #include <arkode/arkode_erkstep.h>
@@ -76,36 +77,41 @@ struct BlockOde {
   std::vector<int> order;
   std::vector<double> fx, fy, m;
 
-  BlockOde(Engine& e, std::vector<int> o) : engine(e), order(std::move(o)) {}
+  double top0;  // m, the top platen's position at t = 0
 
-  void load(const double* y) {
-    auto& st = engine.blocks.state;
-    for (std::size_t s = 0; s < order.size(); ++s) {
-      BlockState& b = st[std::size_t(order[s])];
-      const double* q = y + 6 * s;
-      b.x = q[0], b.y = q[1], b.theta = q[2], b.vx = q[3], b.vy = q[4], b.omega = q[5];
-    }
+  BlockOde(Engine& e, std::vector<int> o) : engine(e), order(std::move(o)), top0(e.top_y()) {}
+
+  // Loads the state vector (ODE order) into the engine and puts the top platen where it is at time t.
+  void load(double t, const double* y) {
+    engine.edit([&](ModelState& st) {
+      for (std::size_t s = 0; s < order.size(); ++s) {
+        const std::size_t b = std::size_t(order[s]);
+        const double* q = y + 6 * s;
+        st.x[b] = q[0], st.y[b] = q[1], st.theta[b] = q[2], st.vx[b] = q[3], st.vy[b] = q[4], st.omega[b] = q[5];
+      }
+    });
+    engine.set_top_platen(top0 - engine.state().platen_velocity * t);
   }
 
-  void eval(const double* y, double* ydot) {
-    load(y);
-    engine.bonded_forces(fx, fy, m);
-    const auto& B = engine.blocks;
+  void eval(double t, const double* y, double* ydot) {
+    load(t, y);
+    engine.evaluate_forces(fx, fy, m);
+    const Model& M = engine.model();
     for (std::size_t s = 0; s < order.size(); ++s) {
       const std::size_t b = std::size_t(order[s]);
       const double* q = y + 6 * s;
       double* d = ydot + 6 * s;
-      if (B.fixed[b]) {
+      if (M.fixed[b]) {
         std::fill(d, d + 6, 0.0);
         continue;
       }
       d[0] = q[3], d[1] = q[4], d[2] = q[5];
-      d[3] = fx[b] / B.mass[b], d[4] = fy[b] / B.mass[b], d[5] = m[b] / B.inertia[b];
+      d[3] = fx[b] / M.mass[b], d[4] = fy[b] / M.mass[b], d[5] = m[b] / M.inertia[b];
     }
   }
 
-  static int rhs(sunrealtype, N_Vector y, N_Vector ydot, void* user) {
-    static_cast<BlockOde*>(user)->eval(N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
+  static int rhs(sunrealtype t, N_Vector y, N_Vector ydot, void* user) {
+    static_cast<BlockOde*>(user)->eval(double(t), N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
     return 0;
   }
 
@@ -134,42 +140,55 @@ void set_tolerances(Sundials& s, const BlockStateVector& y0, const Tolerances& t
 
 }  // namespace
 
+// The reference integrators' state vector holds the kinematic fields of ModelState's field table (dem/state.hpp), in
+// table order, block by block.
 BlockStateVector get_state(const Engine& engine) {
-  BlockStateVector y(6 * engine.blocks.size());
-  for (std::size_t b = 0; b < engine.blocks.size(); ++b) {
-    const BlockState& s = engine.blocks.state[b];
-    double* q = y.data() + 6 * b;
-    q[0] = s.x, q[1] = s.y, q[2] = s.theta, q[3] = s.vx, q[4] = s.vy, q[5] = s.omega;
-  }
+  const std::size_t n = engine.model().num_blocks();
+  BlockStateVector y(6 * n);
+  int k = 0;
+  engine.state().fields([&](const char*, const auto& field, Extent, bool kinematic) {
+    if constexpr (std::is_same_v<std::decay_t<decltype(field)>, std::vector<double>>) {
+      if (!kinematic) return;
+      for (std::size_t b = 0; b < n; ++b) y[6 * b + std::size_t(k)] = field[b];
+      ++k;
+    }
+  });
   return y;
 }
 
 void set_state(Engine& engine, const BlockStateVector& y) {
-  if (y.size() != 6 * engine.blocks.size())
+  const std::size_t n = engine.model().num_blocks();
+  if (y.size() != 6 * n)
     throw std::invalid_argument("set_state: the state vector has " + std::to_string(y.size()) + " entries, the engine " +
-                                std::to_string(engine.blocks.size()) + " blocks (6 entries each)");
-  for (std::size_t b = 0; b < engine.blocks.size(); ++b) {
-    BlockState& s = engine.blocks.state[b];
-    const double* q = y.data() + 6 * b;
-    s.x = q[0], s.y = q[1], s.theta = q[2], s.vx = q[3], s.vy = q[4], s.omega = q[5];
-  }
-  engine.refresh();
+                                std::to_string(n) + " blocks (6 entries each)");
+  engine.edit([&](ModelState& s) {
+    int k = 0;
+    s.fields([&](const char*, auto& field, Extent, bool kinematic) {
+      if constexpr (std::is_same_v<std::decay_t<decltype(field)>, std::vector<double>>) {
+        if (!kinematic) return;
+        for (std::size_t b = 0; b < n; ++b) field[b] = y[6 * b + std::size_t(k)];
+        ++k;
+      }
+    });
+  });
 }
 
 void check_reference_scope(const Engine& engine, double damping) {
   if (damping != 0.0)
     throw std::invalid_argument("reference integrator: the equations of motion are undamped; set numerics.damping = 0");
-  if (engine.has_platens())
-    throw std::invalid_argument("reference integrator: platens are outside its scope; build the engine with "
-                                "EngineOptions::platens = false (fix blocks with blocks.fixed instead)");
-  if (engine.has_contacts())
-    throw std::invalid_argument("reference integrator: block-block contacts are outside its scope; build the engine "
-                                "with EngineOptions::contacts = false");
-  for (std::size_t b = 0; b < engine.bonds.size(); ++b) {
-    const BondStiffness k = engine.stiffness(int(b));
-    if (!(k.mu == 0.0 && k.slip_bonded))
-      throw std::invalid_argument("reference integrator: the linear part's incremental shear carries history; set "
-                                  "contact_friction = 0 and slip_when_bonded = true for rock and joint");
+  if (engine.state().breakage)
+    throw std::invalid_argument("reference integrator: a bond breaking is an event the ODE does not model; call "
+                                "engine.set_breakage(false)");
+  if (engine.has_platens() && engine.platen_friction() != 0.0)
+    throw std::invalid_argument("reference integrator: frictional platens carry a shear history; set "
+                                "loading.platen_friction = 0");
+  const Model& M = engine.model();
+  for (int k = 0; k < 2; ++k) {
+    const BondKindLaw& law = M.law[std::size_t(k)];
+    if (!(law.mu == 0.0 && law.slip_bonded))
+      throw std::invalid_argument("reference integrator: the linear part's and the contacts' incremental shear "
+                                  "carries history; set contact_friction = 0 and slip_when_bonded = true for rock "
+                                  "and joint");
   }
 }
 
@@ -184,7 +203,7 @@ IntegrationResult integrate_explicit(Engine& engine, const BlockStateVector& y0,
                                      ExplicitTable table) {
   const auto start = Clock::now();
   const double cpu_start = thread_cpu_seconds();
-  BlockOde ode(engine, identity_order(engine.blocks.size()));
+  BlockOde ode(engine, identity_order(engine.model().num_blocks()));
   Sundials s(sunindextype(y0.size()));
   set_tolerances(s, y0, tol, ode);
   s.erk = true;
@@ -215,21 +234,22 @@ IntegrationResult integrate_implicit(Engine& engine, const BlockStateVector& y0,
                                      const ImplicitOptions& options) {
   const auto start = Clock::now();
   const double cpu_start = thread_cpu_seconds();
-  const std::size_t nb = engine.blocks.size();
+  const std::size_t nb = engine.model().num_blocks();
   std::vector<int> order = identity_order(nb);
   sunindextype half_band = 0;
   if (options.solver == LinearSolver::band) {
     // Number the blocks along the longer side: bonded blocks then sit close in the numbering.
     const bool along_x = engine.specimen_width() >= engine.specimen_height();
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-      const BlockState &sa = engine.blocks.state[std::size_t(a)], &sb = engine.blocks.state[std::size_t(b)];
-      return along_x ? sa.x < sb.x : sa.y < sb.y;
+      const ModelState& st = engine.state();
+      return along_x ? st.x[std::size_t(a)] < st.x[std::size_t(b)] : st.y[std::size_t(a)] < st.y[std::size_t(b)];
     });
     std::vector<int> slot(nb);
     for (std::size_t s = 0; s < nb; ++s) slot[std::size_t(order[s])] = int(s);
     int width = 0;
-    for (std::size_t b = 0; b < engine.bonds.size(); ++b)
-      width = std::max(width, std::abs(slot[std::size_t(engine.bonds.i[b])] - slot[std::size_t(engine.bonds.j[b])]));
+    const Model& M = engine.model();
+    for (std::size_t b = 0; b < M.num_bonds(); ++b)
+      width = std::max(width, std::abs(slot[std::size_t(M.bi[b])] - slot[std::size_t(M.bj[b])]));
     half_band = 6 * width + 5;  // every entry of block s couples to every entry of blocks s +- width
   }
   BlockOde ode(engine, std::move(order));
@@ -277,16 +297,17 @@ IntegrationResult central_difference(Engine& engine, const BlockStateVector& y0,
   const auto start = Clock::now();
   const double cpu_start = thread_cpu_seconds();
   std::vector<double> fx, fy, m;
+  const Model& M = engine.model();
   auto half_kick = [&](double sign) {
-    engine.bonded_forces(fx, fy, m);
-    auto& B = engine.blocks;
-    for (std::size_t b = 0; b < B.size(); ++b) {
-      if (B.fixed[b]) continue;
-      BlockState& s = B.state[b];
-      s.vx += sign * 0.5 * dt * fx[b] / B.mass[b];
-      s.vy += sign * 0.5 * dt * fy[b] / B.mass[b];
-      s.omega += sign * 0.5 * dt * m[b] / B.inertia[b];
-    }
+    engine.evaluate_forces(fx, fy, m);
+    engine.edit([&](ModelState& s) {
+      for (std::size_t b = 0; b < M.num_blocks(); ++b) {
+        if (M.fixed[b]) continue;
+        s.vx[b] += sign * 0.5 * dt * fx[b] / M.mass[b];
+        s.vy[b] += sign * 0.5 * dt * fy[b] / M.mass[b];
+        s.omega[b] += sign * 0.5 * dt * m[b] / M.inertia[b];
+      }
+    });
   };
   set_state(engine, y0);
   half_kick(-1.0);  // v(-dt/2): the leapfrog's staggered start
@@ -305,8 +326,8 @@ IntegrationResult central_difference(Engine& engine, const BlockStateVector& y0,
 StateError state_error(const Engine& engine, const BlockStateVector& y, const BlockStateVector& ref,
                        const BlockStateVector& y0) {
   double dq = 0, uq = 0, dv = 0, vv = 0;
-  for (std::size_t b = 0; b < engine.blocks.size(); ++b) {
-    const double r = engine.blocks.radius[b];
+  for (std::size_t b = 0; b < engine.model().num_blocks(); ++b) {
+    const double r = engine.model().radius[b];
     const double* a = y.data() + 6 * b;
     const double* e = ref.data() + 6 * b;
     const double* o = y0.data() + 6 * b;
@@ -322,25 +343,34 @@ StateError state_error(const Engine& engine, const BlockStateVector& y, const Bl
 
 std::unique_ptr<Engine> ReferenceProblem::make_engine() const {
   EngineOptions o = EngineOptions::from_scene(scene);
-  o.platens = false;
-  o.contacts = false;
+  o.platens = specimen.platens;
+  o.contacts = specimen.platens || specimen.break_joints;
+  o.platen_velocity = specimen.platen_velocity;
+  o.platen_friction = 0.0;
   o.threads = 1;
   auto e = std::make_unique<Engine>(*topology, scene, o);
   e->set_breakage(false);
   const auto& bd = topology->boundary;
   for (std::size_t k = 0; k < bd.size(); ++k)
-    if (bd.side[k] == Side::bottom) e->blocks.fixed[std::size_t(bd.block[k])] = 1;
+    if (bd.side[k] == Side::bottom) e->fix_block(bd.block[k]);
+  if (specimen.break_joints)
+    for (std::size_t b = 0; b < topology->bonds.size(); ++b)
+      if (topology->bonds.kind[b] == BondKind::joint) e->break_bond(int(b));
+  // The top platen starts where the initial field has moved the top of the specimen, so that it touches it.
+  if (specimen.platens) e->set_top_platen(topology->ymax - specimen.strain * topology->height());
   check_reference_scope(*e, o.damping);
   return e;
 }
 
 ReferenceProblem make_reference_problem(const ReferenceSpecimen& sp) {
   ReferenceProblem p;
+  p.specimen = sp;
   Scene& s = p.scene;
   s.specimen.width = sp.width, s.specimen.height = sp.height;
   s.joint_set.dip_deg = sp.dip_deg, s.joint_set.spacing = sp.spacing;
   s.mesh.size = sp.mesh_size;
   s.numerics.damping = 0.0;
+  s.loading.platen_friction = 0.0;
   s.joint.effective_modulus = s.rock.effective_modulus / sp.joint_contrast;
   for (MaterialParams* m : {static_cast<MaterialParams*>(&s.rock), &s.joint}) {
     m->contact_friction = 0.0;
@@ -352,19 +382,20 @@ ReferenceProblem make_reference_problem(const ReferenceSpecimen& sp) {
 
   const Engine& e = *p.engine;
   const Topology& topo = *p.topology;
+  const Model& M = e.model();
   const double ymin = topo.ymin, H = topo.height();
   // Mean height of each layer's blocks (layer_rigid).
   const int layers = 1 + *std::max_element(topo.blocks.layer.begin(), topo.blocks.layer.end());
   std::vector<double> ysum(std::size_t(layers), 0.0), count(std::size_t(layers), 0.0);
   std::vector<std::uint8_t> clamped(std::size_t(layers), 0);  // layers with a fixed block stay at rest
-  for (std::size_t b = 0; b < e.blocks.size(); ++b) {
+  for (std::size_t b = 0; b < M.num_blocks(); ++b) {
     const std::size_t l = std::size_t(topo.blocks.layer[b]);
     ysum[l] += topo.blocks.cy[b], count[l] += 1.0;
-    if (e.blocks.fixed[b]) clamped[l] = 1;
+    if (M.fixed[b]) clamped[l] = 1;
   }
   p.y0 = get_state(e);
-  for (std::size_t b = 0; b < e.blocks.size(); ++b) {
-    if (e.blocks.fixed[b]) continue;
+  for (std::size_t b = 0; b < M.num_blocks(); ++b) {
+    if (M.fixed[b]) continue;
     double* q = p.y0.data() + 6 * b;
     const double y = topo.blocks.cy[b] - ymin;
     if (sp.field == InitialField::smooth) {

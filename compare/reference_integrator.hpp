@@ -3,8 +3,9 @@
 //
 // The undamped equations of motion of the engine's rigid blocks, a first-order system with six unknowns per block,
 //     d/dt (x, y, theta)   = (vx, vy, omega)                              m, rad, m/s, rad/s
-//     d/dt (vx, vy, omega) = (F_x / m, F_y / m, M / I)                    F from Engine::bonded_forces
-// use the engine's own bond law and force gather for the right-hand side. Three integrators:
+//     d/dt (vx, vy, omega) = (F_x / m, F_y / m, M / I)                    F from Engine::evaluate_forces
+// use the engine's own force evaluation for the right-hand side: the same stages as a step (bonds, block-block
+// contacts, platens, external loads), without advancing any history. Three integrators:
 //   integrate_explicit   ERKStep, adaptive explicit Runge-Kutta (Fehlberg 13-stage order 8 by default) at tight
 //                        tolerance: the reference solution.
 //   integrate_implicit   ARKStep with a diagonally implicit Runge-Kutta table, Newton iterations, a dense or banded
@@ -13,9 +14,11 @@
 //                        kick v(-dt/2) = v(0) - dt/2 a(x(0)) and closed with v(T) = v(T - dt/2) + dt/2 a(x(T)), which
 //                        makes it velocity Verlet: positions and velocities of all three are taken at the same time.
 //
-// Scope (check_reference_scope throws otherwise): damping 0, no platens, no block-block contacts, and the linear part
-// of every bond without shear history (contact_friction 0 with slip_when_bonded, which clamps that shear to zero);
-// call engine.set_breakage(false) so nothing breaks. Blocks with blocks.fixed set stay where they are.
+// Scope (check_reference_scope throws otherwise): damping 0, breakage off (engine.set_breakage(false): a break is an
+// event, not part of the ODE), and no shear history anywhere: frictionless platens, and contact_friction 0 with
+// slip_when_bonded for rock and joint, which clamps the shear of every linear part and contact to zero. Platens
+// (the top one moving at its velocity: the right-hand side depends on t) and block-block contacts, including those
+// of broken bonds, are inside the scope. Fixed blocks (Engine::fix_block) stay where they are.
 #pragma once
 
 #include <array>
@@ -111,11 +114,15 @@ struct ReferenceSpecimen {
   InitialField field = InitialField::smooth;
   double strain = 1e-5;                // -, amplitude of the initial displacement
   double velocity = 0.02;              // m/s, amplitude of the initial velocity
+  bool platens = false;                // frictionless platens; the top one starts on the displaced specimen top
+  double platen_velocity = 0.0;        // m/s, closing speed of the top platen
+  bool break_joints = false;           // every joint bond broken: the layers meet through clipped contacts
 };
 
 // The scene, topology, an engine in the reference scope (bottom row of blocks fixed, damping 0, breakage off, one
 // thread) and the initial state. Joint modulus = rock modulus / joint_contrast, both history-free in shear.
 struct ReferenceProblem {
+  ReferenceSpecimen specimen;
   Scene scene;
   std::unique_ptr<Topology> topology;  // the engine keeps a reference to it
   std::unique_ptr<Engine> engine;

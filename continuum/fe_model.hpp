@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "compare/theory/elasticity.hpp"
-#include "dem/trimesh.hpp"
+#include "theory/elasticity.hpp"
+#include "mesh/trimesh.hpp"
 
 namespace rbdem::continuum {
 

@@ -33,7 +33,7 @@
 
 #include <cstddef>
 
-#include "compare/theory/elasticity.hpp"
+#include "theory/elasticity.hpp"
 
 namespace rbdem::continuum {
 

@@ -118,14 +118,6 @@ TriMesh collect_triangles(const std::vector<std::vector<int>>& layer_entities, s
 
 }  // namespace
 
-double signed_area(const TriMesh& mesh, std::size_t t) {
-  const auto& tri = mesh.triangles[t];
-  const auto& a = mesh.nodes[tri[0]];
-  const auto& b = mesh.nodes[tri[1]];
-  const auto& c = mesh.nodes[tri[2]];
-  return 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
-}
-
 SpecimenGeometry SpecimenGeometry::from_scene(const Scene& scene) {
   SpecimenGeometry g;
   g.width = scene.specimen.width;

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "dem/scene.hpp"
-#include "dem/trimesh.hpp"
+#include "mesh/trimesh.hpp"
 
 namespace rbdem {
 

@@ -27,14 +27,14 @@ struct BondRows {
 // Linearised kinematics of bond b at the reference configuration (the engine's bond kernel, linearised):
 // delta = u_j + theta_j z x r_j - u_i - theta_i z x r_i, with r the lever arms to the edge midpoint.
 BondRows bond_rows(const Engine& e, std::size_t b) {
-  const auto& D = e.bonds;
-  const int i = D.i[b], j = D.j[b];
-  const BondFrame& f = D.frame[b];
+  const Model& M = e.model();
+  const int i = M.bi[b], j = M.bj[b];
+  const BondFrames& f = M.frame;
   BondRows r{{3 * i, 3 * i + 1, 3 * i + 2, 3 * j, 3 * j + 1, 3 * j + 2}, {}, {}, {}};
-  const double nx = f.n0x, ny = f.n0y, tx = -ny, ty = nx;
+  const double nx = f.n0x[b], ny = f.n0y[b], tx = -ny, ty = nx;
   // z x r = (-r_y, r_x)
-  const double dx[6] = {-1, 0, f.riy, 1, 0, -f.rjy};
-  const double dy[6] = {0, -1, -f.rix, 0, 1, f.rjx};
+  const double dx[6] = {-1, 0, f.riy[b], 1, 0, -f.rjy[b]};
+  const double dy[6] = {0, -1, -f.rix[b], 0, 1, f.rjx[b]};
   for (int k = 0; k < 6; ++k) {
     r.an[k] = nx * dx[k] + ny * dy[k];
     r.as[k] = tx * dx[k] + ty * dy[k];
@@ -59,7 +59,7 @@ std::vector<PlatenRow> platen_rows(const Engine& e) {
   for (std::size_t k = 0; k < E.size(); ++k) {
     if (E.side[k] != Side::top && E.side[k] != Side::bottom) continue;
     const int b = E.block[k];
-    rows.push_back({b, E.side[k] == Side::top, e.platen_stiffness(b) * e.thickness() * E.length[k],
+    rows.push_back({b, E.side[k] == Side::top, e.model().platen_kn[std::size_t(b)] * e.thickness() * E.length[k],
                     E.mx[k] - topo.blocks.cx[b], E.my[k] - topo.blocks.cy[b]});
   }
   return rows;
@@ -74,8 +74,8 @@ std::vector<PlatenRow> platen_rows(const Engine& e) {
 class Stiffness {
  public:
   Stiffness(const Engine& e, const std::vector<PlatenRow>& platens, double pin) : e_(e), platens_(platens), pin_(pin) {
-    const auto& D = e.bonds;
-    const std::size_t nbond = D.size();
+    const auto& broken = e.state().broken;
+    const std::size_t nbond = e.model().num_bonds();
     rows_.resize(nbond);
     k_.resize(nbond);
     std::vector<Eigen::Triplet<double>> T;
@@ -83,7 +83,7 @@ class Stiffness {
     for (std::size_t b = 0; b < nbond; ++b) {
       rows_[b] = bond_rows(e, b);
       k_[b] = e.stiffness(int(b));
-      if (D.broken[b]) continue;
+      if (broken[b]) continue;
       for (int p = 0; p < 6; ++p)
         for (int q = 0; q < 6; ++q) T.emplace_back(rows_[b].dof[p], rows_[b].dof[q], 1.0);
     }
@@ -91,13 +91,13 @@ class Stiffness {
       for (int p = 0; p < 3; ++p)
         for (int q = 0; q < 3; ++q) T.emplace_back(3 * pr.block + p, 3 * pr.block + q, 1.0);
     T.emplace_back(0, 0, 1.0);
-    const long n = long(3 * e.blocks.size());
+    const long n = long(3 * e.model().num_blocks());
     pattern_.resize(n, n);
     pattern_.setFromTriplets(T.begin(), T.end());
     pattern_.makeCompressed();
     slots_.assign(nbond * 36, -1);
     for (std::size_t b = 0; b < nbond; ++b) {
-      if (D.broken[b]) continue;
+      if (broken[b]) continue;
       for (int p = 0; p < 6; ++p)
         for (int q = 0; q < 6; ++q) slots_[36 * b + 6 * p + q] = slot(rows_[b].dof[p], rows_[b].dof[q]);
     }
@@ -119,9 +119,10 @@ class Stiffness {
     sym = pattern_;
     double* v = sym.valuePtr();
     std::fill(v, v + sym.nonZeros(), 0.0);
-    const auto& D = e_.bonds;
-    for (std::size_t b = 0; b < D.size(); ++b) {
-      if (D.broken[b]) continue;
+    const auto& broken = e_.state().broken;
+    const std::size_t nbond = broken.size();
+    for (std::size_t b = 0; b < nbond; ++b) {
+      if (broken[b]) continue;
       const BondRows& r = rows_[b];
       const BondStiffness& k = k_[b];
       const std::uint8_t st = state[b];
@@ -137,7 +138,7 @@ class Stiffness {
       const PlatenRow& p = platens_[m];
       const double ay[3] = {0.0, 1.0, p.rx};    // u_y at the contact point
       const double ax[3] = {1.0, 0.0, -p.ry};   // u_x at the contact point (sticking platens)
-      const double ks = sticky ? p.k / e_.kappa(BondKind::rock) : 0.0;
+      const double ks = sticky ? p.k / e_.model().law[0].kappa : 0.0;
       for (int a = 0; a < 3; ++a)
         for (int c = 0; c < 3; ++c) v[platen_slots_[9 * m + 3 * a + c]] += p.k * ay[a] * ay[c] + ks * ax[a] * ax[c];
     }
@@ -145,9 +146,9 @@ class Stiffness {
     if (!full) return;
     *full = sym;
     double* w = full->valuePtr();
-    for (std::size_t b = 0; b < D.size(); ++b) {
+    for (std::size_t b = 0; b < nbond; ++b) {
       const std::uint8_t st = state[b];
-      if (D.broken[b] || (st != StaticResult::slip_positive && st != StaticResult::slip_negative)) continue;
+      if (broken[b] || (st != StaticResult::slip_positive && st != StaticResult::slip_negative)) continue;
       // sliding: F_s = sign(delta_s) mu k_n A delta_n
       const double c = -(st == StaticResult::slip_positive ? 1.0 : -1.0) * k_[b].mu * k_[b].knA;
       const BondRows& r = rows_[b];
@@ -195,8 +196,9 @@ class FactorPreconditioner {
 
 StaticResult solve_static(const Engine& e, const StaticOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
-  const auto& D = e.bonds;
-  const std::size_t nb = e.blocks.size(), nbond = D.size();
+  const Model& M = e.model();
+  const auto& broken = e.state().broken;
+  const std::size_t nb = M.num_blocks(), nbond = M.num_bonds();
   const double delta = options.platen_displacement;
   const auto platens = platen_rows(e);
   if (platens.empty())
@@ -267,7 +269,7 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
     if (options.linear_parts_always_closed) break;
     std::size_t changed = 0;
     for (std::size_t b = 0; b < nbond; ++b) {
-      if (D.broken[b]) continue;
+      if (broken[b]) continue;
       const BondRows& row = stiffness.rows(b);
       double dn = 0, ds = 0;
       for (int k = 0; k < 6; ++k) dn += row.an[k] * u[row.dof[k]], ds += row.as[k] * u[row.dof[k]];
@@ -283,7 +285,7 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
     if (changed <= settled) break;
   }
   for (std::size_t b = 0; b < nbond; ++b) {
-    if (D.broken[b]) continue;
+    if (broken[b]) continue;
     if (r.linear_state[b] == StaticResult::open) ++r.open_bonds;
     else if (r.linear_state[b] != StaticResult::stick) ++r.sliding_bonds;
   }
@@ -298,7 +300,7 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
     if (e.platen_friction() > 0.0) {  // sticking platen: shear along t = perp(n), n = +-y into the platen
       const double uxp = u[3 * p.block] - p.ry * u[3 * p.block + 2];
       const double tx = p.top ? -1.0 : 1.0;
-      r.platen_fs[p.block] += -(p.k / e.kappa(BondKind::rock)) * uxp * tx;
+      r.platen_fs[p.block] += -(p.k / M.law[0].kappa) * uxp * tx;
     }
   }
   const double H = e.specimen_height(), W = e.specimen_width(), t = e.thickness();
@@ -308,7 +310,7 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
   r.fn_b.resize(nbond), r.fs_b.resize(nbond), r.m_b.resize(nbond), r.fs_lin.assign(nbond, 0.0);
   r.first_break_factor = std::numeric_limits<double>::infinity();
   for (std::size_t b = 0; b < nbond; ++b) {
-    if (D.broken[b]) continue;
+    if (broken[b]) continue;
     const BondRows row = bond_rows(e, b);
     double dn = 0, ds = 0, dr = 0;
     for (int k = 0; k < 6; ++k) dn += row.an[k] * u[row.dof[k]], ds += row.as[k] * u[row.dof[k]], dr += row.ar[k] * u[row.dof[k]];
@@ -318,21 +320,9 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
     const std::uint8_t ls = r.linear_state[b];
     if (ls == StaticResult::stick) r.fs_lin[b] = -k.ksA * ds;
     else if (ls != StaticResult::open) r.fs_lin[b] = (ls == StaticResult::slip_positive ? -1.0 : 1.0) * k.mu * (-k.knA * dn);
-    const BondStrength& st = e.strength(D.kind[b]);
-    const double A = k.A, I = k.I, R = 0.5 * k.L;
-    const double sn = -fn / A, sigma = sn + st.beta_m * std::abs(m) * R / I, tau = std::abs(fs) / A;
-    double lam = std::numeric_limits<double>::infinity();
-    if (sigma > 0) lam = std::min(lam, st.sigma_c / sigma);
-    // shear: lam tau = c - min(lam sn, sigma_c) tan(phi)
-    const double den = tau + sn * st.tan_phi;
-    if (den > 0) {
-      const double l1 = st.cohesion / den;
-      if (l1 * sn <= st.sigma_c) lam = std::min(lam, l1);
-    }
-    if (tau > 0 && st.cohesion - st.sigma_c * st.tan_phi > 0) {
-      const double l2 = (st.cohesion - st.sigma_c * st.tan_phi) / tau;
-      if (l2 * sn > st.sigma_c) lam = std::min(lam, l2);
-    }
+    // The parallel bond's own strength test (dem/laws/parallel_bond.hpp), solved for the load factor.
+    const BondStrength& st = M.law[int(M.kind[b])].bond.strength;
+    const double lam = st.first_break_factor(fn, fs, m, k.A, k.I, 0.5 * k.L);
     if (lam < r.first_break_factor) r.first_break_factor = lam, r.first_break_bond = int(b);
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -341,32 +331,36 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
 
 void apply_static_state(Engine& e, const StaticResult& st, double factor, double velocity) {
   const double rate = velocity / st.platen_displacement;  // displacement per second per unit of the static field
-  for (std::size_t b = 0; b < e.blocks.size(); ++b) {
-    BlockState& s = e.blocks.state[b];
-    s.x = e.blocks.x0[b] + factor * st.ux[b];
-    s.y = e.blocks.y0[b] + factor * st.uy[b];
-    s.theta = factor * st.rotation[b];
-    s.vx = rate * st.ux[b], s.vy = rate * st.uy[b], s.omega = rate * st.rotation[b];
-  }
-  for (std::size_t b = 0; b < e.bonds.size(); ++b) e.bonds.fs_lin[b] = factor * st.fs_lin[b];
-  for (std::size_t b = 0; b < e.blocks.size(); ++b)
-    if (st.platen_fs[b] != 0.0) e.set_platen_shear(int(b), factor * st.platen_fs[b]);
-  const double d = factor * st.platen_displacement;
-  e.set_platen_displacement(d);
-  e.set_time(d / velocity);
-  e.refresh();
+  const Model& M = e.model();
+  e.edit([&](ModelState& s) {
+    for (std::size_t b = 0; b < M.num_blocks(); ++b) {
+      s.x[b] = M.x0[b] + factor * st.ux[b];
+      s.y[b] = M.y0[b] + factor * st.uy[b];
+      s.theta[b] = factor * st.rotation[b];
+      s.vx[b] = rate * st.ux[b], s.vy[b] = rate * st.uy[b], s.omega[b] = rate * st.rotation[b];
+    }
+    for (std::size_t b = 0; b < M.num_bonds(); ++b) s.fs_lin[b] = factor * st.fs_lin[b];
+    // A block's platen shear goes to the platen it touches, found from its position.
+    const double mid = 0.5 * (s.top_y + M.ymin);
+    for (std::size_t b = 0; b < M.num_blocks(); ++b)
+      if (st.platen_fs[b] != 0.0) (s.y[b] > mid ? s.top_fs : s.bottom_fs)[b] = factor * st.platen_fs[b];
+    const double d = factor * st.platen_displacement;
+    s.top_y = M.ymax - d;
+    s.time = d / velocity;
+  });
 }
 
 double stability_limit(const Engine& e, int iterations) {
-  const std::size_t nb = e.blocks.size();
-  std::vector<std::uint8_t> sticking(e.bonds.size(), StaticResult::stick);
+  const Model& M = e.model();
+  const std::size_t nb = M.num_blocks();
+  std::vector<std::uint8_t> sticking(M.num_bonds(), StaticResult::stick);
   const auto platens = platen_rows(e);
   SpMat K;
   Stiffness(e, platens, 0.0).assemble(sticking, K, nullptr);
   Eigen::VectorXd inv_sqrt_m(long(3 * nb));
   for (std::size_t b = 0; b < nb; ++b) {
-    inv_sqrt_m[3 * b] = inv_sqrt_m[3 * b + 1] = 1.0 / std::sqrt(e.blocks.mass[b]);
-    inv_sqrt_m[3 * b + 2] = 1.0 / std::sqrt(e.blocks.inertia[b]);
+    inv_sqrt_m[3 * b] = inv_sqrt_m[3 * b + 1] = 1.0 / std::sqrt(M.mass[b]);
+    inv_sqrt_m[3 * b + 2] = 1.0 / std::sqrt(M.inertia[b]);
   }
   // Power iteration on M^-1/2 K M^-1/2 from a deterministic rough start.
   Eigen::VectorXd v(long(3 * nb));

@@ -16,7 +16,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "dem/trimesh.hpp"
+#include "mesh/trimesh.hpp"
 
 namespace rbdem {
 

@@ -26,8 +26,8 @@
 
 #include "dem/scene.hpp"
 #include "dem/topology.hpp"
-#include "dem/trimesh.hpp"
-#include "dem/ucs.hpp"
+#include "mesh/trimesh.hpp"
+#include "dem/driver/ucs.hpp"
 
 namespace rbdem::io {
 
@@ -35,7 +35,7 @@ namespace rbdem::io {
 // std::runtime_error naming the file when HDF5 fails, std::invalid_argument when mesh, topology and result
 // disagree (frames or cracks that do not belong to this mesh).
 void write_result_h5(const std::filesystem::path& path, const Scene& scene, const TriMesh& mesh, const Topology& topo,
-                     const UcsResult& result);
+                     const TestResult& result);
 
 // Writes the XDMF 3 file that makes `h5_path` (written by write_result_h5) a time series in ParaView: one
 // temporal grid per frame, disconnected triangles (3 vertices per block, so cracks open visibly), cell attributes

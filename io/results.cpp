@@ -15,8 +15,9 @@
 
 namespace rbdem::io {
 
-nlohmann::json ucs_summary(const Scene& scene, const UcsResult& r) {
+nlohmann::json run_summary(const Scene& scene, const TestResult& r) {
   nlohmann::json j;
+  j["test"] = r.test;
   j["beta_deg"] = scene.joint_set.dip_deg;
   j["spacing_m"] = scene.joint_set.spacing;
   j["peak_stress_pa"] = r.peak_stress;
@@ -41,6 +42,7 @@ nlohmann::json ucs_summary(const Scene& scene, const UcsResult& r) {
   j["mass_scaling"] = r.mass_scaling;
   j["elastic_start_strain"] = r.elastic_start_strain;
   j["wall_seconds"] = r.wall_seconds;
+  j["threads"] = r.threads;
   j["platen_force_mismatch"] = r.platen_force_mismatch;
   j["platen_force_mismatch_at_peak"] = r.platen_force_mismatch_at_peak;
   j["kinetic_to_strain_energy_at_peak"] = r.kinetic_to_strain_at_peak;
@@ -137,15 +139,15 @@ void write_cracks_csv(const std::filesystem::path& file, const std::vector<Crack
   write_text_atomic(file, s);
 }
 
-void write_ucs(const std::filesystem::path& dir, const Scene& scene, const TriMesh& mesh, const Topology& topo,
-               const UcsResult& r) {
+void write_run(const std::filesystem::path& dir, const Scene& scene, const TriMesh& mesh, const Topology& topo,
+               const TestResult& r) {
   std::filesystem::create_directories(dir);
   write_text_atomic(dir / "scene.toml", to_toml(scene));
   write_curve_csv(dir / "curve.csv", r.curve);
   write_cracks_csv(dir / "cracks.csv", r.cracks);
   write_result_h5(dir / "result.h5", scene, mesh, topo, r);
   write_result_xdmf(dir / "result.xdmf", dir / "result.h5", topo.blocks.size(), r.frames);
-  write_text_atomic(dir / "summary.json", ucs_summary(scene, r).dump(2) + "\n");
+  write_text_atomic(dir / "summary.json", run_summary(scene, r).dump(2) + "\n");
 }
 
 }  // namespace rbdem::io

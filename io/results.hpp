@@ -8,19 +8,19 @@
 
 #include "dem/scene.hpp"
 #include "dem/topology.hpp"
-#include "dem/trimesh.hpp"
-#include "dem/ucs.hpp"
+#include "mesh/trimesh.hpp"
+#include "dem/driver/ucs.hpp"
 
 namespace rbdem::io {
 
 // The summary.json object of a UCS run (contract in docs/outputs.md).
-nlohmann::json ucs_summary(const Scene& scene, const UcsResult& r);
+nlohmann::json run_summary(const Scene& scene, const TestResult& r);
 
 // Writes scene.toml, curve.csv, cracks.csv, result.h5, result.xdmf and summary.json into `dir` (created if
 // needed), each atomically. summary.json is written last, so a folder with a summary.json holds a complete result.
 // `mesh` and `topo` are the ones the run used.
-void write_ucs(const std::filesystem::path& dir, const Scene& scene, const TriMesh& mesh, const Topology& topo,
-               const UcsResult& r);
+void write_run(const std::filesystem::path& dir, const Scene& scene, const TriMesh& mesh, const Topology& topo,
+               const TestResult& r);
 
 void write_curve_csv(const std::filesystem::path& file, const std::vector<CurvePoint>& curve);
 void write_cracks_csv(const std::filesystem::path& file, const std::vector<Crack>& cracks);

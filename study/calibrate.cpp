@@ -138,7 +138,7 @@ CalibrationResult calibrate(const CalibrationSpec& spec, const std::filesystem::
     StudySpec st = dip_study(s, "calibration");
     st.dips.assign(betas.begin(), betas.end());
     const auto dir = out / fmt::format("eval_{:02d}", result.evaluations);
-    RunOptions ro;
+    SweepOptions ro;
     ro.workers = workers;
     const auto results = run_cases(expand(st), dir, ro);
     ++result.evaluations;

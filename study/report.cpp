@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-#include "compare/theory/elasticity.hpp"
+#include "theory/elasticity.hpp"
 #include "io/results.hpp"
 
 #ifndef RBDEM_SOURCE_DIR

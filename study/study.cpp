@@ -17,8 +17,8 @@
 #include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
-#include "compare/theory/elasticity.hpp"
-#include "dem/contact_law.hpp"
+#include "theory/elasticity.hpp"
+#include "dem/laws/parallel_bond.hpp"
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
 #include "io/results.hpp"
@@ -185,15 +185,15 @@ CaseResult run_one(const Case& c, const std::filesystem::path& dir, const std::a
   scene.numerics.threads = max_threads;  // cases run side by side, each with the threads it is given (`threads`)
   const TriMesh mesh = make_mesh(scene);
   const Topology topo = build_topology(mesh, scene.specimen.thickness, scene.rock.density);
-  UcsOptions uo;
+  rbdem::RunOptions uo;
   uo.cancel = cancel;
   uo.thread_budget = threads;
-  const UcsResult r = run_ucs(scene, topo, uo);
-  io::write_ucs(dir, c.scene, mesh, topo, r);
+  const TestResult r = run_ucs(scene, topo, uo);
+  io::write_run(dir, c.scene, mesh, topo, r);
   if (!r.completed) throw std::runtime_error(r.watchdog_message);  // its summary says so; the case is not done
   CaseResult cr;
   cr.c = c;
-  cr.summary = io::ucs_summary(c.scene, r);
+  cr.summary = io::run_summary(c.scene, r);
   cr.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return cr;
 }
@@ -201,7 +201,7 @@ CaseResult run_one(const Case& c, const std::filesystem::path& dir, const std::a
 }  // namespace
 
 std::vector<CaseResult> run_cases(const std::vector<Case>& cases, const std::filesystem::path& out,
-                                  const RunOptions& options, int mpi_rank, int mpi_size) {
+                                  const SweepOptions& options, int mpi_rank, int mpi_size) {
   std::filesystem::create_directories(out);
   std::vector<std::size_t> mine;
   for (std::size_t k = 0; k < cases.size(); ++k)

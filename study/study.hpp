@@ -31,7 +31,7 @@
 #include <nlohmann/json.hpp>
 
 #include "dem/scene.hpp"
-#include "dem/ucs.hpp"
+#include "dem/driver/ucs.hpp"
 
 namespace rbdem::study {
 
@@ -73,7 +73,7 @@ struct CaseResult {
   double wall_seconds = 0;
 };
 
-struct RunOptions {
+struct SweepOptions {
   int workers = 0;                                  // concurrent cases in this process; 0 = all cores
   bool progress = false;                            // progress lines on stderr (terminals only)
   const std::atomic<bool>* cancel = nullptr;        // set to stop: running cases abort without a summary
@@ -87,7 +87,7 @@ struct Cancelled : std::runtime_error {
   Cancelled() : std::runtime_error("cancelled") {}
 };
 std::vector<CaseResult> run_cases(const std::vector<Case>& cases, const std::filesystem::path& out,
-                                  const RunOptions& options, int mpi_rank = 0, int mpi_size = 1);
+                                  const SweepOptions& options, int mpi_rank = 0, int mpi_size = 1);
 
 // Reads the results of all cases from their folders (after an MPI run, on rank 0); missing ones are skipped.
 std::vector<CaseResult> collect(const std::vector<Case>& cases, const std::filesystem::path& out);

@@ -16,7 +16,7 @@ for f in $(cd "$work/serial" && find . -name summary.json | sort); do
   /usr/bin/python3 - "$work/serial/$f" "$work/mpi/$f" <<'PY'
 import json, sys
 a, b = (json.load(open(p)) for p in sys.argv[1:3])
-for d in (a, b): d.pop("wall_seconds", None)
+for d in (a, b): d.pop("wall_seconds", None); d.pop("threads", None)
 sys.exit(0 if a == b else f"summaries differ: {sys.argv[1]}")
 PY
 done

@@ -1,11 +1,10 @@
-// Polygon overlap geometry and the contact laws against closed forms (THEORY.md 4, 4b).
+// Polygon overlap geometry against closed forms (docs/theory.md, section 7). The laws are tested in test_laws.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
 #include "dem/contact_geometry.hpp"
-#include "dem/contact_law.hpp"
 
 namespace rbdem {
 namespace {
@@ -114,69 +113,6 @@ TEST(Overlap, HalfPlaneCutsTheEdgeBelowThePlaten) {
   EXPECT_NEAR(o.ny, 1.0, 1e-12);
   EXPECT_NEAR(o.px, 0.0, 1e-12);
   EXPECT_FALSE(overlap_halfplane(A.data(), 4, 0.0, 0.5 * a, 0.0, 1.0, o));
-}
-
-TEST(EdgeOverlap, FullyCompressedEdgeGivesLTimesDelta) {
-  const EdgeOverlap e = edge_overlap(2e-3, -1e-6, 1e-4);  // rotation small enough to keep the edge closed
-  EXPECT_NEAR(e.area, 2e-9, 1e-21);
-  EXPECT_EQ(e.chord, 2e-3);
-  EXPECT_EQ(e.s_c, 0.0);
-}
-
-TEST(EdgeOverlap, PartlyOpenEdgeIsATriangleOfTheCompressedPart) {
-  // u(s) = -dn + s dth: with dn = 0 and dth > 0 the half s > 0 is compressed, area = dth L^2 / 8.
-  const double L = 2e-3, dth = 1e-3;
-  const EdgeOverlap e = edge_overlap(L, 0.0, dth);
-  EXPECT_NEAR(e.area, dth * L * L / 8, 1e-18);
-  EXPECT_NEAR(e.chord, L / 2, 1e-15);
-  EXPECT_NEAR(e.s_c, L / 4, 1e-15);
-  const EdgeOverlap f = edge_overlap(L, 0.0, -dth);
-  EXPECT_NEAR(f.s_c, -L / 4, 1e-15);
-  EXPECT_EQ(edge_overlap(L, 1e-6, 0.0).area, 0.0);  // open edge: no linear force (no tension)
-}
-
-TEST(ParallelBond, BreaksInTensionAtSigmaC) {
-  const BondStrength st{10e6, 50e6, std::tan(0.5), 1.0};
-  const double A = 1e-3, I = 1e-10, R = 5e-4;
-  double sigma, tau;
-  EXPECT_EQ(st.check(-10e6 * A * (1 - 1e-12), 0, 0, A, I, R, sigma, tau), BreakMode::none);
-  EXPECT_EQ(st.check(-10e6 * A, 0, 0, A, I, R, sigma, tau), BreakMode::tensile);
-  EXPECT_DOUBLE_EQ(sigma, 10e6);
-}
-
-TEST(ParallelBond, ShearStrengthRisesWithCompressionAsCMinusSigmaTanPhi) {
-  const double c = 20e6, phi = 30.0 * std::numbers::pi / 180, A = 1e-3, I = 1e-10, R = 5e-4;
-  const BondStrength st{5e6, c, std::tan(phi), 1.0};
-  for (double sn : {-40e6, -10e6, 0.0, 2e6}) {  // sigma_n, tension positive
-    const double strength = c - sn * std::tan(phi);
-    double sigma, tau;
-    EXPECT_EQ(st.check(-sn * A, strength * A * (1 - 1e-9), 0, A, I, R, sigma, tau), BreakMode::none) << sn;
-    EXPECT_EQ(st.check(-sn * A, strength * A * (1 + 1e-9), 0, A, I, R, sigma, tau), BreakMode::shear) << sn;
-  }
-}
-
-TEST(ParallelBond, MomentAddsBetaTimesMROverIToTheTensileStress) {
-  const double A = 1e-3, L = 1e-3, t = 1.0, I = t * L * L * L / 12, R = L / 2;
-  for (double beta_m : {1.0, 0.5}) {
-    const BondStrength st{10e6, 1e12, 0.0, beta_m};
-    const double M = 2.0;  // N m
-    double sigma, tau;
-    st.check(-1e3, 0.0, M, A, I, R, sigma, tau);
-    EXPECT_NEAR(sigma, 1e3 / A + beta_m * M * R / I, 1e-6);
-    st.check(-1e3, 0.0, -M, A, I, R, sigma, tau);  // either sign of the moment opens one side
-    EXPECT_NEAR(sigma, 1e3 / A + beta_m * M * R / I, 1e-6);
-  }
-}
-
-TEST(LinearContact, SlidesExactlyAtMuFn) {
-  const LinearContact law{1e14, 1e14, 0.5, 1e-3};
-  double fs = 0;
-  EXPECT_FALSE(law.update_shear(100.0, 1e-3, 1.0, -4.9e-10, fs));  // ks t l ds = 49 N < mu F_n = 50 N
-  EXPECT_NEAR(fs, 49.0, 1e-9);
-  EXPECT_TRUE(law.update_shear(100.0, 1e-3, 1.0, -2e-11, fs));
-  EXPECT_DOUBLE_EQ(fs, 50.0);
-  EXPECT_FALSE(law.update_shear(0.0, 1e-3, 1.0, -1e-12, fs));  // no normal force, no shear force
-  EXPECT_EQ(fs, 0.0);
 }
 
 }  // namespace

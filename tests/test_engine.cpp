@@ -12,7 +12,7 @@
 #include "dem/specimen_mesh.hpp"
 #include "dem/static_solve.hpp"
 #include "dem/topology.hpp"
-#include "dem/ucs.hpp"
+#include "dem/driver/ucs.hpp"
 
 namespace rbdem {
 namespace {
@@ -65,23 +65,22 @@ TEST(Engine, BlockSlidesOnAJointStartingExactlyAtMuFn) {
   const Topology topo = build_topology(rhombus(a, b, 0, 1), 1.0, 2700.0);
   ASSERT_EQ(topo.bonds.kind[0], BondKind::joint);
   Engine e(topo, scene, free_blocks(scene));
-  e.bonds.broken[0] = 1;
-  e.blocks.free_face[0] = e.blocks.free_face[1] = 1;
-  e.blocks.fixed[0] = 1;
-  e.blocks.inertia[1] *= 1e6;  // keep it from tipping: a pure sliding test
+  e.break_bond(0);
+  e.fix_block(0);
+  e.set_block_mass(1, e.model().mass[1], 1e6 * e.model().inertia[1]);  // keep it from tipping: a pure sliding test
   const double fn = 1e4;
-  e.blocks.ext_fy[1] = -fn;
-  e.refresh();
+  e.set_external_load(1, 0.0, -fn, 0.0);
   e.set_dt(0.2 * e.critical_step());
   e.run(20000);  // settle under the normal load
-  const double x_settled = e.blocks.state[1].x;
+  const double x_settled = e.state().x[1];
   const long ramp_steps = 500000;
   double slip_at = -1;
   for (long s = 1; s <= ramp_steps; ++s) {
-    e.blocks.ext_fx[1] = 1.2 * mu * fn * double(s) / double(ramp_steps);
+    const double ft = 1.2 * mu * fn * double(s) / double(ramp_steps);
+    e.set_external_load(1, ft, -fn, 0.0);
     e.step();
-    if (std::abs(e.blocks.state[1].x - x_settled) > 3e-7) {  // several times the elastic shear displacement (5e-8 m)
-      slip_at = e.blocks.ext_fx[1];
+    if (std::abs(e.state().x[1] - x_settled) > 3e-7) {  // several times the elastic shear displacement (5e-8 m)
+      slip_at = ft;
       break;
     }
   }
@@ -95,20 +94,19 @@ TEST(Engine, CompressedBondBreaksWithoutForceJumpInTheLinearPart) {
   const double a = 1e-3, b = 0.8e-3;
   const Topology topo = build_topology(rhombus(a, b), 1.0, 2700.0);
   Engine e(topo, scene, free_blocks(scene));
-  e.blocks.state[1].y -= 1e-6;  // compress, with a little shear and rotation
-  e.blocks.state[1].x += 2e-7;
-  e.blocks.state[1].theta = 1e-4;
-  e.refresh();
+  e.edit([](ModelState& s) {
+    s.y[1] -= 1e-6;  // compress, with a little shear and rotation
+    s.x[1] += 2e-7;
+    s.theta[1] = 1e-4;
+  });
   e.set_dt(1e-15);
   e.step();
   const double fn_bond = e.bond_forces(0).fn_lin;
   ASSERT_GT(fn_bond, 0);
-  e.bonds.broken[0] = 1;
-  e.blocks.free_face[0] = e.blocks.free_face[1] = 1;
-  e.refresh();
+  e.break_bond(0);
   e.step();
-  ASSERT_EQ(e.contacts.i.size(), 1u);
-  EXPECT_NEAR(e.contacts.fn[0] / fn_bond, 1.0, 0.01);
+  ASSERT_EQ(e.state().contacts.size(), 1u);
+  EXPECT_NEAR(e.state().contacts.fn[0] / fn_bond, 1.0, 0.01);
 }
 
 using verify::softening_pull;
@@ -185,7 +183,7 @@ TEST(Ucs, SmallSpecimenSmokeRunBreaksAndWritesACurve) {
   scene.joint_set.dip_deg = 60;
   scene.numerics.threads = 1;
   const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const UcsResult r = run_ucs(scene, topo);
+  const TestResult r = run_ucs(scene, topo);
   EXPECT_GT(r.peak_stress, 1e6);
   EXPECT_GT(r.youngs_modulus, 1e9);
   EXPECT_EQ(r.stop_reason, "post_peak");

@@ -17,7 +17,7 @@
 #include <utility>
 #include <vector>
 
-#include "compare/theory/elasticity.hpp"
+#include "theory/elasticity.hpp"
 #include "continuum/fe_model.hpp"
 #include "dem/specimen_mesh.hpp"
 

@@ -11,7 +11,7 @@
 
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
-#include "dem/ucs.hpp"
+#include "dem/driver/ucs.hpp"
 #include "io/results.hpp"
 
 namespace rbdem {
@@ -55,7 +55,7 @@ Scene small_scene() {
 }
 
 // The run completed (the watchdog did not stop it) and every number in its summary and curve is finite.
-void expect_sound(const UcsResult& r, const Scene& scene) {
+void expect_sound(const TestResult& r, const Scene& scene) {
   EXPECT_TRUE(r.completed) << r.watchdog_message;
   EXPECT_TRUE(std::isfinite(r.peak_stress) && std::isfinite(r.youngs_modulus));
   for (const auto& p : r.curve)
@@ -63,7 +63,7 @@ void expect_sound(const UcsResult& r, const Scene& scene) {
                 std::isfinite(p.strain_energy))
         << "step " << p.step;
   EXPECT_LT(r.energy_ratio_max, 1.5);
-  nlohmann::json j = io::ucs_summary(scene, r);
+  nlohmann::json j = io::run_summary(scene, r);
   EXPECT_TRUE(j["watchdog"].is_null());
   j.erase("watchdog");
   const std::string s = j.dump();  // NaN and infinity would print as null
@@ -75,7 +75,7 @@ TEST(HardCases, SliverTrianglesOfAspectRatio30) {
   // 0.3 mm x 9 mm cells: triangles with an edge 30 times the shortest altitude.
   const TriMesh mesh = grid_mesh(steps(0.0, 0.0102, 34), {0.0, 0.009, 0.018}, {0, 1});
   const Topology topo = build_topology(mesh, scene.specimen.thickness, scene.rock.density);
-  const UcsResult r = run_ucs(scene, topo);
+  const TestResult r = run_ucs(scene, topo);
   expect_sound(r, scene);
   EXPECT_GT(r.peak_stress, 1e6);
 }
@@ -85,7 +85,7 @@ TEST(HardCases, RockJointStiffnessContrast1e4) {
   scene.joint.effective_modulus = scene.rock.effective_modulus * 1e-4;
   scene.loading.platen_velocity = 0.1;  // the soft joints take a large strain to fail: fewer steps
   const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const UcsResult r = run_ucs(scene, topo);
+  const TestResult r = run_ucs(scene, topo);
   expect_sound(r, scene);
   EXPECT_GT(r.peak_stress, 0.0);
 }
@@ -95,7 +95,7 @@ TEST(HardCases, OneMillimetreLayers) {
   scene.joint_set.spacing = 0.001, scene.mesh.size = 0.0005;  // two elements per layer
   scene.specimen.width = 0.004, scene.specimen.height = 0.008;
   const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const UcsResult r = run_ucs(scene, topo);
+  const TestResult r = run_ucs(scene, topo);
   expect_sound(r, scene);
   EXPECT_GT(r.joint_bonds, 50u);
 }
@@ -107,7 +107,7 @@ TEST(HardCases, NeighbouringBlocksOfTenthAndFiveMillimetres) {
                                  {0, 0, 0, 1, 1, 1});
   scene.loading.platen_velocity = 0.05;  // the 0.1 mm blocks set a 50 times smaller step: fewer steps
   const Topology topo = build_topology(mesh, scene.specimen.thickness, scene.rock.density);
-  const UcsResult r = run_ucs(scene, topo);
+  const TestResult r = run_ucs(scene, topo);
   expect_sound(r, scene);
   EXPECT_GT(r.peak_stress, 1e6);
 }
@@ -115,14 +115,14 @@ TEST(HardCases, NeighbouringBlocksOfTenthAndFiveMillimetres) {
 TEST(HardCases, FastPlatenIsReportedAsNotQuasiStatic) {
   Scene scene = small_scene();
   const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const UcsResult slow = run_ucs(scene, topo);
+  const TestResult slow = run_ucs(scene, topo);
   EXPECT_TRUE(slow.quasi_static) << slow.quasi_static_reason;
   scene.loading.platen_velocity = 20.0;  // m/s: 2000 times the quasi-static default
-  const UcsResult fast = run_ucs(scene, topo);
+  const TestResult fast = run_ucs(scene, topo);
   EXPECT_TRUE(fast.completed) << fast.watchdog_message;
   EXPECT_FALSE(fast.quasi_static);
   EXPECT_NE(fast.quasi_static_reason.find("platen_velocity"), std::string::npos) << fast.quasi_static_reason;
-  const nlohmann::json j = io::ucs_summary(scene, fast);
+  const nlohmann::json j = io::run_summary(scene, fast);
   EXPECT_EQ(j["quasi_static"], false);
   EXPECT_TRUE(j.contains("platen_force_mismatch"));
 }
@@ -137,7 +137,7 @@ TEST(HardCases, GranularPileWithEveryBondBroken) {
   scene.rock.fracture_energy = scene.joint.fracture_energy = 0.0;
   scene.loading.max_strain = 0.01;
   const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const UcsResult r = run_ucs(scene, topo);
+  const TestResult r = run_ucs(scene, topo);
   EXPECT_TRUE(r.completed) << r.watchdog_message;
   for (const auto& p : r.curve) ASSERT_TRUE(std::isfinite(p.stress_top) && std::isfinite(p.kinetic));
   EXPECT_EQ(std::size_t(r.crack_counts.total()), r.bonds) << "every bond broke";

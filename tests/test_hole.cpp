@@ -21,7 +21,7 @@
 #include <tuple>
 #include <vector>
 
-#include "compare/theory/elasticity.hpp"
+#include "theory/elasticity.hpp"
 #include "continuum/hole.hpp"
 
 namespace rbdem::continuum {

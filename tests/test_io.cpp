@@ -18,7 +18,7 @@
 
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
-#include "dem/ucs.hpp"
+#include "dem/driver/ucs.hpp"
 #include "io/result_h5.hpp"
 #include "io/results.hpp"
 
@@ -27,13 +27,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A small UCS run (about 800 blocks, a fraction of a second) written with io::write_ucs into a folder of its own
+// A small UCS run (about 800 blocks, a fraction of a second) written with io::write_run into a folder of its own
 // (tests may run in parallel processes).
 struct SmallRun {
   Scene scene;
   TriMesh mesh;
   Topology topo;
-  UcsResult result;
+  TestResult result;
   fs::path dir;
 };
 
@@ -57,7 +57,7 @@ SmallRun small_run() {
   const auto* info = testing::UnitTest::GetInstance()->current_test_info();
   r.dir = fs::temp_directory_path() / ("rbdem_test_io_" + std::string(info->name()) + "_" + std::to_string(getpid()));
   fs::remove_all(r.dir);
-  io::write_ucs(r.dir, r.scene, r.mesh, r.topo, r.result);
+  io::write_run(r.dir, r.scene, r.mesh, r.topo, r.result);
   return r;
 }
 
@@ -74,7 +74,7 @@ bool same(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)
 TEST(Io, Hdf5RoundTripReproducesCurveAndCrackLog) {
   const SmallRun run = small_run();
   const RemoveWhenPassed cleanup{run.dir};
-  const UcsResult& r = run.result;
+  const TestResult& r = run.result;
   ASSERT_FALSE(r.cracks.empty()) << "the test run should break bonds";
   ASSERT_GE(r.frames.size(), 3u);
   EXPECT_TRUE(fs::exists(run.dir / "result.h5"));
@@ -212,7 +212,7 @@ TEST(Io, XdmfReferencesExistingDatasets) {
 TEST(Io, FailedWriteLeavesNoFileUnderTheFinalName) {
   const SmallRun run = small_run();
   const RemoveWhenPassed cleanup{run.dir};
-  UcsResult bad = run.result;
+  TestResult bad = run.result;
   bad.frames.back().x.pop_back();  // a frame that does not belong to the mesh
   const fs::path h5 = run.dir / "bad.h5";
   EXPECT_THROW(io::write_result_h5(h5, run.scene, run.mesh, run.topo, bad), std::invalid_argument);

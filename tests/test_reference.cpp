@@ -40,13 +40,13 @@ TEST(ReferenceIntegrator, RightHandSideIsTheEnginesStepForce) {
   auto e = p.make_engine();
   set_state(*e, p.y0);
   std::vector<double> fx, fy, m;
-  e->bonded_forces(fx, fy, m);
-  e->step();  // gathers the force at the same positions into blocks.fx before it moves them
+  e->evaluate_forces(fx, fy, m);
+  e->step();  // gathers the force at the same positions into the state's fx before it moves them
   double fmax = 0;
-  for (std::size_t b = 0; b < e->blocks.size(); ++b) {
-    EXPECT_EQ(fx[b], e->blocks.fx[b]) << "block " << b;
-    EXPECT_EQ(fy[b], e->blocks.fy[b]) << "block " << b;
-    EXPECT_EQ(m[b], e->blocks.moment[b]) << "block " << b;
+  for (std::size_t b = 0; b < e->model().num_blocks(); ++b) {
+    EXPECT_EQ(fx[b], e->state().fx[b]) << "block " << b;
+    EXPECT_EQ(fy[b], e->state().fy[b]) << "block " << b;
+    EXPECT_EQ(m[b], e->state().moment[b]) << "block " << b;
     fmax = std::max(fmax, std::abs(fy[b]));
   }
   EXPECT_GT(fmax, 1.0);  // the initial compression loads the bonds (N)
@@ -55,15 +55,19 @@ TEST(ReferenceIntegrator, RightHandSideIsTheEnginesStepForce) {
 TEST(ReferenceIntegrator, RejectsEnginesOutsideItsScope) {
   const ReferenceProblem& p = problem();
   EngineOptions o = EngineOptions::from_scene(p.scene);
-  o.contacts = false;  // platens stay on
-  Engine with_platens(*p.topology, p.scene, o);
-  EXPECT_THROW(check_reference_scope(with_platens, 0.0), std::invalid_argument);
+  o.platen_friction = 0.3;  // frictional platens carry a shear history
+  Engine rough_platens(*p.topology, p.scene, o);
+  rough_platens.set_breakage(false);
+  EXPECT_THROW(check_reference_scope(rough_platens, 0.0), std::invalid_argument);
   EXPECT_THROW(check_reference_scope(*p.engine, 0.7), std::invalid_argument);
   Scene frictional = p.scene;
   frictional.rock.contact_friction = 0.5;
-  o.platens = false;
+  o.platen_friction = 0.0;
   Engine with_history(*p.topology, frictional, o);
+  with_history.set_breakage(false);
   EXPECT_THROW(check_reference_scope(with_history, 0.0), std::invalid_argument);
+  Engine breaking(*p.topology, p.scene, o);
+  EXPECT_THROW(check_reference_scope(breaking, 0.0), std::invalid_argument);
 }
 
 // Central difference (leapfrog, synchronised at both ends) at dt, dt/2, dt/4, dt/8 with dt = 1/8 of the stability

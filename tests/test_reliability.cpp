@@ -14,7 +14,8 @@
 
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
-#include "dem/ucs.hpp"
+#include "dem/driver/monitors.hpp"
+#include "dem/driver/ucs.hpp"
 #include "io/checkpoint.hpp"
 #include "io/result_h5.hpp"
 #include "io/results.hpp"
@@ -37,6 +38,7 @@ Scene small_scene() {
 // summary.json without what may differ between identical runs: the wall time (and, where asked, the thread count).
 std::string comparable(nlohmann::json j, bool drop_threads = false) {
   j.erase("wall_seconds");
+  j.erase("threads");  // how the run was executed, like its wall time, not what it computed
   if (drop_threads) j["scene"]["numerics"].erase("threads");
   return j.dump(1);
 }
@@ -58,16 +60,16 @@ Scene softening_scene() {
 
 void expect_resumed_run_bit_identical(const Scene& scene) {
   const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const UcsResult full = run_ucs(scene, topo);
+  const TestResult full = run_ucs(scene, topo);
   ASSERT_TRUE(full.completed);
   ASSERT_GT(full.crack_counts.total(), 0);
   const fs::path dir = scratch("resume");
   const fs::path file = dir / "checkpoint.h5";
   // Interrupt at several points: early (before any crack), mid-way and late (after the peak).
   for (const double at : {0.1, 0.5, 0.9}) {
-    UcsOptions cut;
+    RunOptions cut;
     cut.interrupt_at_step = std::max(1L, long(at * double(full.steps)));
-    cut.checkpoint = [&](const UcsCheckpoint& c) { io::write_checkpoint(file, c); };
+    cut.checkpoint = [&](const TestCheckpoint& c) { io::write_checkpoint(file, c); };
     try {
       run_ucs(scene, topo, cut);
       FAIL() << "the run was not interrupted at step " << cut.interrupt_at_step;
@@ -75,17 +77,17 @@ void expect_resumed_run_bit_identical(const Scene& scene) {
       EXPECT_EQ(c.step, cut.interrupt_at_step);
       EXPECT_TRUE(c.checkpointed);
     }
-    const UcsCheckpoint ck = io::read_checkpoint(file);
+    const TestCheckpoint ck = io::read_checkpoint(file);
     EXPECT_EQ(ck.engine.steps, cut.interrupt_at_step);
     for (const int threads : {1, 2}) {
       Scene resumed_scene = scene;
       resumed_scene.numerics.threads = threads;
-      UcsCheckpoint ck2 = ck;
+      TestCheckpoint ck2 = ck;
       ck2.scene_toml = to_toml(resumed_scene);  // the thread count is no part of the physics
-      UcsOptions go;
+      RunOptions go;
       go.resume = &ck2;
-      const UcsResult r = run_ucs(resumed_scene, topo, go);
-      EXPECT_EQ(comparable(io::ucs_summary(scene, r)), comparable(io::ucs_summary(scene, full)))
+      const TestResult r = run_ucs(resumed_scene, topo, go);
+      EXPECT_EQ(comparable(io::run_summary(scene, r)), comparable(io::run_summary(scene, full)))
           << "resumed at " << cut.interrupt_at_step << " with " << threads << " threads";
       ASSERT_EQ(r.curve.size(), full.curve.size());
       for (std::size_t k = 0; k < r.curve.size(); ++k) {
@@ -109,13 +111,13 @@ TEST(Checkpoint, ResumedSofteningRunEndsBitIdenticalToUninterrupted) {
 TEST(Checkpoint, ResumeWithAnotherSceneIsRefused) {
   Scene scene = small_scene();
   const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  UcsCheckpoint ck;
-  UcsOptions cut;
+  TestCheckpoint ck;
+  RunOptions cut;
   cut.interrupt_at_step = 50;
-  cut.checkpoint = [&](const UcsCheckpoint& c) { ck = c; };
+  cut.checkpoint = [&](const TestCheckpoint& c) { ck = c; };
   EXPECT_THROW(run_ucs(scene, topo, cut), RunCancelled);
   scene.rock.cohesion *= 1.1;
-  UcsOptions go;
+  RunOptions go;
   go.resume = &ck;
   EXPECT_THROW(run_ucs(scene, topo, go), SceneError);
 }
@@ -124,10 +126,10 @@ TEST(Determinism, SameInputsGiveBitIdenticalSummaryAtOneAndTwoThreads) {
   for (Scene scene : {small_scene(), softening_scene()}) {
     SCOPED_TRACE(scene.rock.fracture_energy > 0 ? "softening bonds" : "brittle bonds");
     const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-    const std::string a = comparable(io::ucs_summary(scene, run_ucs(scene, topo)), true);
-    const std::string b = comparable(io::ucs_summary(scene, run_ucs(scene, topo)), true);
+    const std::string a = comparable(io::run_summary(scene, run_ucs(scene, topo)), true);
+    const std::string b = comparable(io::run_summary(scene, run_ucs(scene, topo)), true);
     scene.numerics.threads = 2;
-    const std::string c = comparable(io::ucs_summary(scene, run_ucs(scene, topo)), true);
+    const std::string c = comparable(io::run_summary(scene, run_ucs(scene, topo)), true);
     EXPECT_EQ(a, b) << "two runs with the same inputs differ";
     EXPECT_EQ(a, c) << "1 and 2 threads differ";
   }
@@ -139,14 +141,14 @@ TEST(Determinism, ThreadCountChangingDuringTheRunGivesTheSameSummary) {
   Scene scene = small_scene();
   scene.numerics.checkpoint_every_steps = 25;  // the hook that switches the count (nothing is written)
   const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const std::string one = comparable(io::ucs_summary(scene, run_ucs(scene, topo)), true);
+  const std::string one = comparable(io::run_summary(scene, run_ucs(scene, topo)), true);
   scene.numerics.threads = 2;  // the cap; the budget below switches between 1 and 2
   std::atomic<int> budget{1};
   int switches = 0;
-  UcsOptions o;
+  RunOptions o;
   o.thread_budget = &budget;
-  o.checkpoint = [&](const UcsCheckpoint&) { budget = 3 - budget, ++switches; };
-  const std::string changing = comparable(io::ucs_summary(scene, run_ucs(scene, topo, o)), true);
+  o.checkpoint = [&](const TestCheckpoint&) { budget = 3 - budget, ++switches; };
+  const std::string changing = comparable(io::run_summary(scene, run_ucs(scene, topo, o)), true);
   EXPECT_GE(switches, 2) << "the thread count never changed during the run";
   EXPECT_EQ(one, changing);
 }
@@ -159,11 +161,11 @@ TEST(Savings, SkippingTheNarrowPhaseOfBondedPairsChangesNothing) {
   Scene scene;
   scene.mesh.size = 0.003, scene.joint_set.dip_deg = 45, scene.numerics.threads = 1;
   const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const UcsResult skip = run_ucs(scene, topo);
+  const TestResult skip = run_ucs(scene, topo);
   scene.numerics.skip_bonded_pairs = false;
-  const UcsResult clip = run_ucs(scene, topo);
+  const TestResult clip = run_ucs(scene, topo);
   ASSERT_GT(skip.crack_counts.total(), 0);
-  nlohmann::json a = io::ucs_summary(scene, skip), b = io::ucs_summary(scene, clip);
+  nlohmann::json a = io::run_summary(scene, skip), b = io::run_summary(scene, clip);
   a["scene"]["numerics"].erase("skip_bonded_pairs"), b["scene"]["numerics"].erase("skip_bonded_pairs");
   EXPECT_EQ(comparable(a), comparable(b));
   ASSERT_EQ(skip.curve.size(), clip.curve.size());
@@ -174,7 +176,7 @@ TEST(Watchdog, UnstableStepStopsTheRunWithoutAPlausibleNumber) {
   Scene scene = small_scene();
   scene.numerics.dt_safety = 3.0;  // three times the exact stability limit
   const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const UcsResult r = run_ucs(scene, topo);
+  const TestResult r = run_ucs(scene, topo);
   EXPECT_FALSE(r.completed);
   EXPECT_FALSE(r.watchdog_cause.empty());
   EXPECT_NE(r.watchdog_message.find("numerics.dt_safety"), std::string::npos) << r.watchdog_message;
@@ -183,7 +185,7 @@ TEST(Watchdog, UnstableStepStopsTheRunWithoutAPlausibleNumber) {
     EXPECT_TRUE(std::isfinite(p.stress_top) && std::isfinite(p.kinetic)) << "step " << p.step;
     EXPECT_LT(p.step, r.watchdog_step);
   }
-  const nlohmann::json j = io::ucs_summary(scene, r);
+  const nlohmann::json j = io::run_summary(scene, r);
   EXPECT_EQ(j["completed"], false);
   EXPECT_TRUE(j["peak_stress_pa"].is_null());
   EXPECT_TRUE(j["youngs_modulus_pa"].is_null());
@@ -201,10 +203,10 @@ TEST(Watchdog, InjectedNanAndEnergyFromNowhereAreCaught) {
   WatchdogCriterion c;
   c.floor = 0.5 * scene.rock.effective_modulus * 1e-10 * scene.specimen.width * scene.specimen.height;
   EXPECT_EQ(watchdog_check(e, 0.0, c, detail, ratio), "");
-  e.blocks.state[3].vx = 10.0;  // kinetic energy no work put in
+  e.edit([](ModelState& s) { s.vx[3] = 10.0; });  // kinetic energy no work put in
   EXPECT_EQ(watchdog_check(e, 0.0, c, detail, ratio), "energy_growth");
   EXPECT_NE(detail.find("exceeds"), std::string::npos);
-  e.blocks.state[5].omega = std::nan("");
+  e.edit([](ModelState& s) { s.omega[5] = std::nan(""); });
   EXPECT_EQ(watchdog_check(e, 0.0, c, detail, ratio), "non_finite_state");
   EXPECT_NE(detail.find("block 5"), std::string::npos);
 }
@@ -212,7 +214,7 @@ TEST(Watchdog, InjectedNanAndEnergyFromNowhereAreCaught) {
 TEST(Watchdog, SoundRunStaysFarBelowTheLimit) {
   const Scene scene = small_scene();
   const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const UcsResult r = run_ucs(scene, topo);
+  const TestResult r = run_ucs(scene, topo);
   EXPECT_TRUE(r.completed);
   EXPECT_GT(r.energy_ratio_max, 0.0);
   EXPECT_LT(r.energy_ratio_max, 1.3) << "a sound run stays well below the 1.5 limit";

@@ -10,7 +10,7 @@
 #include "dem/specimen_mesh.hpp"
 #include "dem/static_solve.hpp"
 #include "dem/topology.hpp"
-#include "dem/ucs.hpp"
+#include "dem/driver/ucs.hpp"
 
 namespace rbdem {
 namespace {

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "compare/theory/elasticity.hpp"
+#include "theory/elasticity.hpp"
 
 namespace rbdem::theory {
 namespace {

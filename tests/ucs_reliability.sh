@@ -14,7 +14,7 @@ same() {  # summary.json equal without wall_seconds
   python3 - "$1" "$2" <<'PY'
 import json, sys
 a, b = (json.load(open(f)) for f in sys.argv[1:3])
-for j in (a, b): j.pop("wall_seconds", None)
+for j in (a, b): j.pop("wall_seconds", None); j.pop("threads", None)
 sys.exit(0 if a == b else 1)
 PY
 }

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `rbdem verify --quick` passes on this build, and catches planted bugs (dem/fault_injection.hpp): a sign flipped
+# `rbdem verify --quick` passes on this build, and catches planted bugs (common/fault_injection.hpp): a sign flipped
 # in the rotated compliance fails the theory and FE patch cases, a wrong bond inertia fails the bond moment case,
 # and each leaves the unrelated cases passing.
 # Usage: verify_faults.sh RBDEM

@@ -17,7 +17,7 @@ target_link_libraries(consumer PRIVATE rbdem::dem rbdem::theory)
 CMAKE
 cat > "$work/consumer/main.cpp" <<'CPP'
 #include <cstdio>
-#include <compare/theory/elasticity.hpp>
+#include <theory/elasticity.hpp>
 #include <dem/specimen_mesh.hpp>
 #include <dem/topology.hpp>
 int main() {

@@ -24,7 +24,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "compare/theory/elasticity.hpp"
+#include "theory/elasticity.hpp"
 #include "dem/scene.hpp"
 #include "dem/static_solve.hpp"
 #include "dem/topology.hpp"

@@ -15,7 +15,7 @@
 
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
-#include "dem/trimesh.hpp"
+#include "mesh/trimesh.hpp"
 
 #ifdef RBDEM_HAVE_CONTINUUM
 #include "continuum/fe_model.hpp"

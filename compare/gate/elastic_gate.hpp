@@ -21,7 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "compare/gate/dem_constants.hpp"
-#include "compare/theory/elasticity.hpp"
+#include "theory/elasticity.hpp"
 #include "dem/scene.hpp"
 
 namespace rbdem::compare {

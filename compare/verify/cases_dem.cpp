@@ -13,7 +13,7 @@
 #include "dem/specimen_mesh.hpp"
 #include "dem/static_solve.hpp"
 #include "dem/topology.hpp"
-#include "dem/ucs.hpp"
+#include "dem/driver/ucs.hpp"
 
 namespace rbdem::verify {
 
@@ -50,8 +50,7 @@ CaseResult bond_moment(const Context&) {
   const double a = 1e-3, b = 0.8e-3, t = 1.0, dth = 1e-7;
   const Topology topo = build_topology(rhombus(a, b), t, 2700.0);
   Engine e(topo, scene, free_blocks(scene));
-  e.blocks.state[1].theta = dth;
-  e.refresh();
+  e.edit([&](ModelState& s) { s.theta[1] = dth; });
   const double L = 2 * a, d = 2 * b / 3;
   r.reference_value = -(scene.rock.effective_modulus / d) * t * L * L * L / 12.0 * dth;
   r.measured = e.bond_forces(0).m_b;
@@ -178,24 +177,25 @@ RigidMotionMeasure rigid_motion_forces() {
   const Topology topo = build_topology(mesh_specimen(g, 0.005), 1.0, 2700.0);
   Engine e(topo, scene, free_blocks(scene));
   const double q = 1.0, c = std::cos(q), s = std::sin(q), tx = 0.3, ty = -0.2;
-  for (auto& st : e.blocks.state) {
-    const double x = st.x, y = st.y;
-    st.x = tx + c * x - s * y;
-    st.y = ty + s * x + c * y;
-    st.theta = q;
-  }
-  e.refresh();
+  e.edit([&](ModelState& st) {
+    for (std::size_t b = 0; b < st.num_blocks(); ++b) {
+      const double x = st.x[b], y = st.y[b];
+      st.x[b] = tx + c * x - s * y;
+      st.y[b] = ty + s * x + c * y;
+      st.theta[b] = q;
+    }
+  });
   e.set_dt(1e-12);
   e.step();
   RigidMotionMeasure m;
-  for (std::size_t b = 0; b < e.bonds.size(); ++b) {
+  for (std::size_t b = 0; b < e.model().num_bonds(); ++b) {
     const BondForces f = e.bond_forces(int(b));
-    const double L = e.bonds.frame[b].L, scale = scene.rock.effective_modulus * L * topo.thickness;
+    const double L = e.model().frame.L[b], scale = scene.rock.effective_modulus * L * topo.thickness;
     const double worst = std::max({std::abs(f.fn_b), std::abs(f.fs_b), std::abs(f.m_b) / L, std::abs(f.fn_lin)});
     m.max_force = std::max({m.max_force, worst, std::abs(f.m_b)});
     m.spurious_strain = std::max(m.spurious_strain, worst / scale);
   }
-  m.blocks = e.blocks.size(), m.bonds = e.bonds.size(), m.cracks = e.cracks().size();
+  m.blocks = e.model().num_blocks(), m.bonds = e.model().num_bonds(), m.cracks = e.cracks().size();
   return m;
 }
 
@@ -204,28 +204,27 @@ PairPeriodMeasure bonded_pair_period(double steps_per_period) {
   const double a = 1e-3, b = 0.8e-3, t = 1.0;
   const Topology topo = build_topology(rhombus(a, b), t, 2700.0);
   Engine e(topo, scene, free_blocks(scene));
-  e.blocks.fixed[0] = 1;
+  e.fix_block(0);
   const double k = 2.0 * scene.rock.effective_modulus * (2 * a) * t / (2 * b / 3);
   const double mass = 2700.0 * t * a * b;  // triangle of base 2a and height b
   const double preload = 1e3;              // N
-  e.blocks.ext_fy[1] = -preload;
-  const double y_eq = e.blocks.state[1].y - preload / k;
-  e.blocks.state[1].y = y_eq + 0.3 * preload / k;  // amplitude 30 % of the preload: the edge stays compressed
-  e.refresh();
+  e.set_external_load(1, 0.0, -preload, 0.0);
+  const double y_eq = e.state().y[1] - preload / k;
+  e.edit([&](ModelState& s) { s.y[1] = y_eq + 0.3 * preload / k; });  // amplitude 30 % of the preload: stays closed
   PairPeriodMeasure m;
   m.expected = 2 * std::numbers::pi * std::sqrt(mass / k);
   e.set_dt(m.expected / steps_per_period);
   std::vector<double> crossings;
-  double prev = e.blocks.state[1].y - y_eq;
+  double prev = e.state().y[1] - y_eq;
   while (crossings.size() < 11 && e.time() < 20 * m.expected) {
     e.step();
-    const double now = e.blocks.state[1].y - y_eq;
+    const double now = e.state().y[1] - y_eq;
     if (prev < 0 && now >= 0) crossings.push_back(e.time() - e.dt() * now / (now - prev));
     prev = now;
   }
   if (crossings.size() < 11) throw std::runtime_error("the pair did not oscillate");
   m.period = (crossings.back() - crossings.front()) / 10.0;
-  m.max_sideways = std::abs(e.blocks.state[1].x);
+  m.max_sideways = std::abs(e.state().x[1]);
   m.steps = e.steps();
   return m;
 }
@@ -237,11 +236,13 @@ ImpactMeasure frictionless_impact(double angle_deg) {
   const Topology topo = build_topology(facing_triangles(a), 1.0, 2700.0);
   Engine e(topo, scene, free_blocks(scene));
   const double v = 1.0, q = angle_deg * std::numbers::pi / 180;
-  e.blocks.state[0].vx = v * std::cos(q), e.blocks.state[0].vy = -v * std::sin(q);
-  e.blocks.state[1].vx = -v * std::cos(q);
-  e.refresh();
-  const double k = scene.rock.effective_modulus / (e.blocks.inradius[0] + e.blocks.inradius[1]) * a * std::sqrt(2.0);
-  e.set_dt(0.02 * std::sqrt(e.blocks.mass[0] / k));
+  e.edit([&](ModelState& s) {
+    s.vx[0] = v * std::cos(q), s.vy[0] = -v * std::sin(q);
+    s.vx[1] = -v * std::cos(q);
+  });
+  const Model& M = e.model();
+  const double k = scene.rock.effective_modulus / (M.inradius[0] + M.inradius[1]) * a * std::sqrt(2.0);
+  e.set_dt(0.02 * std::sqrt(M.mass[0] / k));
   const double e0 = e.energies().kinetic;
   ImpactMeasure m;
   for (int s = 0; s < 200000; ++s) {
@@ -262,23 +263,22 @@ SofteningPullMeasure softening_pull(double a, double fracture_energy, bool shear
   scene.rock.fracture_energy = fracture_energy;
   const Topology topo = build_topology(rhombus(a, 0.8 * a), 1.0, 2700.0);
   Engine e(topo, scene, free_blocks(scene));
-  e.blocks.fixed[0] = e.blocks.fixed[1] = 1;
-  e.refresh();
+  e.fix_block(0), e.fix_block(1);
   e.set_dt(1e-12);
-  const BondFrame& f = e.bonds.frame[0];
-  const double ux = shear ? -f.n0y : f.n0x, uy = shear ? f.n0x : f.n0y;  // normal or tangent
-  const double A = f.L * 1.0;
-  const std::size_t j = std::size_t(e.bonds.j[0]);
+  const BondFrames& f = e.model().frame;
+  const double ux = shear ? -f.n0y[0] : f.n0x[0], uy = shear ? f.n0x[0] : f.n0y[0];  // normal or tangent
+  const double A = f.L[0] * 1.0;
+  const std::size_t j = std::size_t(e.model().bj[0]);
   // Elastic limit of the displacement: sigma_c d / E* (normal) or c kappa d / E* (shear).
   const double limit = (shear ? 7.5e6 * 1.5 : 7.5e6) * topo.bonds.d[0] / scene.rock.effective_modulus;
   const double step = limit / 200.0;
   SofteningPullMeasure m;
   double previous = 0, moved = 0;
   for (int k = 0; k < 400000 && !m.broke; ++k) {
-    e.blocks.state[j].x += step * ux, e.blocks.state[j].y += step * uy;
+    e.edit([&](ModelState& s) { s.x[j] += step * ux, s.y[j] += step * uy; });
     moved += step;
     e.step();
-    m.broke = e.bonds.broken[0] != 0;
+    m.broke = e.state().broken[0] != 0;
     const BondForces bf = e.bond_forces(0);
     const double force = shear ? std::abs(bf.fs_b) : -bf.fn_b;  // resisting force, positive
     m.energy_per_area += 0.5 * (previous + force) * step / A;
@@ -303,7 +303,7 @@ SlopeMeasure static_and_explicit_moduli(double beta_deg, bool slip_when_bonded) 
   const Engine engine(topo, scene, EngineOptions::from_scene(scene));
   SlopeMeasure m;
   m.static_state = solve_static(engine);
-  const UcsResult run = run_ucs(scene, topo);
+  const TestResult run = run_ucs(scene, topo);
   m.explicit_modulus = slope(run.curve, 0.3 * scene.loading.max_strain);
   m.curve_points = run.curve.size(), m.cracks = run.cracks.size(), m.blocks = topo.blocks.size();
   m.steps = run.steps;

@@ -47,7 +47,7 @@ CaseResult cd_order(const Context&) {
   r.tolerance = 0.2;
   r.tolerance_source = "second order of central difference; 0.2 allows the next term over a factor 8 in dt "
                        "(the issue's 1.8-2.2)";
-  r.cost = fmt::format("{} blocks, {} to {} steps, ARKODE {} steps", p.engine->blocks.size(), n0, n0 << 3,
+  r.cost = fmt::format("{} blocks, {} to {} steps, ARKODE {} steps", p.engine->model().num_blocks(), n0, n0 << 3,
                        ref.stats.steps);
   return r;
 }

@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "compare/theory/elasticity.hpp"
+#include "theory/elasticity.hpp"
 #include "compare/verify/verify.hpp"
 #include "study/study.hpp"
 
@@ -34,7 +34,7 @@ const DipStudy& dip_study(const Context& ctx) {
   if (ctx.log) ctx.log("verify: running the default dip study (seven UCS runs) into " + out.string());
   const auto t0 = std::chrono::steady_clock::now();
   DipStudy d;
-  d.results = study::run_cases(cases, out, study::RunOptions{});
+  d.results = study::run_cases(cases, out, study::SweepOptions{});
   d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   d.group = study::write_tables(d.results, out).front();
   for (const auto& r : d.results) d.steps += r.summary["steps"].get<long>();

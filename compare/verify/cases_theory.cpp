@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 
-#include "compare/theory/elasticity.hpp"
+#include "theory/elasticity.hpp"
 #include "compare/verify/transform.hpp"
 #include "compare/verify/verify.hpp"
 

@@ -2,7 +2,7 @@
 #pragma once
 
 #include "dem/scene.hpp"
-#include "dem/trimesh.hpp"
+#include "mesh/trimesh.hpp"
 
 namespace rbdem::verify {
 

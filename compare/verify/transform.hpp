@@ -5,7 +5,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "compare/theory/elasticity.hpp"
+#include "theory/elasticity.hpp"
 
 namespace rbdem::verify {
 

@@ -1,12 +1,12 @@
 // Closed-form transversely isotropic elasticity and Jaeger strength. See elasticity.hpp and THEORY.md.
-#include "compare/theory/elasticity.hpp"
+#include "theory/elasticity.hpp"
 
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
 
-#include "dem/fault_injection.hpp"
+#include "common/fault_injection.hpp"
 
 namespace rbdem::theory {
 

@@ -1,8 +1,11 @@
-// TriMesh: the specimen's triangle mesh as plain data. Both solvers read this very object, so "the DEM and
-// the FE model use the same mesh" is literal. Triangles are stored counter-clockwise.
+// TriMesh: the specimen's triangle mesh as plain data, with no dependency on gmsh, the DEM or deal.II. Both
+// solvers read this very object (dem/topology.hpp builds blocks and bonds from it, continuum/ builds its
+// triangulation from it), so "the DEM and the FE model use the same mesh" is literal. Triangles are stored
+// counter-clockwise; dem/specimen_mesh.hpp makes and reads meshes with gmsh.
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -20,7 +23,9 @@ struct TriMesh {
   std::size_t num_layers() const { return layer_names.size(); }
 };
 
-// Signed area of triangle t (positive when counter-clockwise).
+// Signed area of triangle t (m^2, positive when counter-clockwise).
 double signed_area(const TriMesh& mesh, std::size_t t);
+// The signed area of every triangle, in triangle order.
+std::vector<double> triangle_areas(const TriMesh& mesh);
 
 }  // namespace rbdem

@@ -1,0 +1,137 @@
+// The monitors of a test run. See monitors.hpp.
+#include "dem/driver/monitors.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "dem/driver/summary.hpp"
+
+namespace rbdem {
+
+CurvePoint sample_point(const Engine& engine, const Reading& reading) {
+  CurvePoint p;
+  p.step = engine.steps();
+  p.time = engine.time();
+  p.strain = reading.strain;
+  p.stress_top = reading.stress_top;
+  p.stress_bottom = reading.stress_bottom;
+  const Energies e = engine.energies();
+  p.kinetic = e.kinetic;
+  p.strain_energy = e.strain;
+  const CrackCounts c = count_cracks(engine.cracks());
+  p.broken = {c.rock_tensile, c.rock_shear, c.joint_tensile, c.joint_shear};
+  return p;
+}
+
+Frame make_frame(const Engine& engine, const Reading& reading, const char* label) {
+  Frame f;
+  f.step = engine.steps(), f.time = engine.time(), f.strain = reading.strain, f.stress = reading.stress;
+  f.label = label;
+  const ModelState& s = engine.state();
+  f.x = s.x, f.y = s.y, f.theta = s.theta;
+  f.cracks = s.cracks.size();
+  return f;
+}
+
+void PeakTracker::after_step(const StepView& v) const {
+  TestRecord& r = v.record;
+  if (!(v.reading.stress > r.peak)) return;
+  r.peak = v.reading.stress;
+  r.peak_step = v.engine.steps();
+  if (v.engine.steps() - r.peak_detail_step >= 100) {
+    r.at_peak = sample_point(v.engine, v.reading);
+    r.peak_frame = make_frame(v.engine, v.reading, "peak");
+    r.peak_detail_step = v.engine.steps();
+  } else {
+    r.at_peak.step = v.engine.steps(), r.at_peak.time = v.engine.time(), r.at_peak.strain = v.reading.strain;
+    r.at_peak.stress_top = v.reading.stress_top, r.at_peak.stress_bottom = v.reading.stress_bottom;
+  }
+}
+
+void FrameRecorder::after_step(const StepView& v) const {
+  if (v.reading.strain < v.record.next_frame) return;
+  v.record.frames.push_back(make_frame(v.engine, v.reading, ""));
+  v.record.next_frame += interval;
+}
+
+bool CurveRecorder::after_step(const StepView& v) const {
+  if (v.engine.steps() % v.record.sample_every != 0) return false;
+  v.record.curve.push_back(sample_point(v.engine, v.reading));
+  return true;
+}
+
+std::string watchdog_check(const Engine& engine, double energy0, const WatchdogCriterion& c, std::string& detail,
+                           double& ratio) {
+  ratio = 0.0;
+  const ModelState& s = engine.state();
+  for (std::size_t b = 0; b < s.num_blocks(); ++b) {
+    if (!(std::isfinite(s.x[b]) && std::isfinite(s.y[b]) && std::isfinite(s.theta[b]) && std::isfinite(s.vx[b]) &&
+          std::isfinite(s.vy[b]) && std::isfinite(s.omega[b]))) {
+      detail = fmt::format("block {} has a non-finite position or velocity", b);
+      return "non_finite_state";
+    }
+  }
+  const Energies e = engine.energies();
+  const double held = e.kinetic + e.strain, input = energy0 + e.work_platen;
+  if (!std::isfinite(held)) {
+    detail = "the kinetic or strain energy is not finite";
+    return "non_finite_state";
+  }
+  ratio = input > 0 ? held / input : 0.0;
+  if (held > c.growth * input + c.floor) {
+    detail = fmt::format("kinetic + strain energy {:.4g} J exceeds {:.3g} x the energy put in ({:.4g} J at the start "
+                         "+ {:.4g} J of platen work) + {:.3g} J",
+                         held, c.growth, energy0, e.work_platen, c.floor);
+    return "energy_growth";
+  }
+  return {};
+}
+
+void Watchdog::mark_sound(const Engine& engine, const TestRecord& record) {
+  good_curve = record.curve.size(), good_frames = record.frames.size(), good_cracks = engine.cracks().size();
+}
+
+bool Watchdog::check(const Engine& engine, TestRecord& record, bool regular) {
+  double ratio = 0.0;
+  cause_ = watchdog_check(engine, record.energy0, criterion_, detail_, ratio);
+  if (!cause_.empty()) return false;
+  if (regular) record.energy_ratio_max = std::max(record.energy_ratio_max, ratio);
+  mark_sound(engine, record);
+  return true;
+}
+
+bool Checkpointer::after_step(const StepView& v, Watchdog& watchdog, double wall_seconds) {
+  const long step = v.engine.steps();
+  const bool cancel = step == s_.interrupt_at_step ||
+                      (s_.cancel && (step & 255) == 0 && s_.cancel->load(std::memory_order_relaxed));
+  bool due = s_.every_steps > 0 && step % s_.every_steps == 0;
+  if (!due && s_.every_seconds > 0 && (step & 255) == 0)
+    due = std::chrono::duration<double>(std::chrono::steady_clock::now() - last_).count() >= s_.every_seconds;
+  if ((due || cancel) && s_.write) {
+    if (!watchdog.check(v.engine, v.record, false)) return false;
+    TestCheckpoint c;
+    c.scene_toml = s_.scene_toml, c.test = s_.test;
+    c.engine = v.engine.state();
+    c.record = v.record;
+    c.record.wall_seconds = wall_seconds;
+    s_.write(c);
+    last_ = std::chrono::steady_clock::now();
+  }
+  if (cancel) {
+    RunCancelled c;
+    c.step = step;
+    c.checkpointed = bool(s_.write);
+    throw c;
+  }
+  return true;
+}
+
+void ProgressReporter::after_step(const StepView& v) const {
+  if (!report || v.engine.steps() % 1000 != 0) return;
+  report({v.engine.steps(), v.engine.platen_displacement() / v.engine.specimen_height(), v.reading.stress,
+          v.record.peak, int(v.engine.cracks().size())});
+}
+
+}  // namespace rbdem

@@ -1,0 +1,113 @@
+// The monitors of a test run: small objects the driver calls after every explicit step, in a fixed order.
+//   recorders  PeakTracker, FrameRecorder, CurveRecorder: write the run's TestRecord
+//   guards     Watchdog (the state stays finite and the energy bounded), Checkpointer (periodic checkpoints and
+//              cancellation), ProgressReporter
+// Each owns one job and its own settings; what must survive a restart lives in the TestRecord, never in a monitor.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <string>
+
+#include "dem/driver/protocol.hpp"
+#include "dem/driver/record.hpp"
+#include "dem/driver/result.hpp"
+#include "dem/engine.hpp"
+
+namespace rbdem {
+
+// A curve sample and a frame of block positions at the engine's current state.
+CurvePoint sample_point(const Engine& engine, const Reading& reading);
+Frame make_frame(const Engine& engine, const Reading& reading, const char* label);
+
+// What a monitor sees after a step.
+struct StepView {
+  const Engine& engine;
+  const Reading& reading;
+  TestRecord& record;
+};
+
+// The peak of the mean platen stress; its sample and frame refreshed at most every 100 steps of a rising curve
+// (energies and positions cost a pass over every bond and block), so the stored peak state is at most 100 steps
+// before the peak.
+struct PeakTracker {
+  void after_step(const StepView& v) const;
+};
+
+// Block positions every `interval` of axial strain.
+struct FrameRecorder {
+  double interval = 0;
+  void after_step(const StepView& v) const;
+};
+
+// A curve sample every record.sample_every steps. Returns whether it sampled this step.
+struct CurveRecorder {
+  bool after_step(const StepView& v) const;
+};
+
+// The watchdog's energy criterion (docs/reliability.md): with E_0 the kinetic + strain energy when the explicit
+// run began and W the work of the top platen since, a sound run has E_kin + E_strain <= E_0 + W (the rest went
+// into damping and friction). The run is stopped when E_kin + E_strain > growth (E_0 + W) + floor.
+struct WatchdogCriterion {
+  double growth = 1.5;   // -, allowed excess over the energy put in (integration error is far below)
+  double floor = 0.0;    // J, absolute allowance: the strain energy of the specimen at 1e-5 axial strain
+};
+// Empty when the engine's state is sound; otherwise the cause ("non_finite_state" or "energy_growth") and, in
+// `detail`, what was seen. `ratio` receives (E_kin + E_strain) / (E_0 + W).
+std::string watchdog_check(const Engine& engine, double energy0, const WatchdogCriterion& c, std::string& detail,
+                           double& ratio);
+
+// Checks the state every `every` steps and before every checkpoint; remembers the last sound state (the sizes of
+// the curve, the frames and the crack log then), which is what a stopped run keeps.
+class Watchdog {
+ public:
+  Watchdog(WatchdogCriterion criterion, int every) : criterion_(criterion), every_(every) {}
+  // Records the current record and crack log as sound (the start of the explicit run).
+  void mark_sound(const Engine& engine, const TestRecord& record);
+  // The regular check: false when the run must stop.
+  bool after_step(const StepView& v) {
+    return v.engine.steps() % every_ != 0 || check(v.engine, v.record, true);
+  }
+  // One check; `regular` checks also update the largest energy ratio (deterministic: regular steps only).
+  bool check(const Engine& engine, TestRecord& record, bool regular);
+  // Marks the run stopped for a cause seen outside the checks (an InstabilityError).
+  void stop(std::string cause, std::string detail) { cause_ = std::move(cause), detail_ = std::move(detail); }
+  const std::string& cause() const { return cause_; }
+  const std::string& detail() const { return detail_; }
+  std::size_t good_curve = 0, good_frames = 0, good_cracks = 0;
+
+ private:
+  WatchdogCriterion criterion_;
+  int every_ = 100;
+  std::string cause_, detail_;
+};
+
+// Checkpoints every `every_steps` steps and every `every_seconds` of wall time, and on cancellation, each time
+// right after the state passed the watchdog; a cancelled run then throws RunCancelled.
+class Checkpointer {
+ public:
+  struct Settings {
+    long every_steps = 0;
+    double every_seconds = 0;
+    const std::atomic<bool>* cancel = nullptr;  // read every 256 steps
+    long interrupt_at_step = -1;                // tests: behave as if cancel were set at this step
+    std::function<void(const TestCheckpoint&)> write;
+    std::string scene_toml, test;
+  };
+  explicit Checkpointer(Settings s) : s_(std::move(s)), last_(std::chrono::steady_clock::now()) {}
+  // False when the watchdog refused the state before a checkpoint (the run must stop).
+  bool after_step(const StepView& v, Watchdog& watchdog, double wall_seconds);
+
+ private:
+  Settings s_;
+  std::chrono::steady_clock::time_point last_;
+};
+
+// Progress every 1000 steps.
+struct ProgressReporter {
+  std::function<void(const RunProgress&)> report;
+  void after_step(const StepView& v) const;
+};
+
+}  // namespace rbdem

@@ -1,0 +1,45 @@
+// A loading protocol: what the boundaries do and when a test stops. The test driver (dem/driver/driver.hpp) runs
+// the explicit steps and the monitors; a protocol supplies the test-specific parts:
+//   start()   before the explicit run: boundary set-up and a static start where it is exact
+//   read()    after each step: the axial strain and the platen stresses that the curve, the peak and the stop
+//             criterion use
+//   stop()    whether the test is over, and why
+// A new test (uniaxial, confined, Brazilian) is a new protocol; the loop, the recorders, the watchdog, the
+// checkpoints and the summary are shared.
+#pragma once
+
+#include <string>
+
+#include "dem/driver/record.hpp"
+#include "dem/engine.hpp"
+#include "dem/scene.hpp"
+
+namespace rbdem {
+
+// What a protocol reads off the engine after a step.
+struct Reading {
+  double strain = 0;                         // axial strain = platen displacement / height
+  double stress_top = 0, stress_bottom = 0;  // Pa, platen force / (width x thickness), compression positive
+  double stress = 0;                         // Pa, their mean (the curve's stress and the peak)
+};
+
+class LoadingProtocol {
+ public:
+  virtual ~LoadingProtocol() = default;
+  // The test's name, as summary.json's "test" gives it.
+  virtual std::string name() const = 0;
+  // Before the first explicit step of a fresh run (not on resume): set up the boundaries and, where it is exact,
+  // bring the engine statically to the state where the explicit run takes over; record the static part of the
+  // curve and the sampling interval in `record`.
+  virtual void start(Engine& engine, TestRecord& record) = 0;
+  // The reading after a step.
+  virtual Reading read(const Engine& engine) const = 0;
+  // The most explicit steps the run may take (the max_strain limit).
+  virtual long max_steps(const Engine& engine, const TestRecord& record) const = 0;
+  // After each step (and its samples): true when the test is over; `reason` says why ("post_peak",
+  // "post_peak_strain").
+  virtual bool stop(const Engine& engine, const Reading& reading, const TestRecord& record,
+                    std::string& reason) const = 0;
+};
+
+}  // namespace rbdem

@@ -1,0 +1,81 @@
+// The result of a test run, as summarize() (dem/driver/summary.hpp) makes it from the run's record. Plain data,
+// no file I/O (io/results.hpp writes it).
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "dem/driver/record.hpp"
+#include "dem/state.hpp"
+
+namespace rbdem {
+
+struct CrackCounts {
+  int rock_tensile = 0, rock_shear = 0, joint_tensile = 0, joint_shear = 0;
+  int total() const { return rock_tensile + rock_shear + joint_tensile + joint_shear; }
+};
+
+struct TestResult {
+  std::string test = "ucs";     // the protocol: "ucs"
+  double peak_stress = 0;       // Pa (mean of the two platens)
+  double strain_at_peak = 0;
+  double youngs_modulus = 0;    // Pa, secant at 50 % of the peak
+  double platen_force_mismatch = 0;  // max |F_top - F_bottom| / mean while loading (20 to 95 % of the peak)
+  double platen_force_mismatch_at_peak = 0;
+  double kinetic_to_strain_at_peak = 0;
+  std::vector<CurvePoint> curve;
+  std::vector<Crack> cracks;
+  std::vector<Frame> frames;    // every output.frame_strain_interval, plus the peak and the final state
+  CrackCounts crack_counts;
+  double crack_band_angle_deg = 0;  // principal direction of the crack positions, from the horizontal
+  double tensile_fraction = 0;      // tensile share of the crack length
+  std::string failure_mode;
+  std::string stop_reason;      // "post_peak" (stress dropped) | "post_peak_strain" | "max_strain" | "watchdog"
+  long steps = 0;
+  double dt = 0, dt_critical = 0;   // s: the step used, the exact stability limit of the bonded lattice
+  double dt_block_estimate = 0;     // s: the block-wise estimate (docs/theory.md, section 8), for comparison
+  double mass_scaling = 1.0;
+  double wall_seconds = 0;
+  double elastic_start_strain = 0;  // strain skipped by the static elastic start (0 if none)
+  std::size_t blocks = 0, bonds = 0, rock_bonds = 0, joint_bonds = 0;
+  int threads = 1;                  // the OpenMP threads the engine ran on (at most)
+  // The watchdog (docs/reliability.md): false when the run was stopped because its state became non-finite or
+  // its energy grew without work input. Then the curve, cracks and frames end at the last state that passed the
+  // check and the headline numbers (peak, modulus, failure mode) are not results.
+  bool completed = true;
+  std::string watchdog_cause;       // "non_finite_state" | "energy_growth" (empty when completed)
+  std::string watchdog_message;     // what happened, at which step, and the fix
+  long watchdog_step = -1;          // the step at which the watchdog stopped the run
+  double energy_ratio_max = 0;      // max over the regular checks of (kinetic + strain) / (E_0 + platen work)
+  // Quasi-static verdict (docs/theory.md, section 8): platen forces agree and the kinetic energy is small while
+  // loading.
+  double kinetic_to_strain_loading = 0;  // max kinetic / strain energy on the loading branch (20 to 95 % of peak)
+  bool quasi_static = true;
+  std::string quasi_static_reason;  // why not (empty when quasi-static)
+};
+
+struct RunProgress {
+  long step;
+  double strain, stress, peak;
+  int cracks;
+};
+
+// Thrown by run_test when RunOptions::cancel was set (SIGINT in a sweep or a single run): no result exists for the
+// run. With a checkpoint callback, the state at `step` was handed to it first (checkpointed = true).
+struct RunCancelled : std::runtime_error {
+  RunCancelled() : std::runtime_error("run cancelled") {}
+  long step = -1;
+  bool checkpointed = false;
+};
+
+// Everything a run needs to continue where it stopped: the engine's state and the driver's record. Plain data;
+// io/checkpoint.hpp stores it in checkpoint.h5.
+struct TestCheckpoint {
+  std::string scene_toml;        // the resolved scene of the run (a resume with another scene is refused)
+  std::string test;              // the protocol's name
+  ModelState engine;
+  TestRecord record;
+};
+
+}  // namespace rbdem

@@ -1,0 +1,34 @@
+// From a run's record to its result: the headline numbers, the quasi-static verdict, the crack statistics and the
+// failure classification. Pure functions of plain data (no engine, no files).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "dem/driver/result.hpp"
+#include "dem/scene.hpp"
+#include "dem/topology.hpp"
+
+namespace rbdem {
+
+CrackCounts count_cracks(const std::vector<Crack>& cracks);
+
+// Failure mode from the crack log, in the seed paper's three classes plus one:
+//   a joint broken along at least half its length, mostly in shear, with a large resolved shear stress on it
+//   (tau / sigma = sin(2 dip) / 2 > 1/4: 15 < dip < 75 deg) -> "shear_slip_along_joints"
+//   a joint broken along at least half its length otherwise -> "splitting_along_layers"
+//   no joint broken through: rock cracks, by length, mostly tensile -> splitting, "splitting_along_layers" when the
+//   layers are steep (dip >= 60 deg, cracks parallel to them) else "splitting_across_layers";
+//   mostly shear -> "shear_through_rock"; and "intact" when nothing broke.
+std::string classify_failure(const std::vector<Crack>& cracks, const Topology& topo, double dip_deg);
+
+// Dip (0..90 deg from the horizontal) of the principal axis of the crack positions, weighted by crack length:
+// near 90 for axial splitting, near 45 + phi/2 for a shear band, the joint dip for slip along a joint.
+double crack_band_angle_deg(const std::vector<Crack>& cracks, const Topology& topo);
+
+// The result of a completed run: `result` arrives with the record's curve (the peak sample in it), frames, the
+// crack log, the counts and the timing filled in; this adds the peak, E50, the quasi-static checks, the crack
+// statistics and the failure mode.
+void summarize(const Scene& scene, const Topology& topo, const TestRecord& record, TestResult& result);
+
+}  // namespace rbdem

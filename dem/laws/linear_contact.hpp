@@ -1,0 +1,108 @@
+// The linear contact law: the infinitesimal, no-tension, frictional interface of the linear parallel bond model
+// (docs/theory.md, section 7). One law for three users: the linear part of an intact bond (overlap from the
+// bond's own kinematics, edge_overlap below), every contact between blocks after a bond broke or between blocks
+// that were never neighbours (overlap from polygon clipping, dem/contact_geometry.hpp), and the platens (overlap
+// of a block with a half-plane). Small value type, no I/O, history (the shear force) passed in and out.
+//
+// Normal force: the gradient of Feng, Han and Owen's potential w(A_o) = k_n t A_o^2 / (2 L_ref),
+//     F_n = k_n t A_o l_c / L_ref = K A_o l_c / L_ref^2         (N; K = k_n t L_ref, the stiffness of a closed edge)
+// with A_o the overlap area per unit thickness (m^2), l_c the contact chord (m), k_n = E*/d (Pa/m). For a whole
+// edge in contact l_c = L_ref = L and F_n = k_n L t delta: the linear part of a bond at that edge. Where an edge is
+// only partly closed, or a vertex touches a face, the l_c / L_ref factor keeps the force conservative; the plain
+// k_n t A_o at the chord midpoint is not, and its non-symmetric tangent made the explicit scheme diverge at 0.6 x
+// the linear stability limit (docs/model.md).
+// Shear: incremental, dF_s = -k_s t l_c ds = -K_s (l_c / L_ref) ds (K_s = k_s t L_ref), Coulomb limit |F_s| <= mu F_n;
+// no shear force without a normal force. mu = +inf never slides (the linear part of a bond whose kind has
+// slip_when_bonded = false).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+namespace rbdem {
+
+// Overlap of the linear part of an intact bond from its kinematics: the edge of length L, centre opening
+// delta_n (m, positive when opening) and relative rotation dtheta (rad). Along the edge s in [-L/2, L/2] the
+// overlap is u(s) = -delta_n + s dtheta; `area` is the integral of max(u, 0) (m^2), `chord` the compressed
+// interval (m), `s_c` the chord's midpoint (m, the contact point, as in the clipped contact).
+struct EdgeOverlap {
+  double area = 0, chord = 0, s_c = 0;
+};
+inline EdgeOverlap edge_overlap(double L, double delta_n, double dtheta) {
+  const double h = 0.5 * L;
+  const double u0 = -delta_n - h * dtheta, u1 = -delta_n + h * dtheta;  // overlap at s = -L/2 and s = +L/2
+  EdgeOverlap e;
+  if (u0 >= 0.0 && u1 >= 0.0) {
+    e.area = -delta_n * L;
+    e.chord = L;
+    return e;
+  }
+  if (u0 <= 0.0 && u1 <= 0.0) return e;
+  // Partly compressed: the overlap is a triangle from the zero crossing s0 to the compressed end.
+  const double s0 = delta_n / dtheta;  // u(s0) = 0
+  if (u1 > 0.0) {
+    e.chord = h - s0;
+    e.area = 0.5 * u1 * e.chord;
+    e.s_c = 0.5 * (s0 + h);
+  } else {
+    e.chord = s0 + h;
+    e.area = 0.5 * u0 * e.chord;
+    e.s_c = 0.5 * (s0 - h);
+  }
+  return e;
+}
+
+struct LinearContact {
+  double kn = 0;    // Pa/m, normal stiffness per unit area (E*/d)
+  double ks = 0;    // Pa/m, shear stiffness per unit area (kn / kappa)
+  double mu = 0;    // Coulomb coefficient (+inf: never slides)
+  double lref = 1;  // m, reference chord L_ref of the potential (the edge length for a bond)
+
+  // Normal force (N, compression positive) for an overlap area per unit thickness `area` (m^2), chord (m),
+  // thickness t (m).
+  double normal_force(double area, double chord, double t) const { return kn * t * area * chord / lref; }
+
+  // Updates the shear force `fs` (N, along the tangent) for a tangential displacement increment `ds` (m) over a
+  // chord `chord` (m) under normal force `fn`. Returns true when the contact slides.
+  bool update_shear(double fn, double chord, double t, double ds, double& fs) const {
+    if (!(fn > 0.0)) {
+      fs = 0.0;
+      return false;
+    }
+    fs -= ks * t * chord * ds;
+    const double limit = mu * fn;
+    if (std::abs(fs) > limit) {
+      fs = std::copysign(limit, fs);
+      return true;
+    }
+    return false;
+  }
+
+  // Elastic energy (J) stored at normal force fn and shear force fs over the chord: the potential
+  // w = F_n^2 L_ref / (2 k_n t l_c^2) and F_s^2 / (2 k_s t l_c).
+  double strain_energy(double fn, double fs, double chord, double t) const {
+    if (!(fn > 0.0) || !(chord > 0.0)) return 0.0;
+    return 0.5 * (fn * fn * lref / (kn * t * chord * chord) + fs * fs / (ks * t * chord));
+  }
+};
+
+// The same law on the edge of an intact bond, in the bond's own units: K = k_n t L (N/m, the bond's kA) and
+// K_s = K / kappa, L_ref = L, 1/L precomputed. `edge` is the overlap from edge_overlap; `vt_dt` is the tangential
+// relative displacement increment at the contact point. Returns the normal force and updates `fs` as
+// LinearContact does (mu = +inf: never slides).
+struct EdgeLaw {
+  double K = 0, Ks = 0, inv_L = 0, mu = 0;
+
+  double normal_force(const EdgeOverlap& edge) const { return K * edge.area * edge.chord * inv_L * inv_L; }
+  void update_shear(double fn, const EdgeOverlap& edge, double vt, double dt, double& fs) const {
+    if (fn > 0.0) {
+      fs -= Ks * (edge.chord * inv_L) * vt * dt;
+      const double limit = mu * fn;
+      if (std::abs(fs) > limit) fs = std::copysign(limit, fs);
+    } else {
+      fs = 0.0;
+    }
+  }
+};
+
+}  // namespace rbdem

@@ -1,0 +1,137 @@
+// Building the constant model data from a topology and a scene. See model.hpp.
+#include "dem/model.hpp"
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "common/fault_injection.hpp"
+
+namespace rbdem {
+
+BondStiffness Model::stiffness(int b) const {
+  const std::size_t k = std::size_t(b);
+  const BondKindLaw& kl = law[int(kind[k])];
+  const double K = frame.K[k], L = frame.L[k];
+  const double A = L * thickness;
+  return {K, K / kl.kappa, K * L * L / kl.inertia_divisor, K, K / kl.kappa, kl.mu, kl.slip_bonded,
+          A, A * L * L / 12.0, L};
+}
+
+LinearContact Model::pair_law(int i, int j, int bond) const {
+  if (bond >= 0) {  // a broken bond: the same linear law as its linear part had
+    const BondStiffness k = stiffness(bond);
+    return {k.knA / k.A, k.ksA / k.A, k.mu, k.L};
+  }
+  // Never neighbours: d and L_ref from the blocks' inradii (the bond's d and L for equilateral blocks).
+  const BondKindLaw& kl = law[layer[std::size_t(i)] == layer[std::size_t(j)] ? 0 : 1];
+  const double kn = kl.modulus / (inradius[std::size_t(i)] + inradius[std::size_t(j)]);
+  return {kn, kn / kl.kappa, kl.mu, std::sqrt(3.0) * (inradius[std::size_t(i)] + inradius[std::size_t(j)])};
+}
+
+LinearContact Model::platen_law(int block, double mu) const {
+  const std::size_t b = std::size_t(block);
+  return {platen_kn[b], platen_kn[b] / law[0].kappa, mu, platen_lref[b]};
+}
+
+bool Model::bonded(int i, int j, const std::vector<std::uint8_t>& broken) const {
+  for (int o = csr_offset[i]; o < csr_offset[i + 1]; ++o) {
+    const int b = csr_entry[o] >> 1;
+    if (!broken[std::size_t(b)] && (bi[b] == j || bj[b] == j)) return true;
+  }
+  return false;
+}
+
+Model build_model(const Topology& topo, const Scene& scene, double mass_scaling) {
+  constexpr double deg = std::numbers::pi / 180.0;
+  Model m;
+  m.topology = &topo;
+  m.thickness = topo.thickness;
+  m.width = topo.width(), m.height = topo.height();
+  m.xmin = topo.xmin, m.xmax = topo.xmax, m.ymin = topo.ymin, m.ymax = topo.ymax;
+
+  const auto& G = topo.blocks;
+  const std::size_t nb = G.size();
+  m.mass.resize(nb), m.inv_mass.resize(nb), m.inertia.resize(nb);
+  for (std::size_t b = 0; b < nb; ++b) {
+    m.mass[b] = G.mass[b] * mass_scaling;
+    m.inv_mass[b] = 1.0 / m.mass[b];
+    m.inertia[b] = G.inertia[b] * mass_scaling;
+  }
+  m.x0 = G.cx, m.y0 = G.cy;
+  m.radius = G.radius, m.shape = G.shape, m.layer = G.layer;
+  m.inradius.resize(nb);
+  for (std::size_t b = 0; b < nb; ++b) {
+    const auto& s = G.shape[b];
+    double perimeter = 0;
+    for (int v = 0; v < 3; ++v)
+      perimeter += std::hypot(s[2 * ((v + 1) % 3)] - s[2 * v], s[2 * ((v + 1) % 3) + 1] - s[2 * v + 1]);
+    m.inradius[b] = 2.0 * G.area[b] / perimeter;
+  }
+  m.fixed.assign(nb, 0);
+
+  // Laws by kind: rock inside a layer, joint across layers.
+  const std::array<const MaterialParams*, 2> mat{&scene.rock, &scene.joint};
+  for (int k = 0; k < 2; ++k) {
+    BondKindLaw& kl = m.law[std::size_t(k)];
+    kl.modulus = mat[k]->effective_modulus;
+    kl.kappa = mat[k]->stiffness_ratio;
+    kl.mu = mat[k]->contact_friction;
+    kl.slip_bonded = mat[k]->slip_when_bonded;
+    kl.inertia_divisor = fault_injected("bond_inertia") ? 6.0 : 12.0;
+    kl.bond.inv_kappa = 1.0 / mat[k]->stiffness_ratio;
+    kl.bond.inertia_factor = 1.0 / kl.inertia_divisor;
+    kl.bond.strength = {mat[k]->tensile_strength, mat[k]->cohesion, std::tan(mat[k]->friction_deg * deg),
+                        mat[k]->moment_factor};
+    const double sc = mat[k]->tensile_strength;
+    kl.bond.softening = 2.0 * mat[k]->fracture_energy / (sc * sc * m.thickness);
+  }
+
+  const auto& N = topo.bonds;
+  const std::size_t nbond = N.size();
+  m.bi = N.i, m.bj = N.j, m.kind = N.kind;
+  BondFrames& f = m.frame;
+  for (auto* v : {&f.rix, &f.riy, &f.rjx, &f.rjy, &f.n0x, &f.n0y, &f.L, &f.inv_L, &f.K, &f.Ks, &f.KI, &f.A,
+                  &f.rupture})
+    v->resize(nbond);
+  for (std::size_t b = 0; b < nbond; ++b) {
+    const BondKindLaw& kl = m.law[int(N.kind[b])];
+    const double L = N.length[b];
+    f.rix[b] = N.mx[b] - G.cx[N.i[b]], f.riy[b] = N.my[b] - G.cy[N.i[b]];
+    f.rjx[b] = N.mx[b] - G.cx[N.j[b]], f.rjy[b] = N.my[b] - G.cy[N.j[b]];
+    f.n0x[b] = N.nx[b], f.n0y[b] = N.ny[b];
+    f.L[b] = L, f.inv_L[b] = 1.0 / L;
+    f.K[b] = kl.modulus / N.d[b] * L * m.thickness;
+    f.Ks[b] = f.K[b] * kl.bond.inv_kappa;
+    f.KI[b] = f.K[b] * L * L * kl.bond.inertia_factor;
+    f.A[b] = L * m.thickness;
+    f.rupture[b] = kl.bond.rupture_index(f.K[b], L);
+  }
+
+  // CSR with the block's role encoded: entry = 2 bond + (block is j).
+  m.csr_offset = topo.bond_offset;
+  m.csr_entry.resize(topo.bond_of.size());
+  for (std::size_t b = 0; b < nb; ++b)
+    for (int o = m.csr_offset[b]; o < m.csr_offset[b + 1]; ++o) {
+      const int bond = topo.bond_of[std::size_t(o)];
+      m.csr_entry[std::size_t(o)] = 2 * bond + (N.j[std::size_t(bond)] == int(b) ? 1 : 0);
+    }
+
+  // Platen stiffness: the platen acts as the mirror image of the block, d = 2 x inradius.
+  m.platen_kn.resize(nb);
+  for (std::size_t b = 0; b < nb; ++b) m.platen_kn[b] = m.law[0].modulus / (2.0 * m.inradius[b]);
+  // L_ref of a platen contact: the block's edge on the platen, else the inradius-based length of a fresh contact.
+  m.platen_lref.resize(nb);
+  for (std::size_t b = 0; b < nb; ++b) m.platen_lref[b] = 2.0 * std::sqrt(3.0) * m.inradius[b];
+  for (std::size_t e = 0; e < topo.boundary.size(); ++e)
+    if (topo.boundary.side[e] == Side::top || topo.boundary.side[e] == Side::bottom)
+      m.platen_lref[std::size_t(topo.boundary.block[e])] = topo.boundary.length[e];
+
+  double mean_length = 0;
+  for (double L : N.length) mean_length += L;
+  mean_length = nbond ? mean_length / double(nbond) : 1e-3;
+  m.skin = 0.2 * mean_length;
+  return m;
+}
+
+}  // namespace rbdem

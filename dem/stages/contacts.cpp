@@ -1,0 +1,201 @@
+// Contact detection (broad phase) and contact forces (narrow phase + the linear contact law). See stages.hpp.
+//
+// Only blocks with a free face (a broken bond or a specimen boundary edge) can meet blocks they are not bonded
+// to: a block whose three edges are bonded is enclosed by its neighbours (docs/model.md, "Contacts: broad
+// phase"). Candidate pairs among them come from a uniform cell grid with a skin of 0.2 mean edge lengths; the list
+// is rebuilt when a free-face block or the platen has moved half a skin, or a bond broke. Shear history carries
+// over by pair key. The two savings can be switched off to measure them (numerics.search_free_faces_only,
+// numerics.skip_bonded_pairs).
+#include <algorithm>
+#include <cmath>
+
+#include <omp.h>
+
+#include "dem/contact_geometry.hpp"
+#include "dem/stages/bond_kernel.hpp"
+#include "dem/stages/stages.hpp"
+
+namespace rbdem::stages {
+
+namespace {
+
+std::uint64_t pair_key(int i, int j) { return (std::uint64_t(std::uint32_t(i)) << 32) | std::uint32_t(j); }
+
+bool needs_rebuild(const Model& m, const ModelState& s, int threads) {
+  if (s.rebuild) return true;
+  if (std::abs(s.top_y - s.ref_top) > 0.5 * m.skin) return true;
+  const double lim2 = 0.25 * m.skin * m.skin;
+  const int ne = int(s.eligible.size());
+  bool moved = false;
+#pragma omp parallel for schedule(static) num_threads(threads) reduction(|| : moved) if (ne > 1024)
+  for (int k = 0; k < ne; ++k) {
+    const std::size_t b = std::size_t(s.eligible[std::size_t(k)]);
+    const double dx = s.x[b] - s.ref_x[std::size_t(k)], dy = s.y[b] - s.ref_y[std::size_t(k)];
+    moved = moved || dx * dx + dy * dy > lim2;
+  }
+  return moved;
+}
+
+}  // namespace
+
+void block_vertices(const Model& m, const ModelState& s, const Workspace& w, int b, double* out) {
+  const std::size_t k = std::size_t(b);
+  const auto& sh = m.shape[k];
+  const double c = w.cos_t[k], sn = w.sin_t[k];
+  for (int v = 0; v < 3; ++v) {
+    out[2 * v] = s.x[k] + c * sh[2 * v] - sn * sh[2 * v + 1];
+    out[2 * v + 1] = s.y[k] + sn * sh[2 * v] + c * sh[2 * v + 1];
+  }
+}
+
+void detect_contacts(const Model& m, ModelState& s, const DetectionOptions& o, int threads) {
+  if (!needs_rebuild(m, s, threads)) return;
+  s.rebuild = false;
+  const std::size_t nb = m.num_blocks();
+  auto& eligible = s.eligible;
+  eligible.clear();
+  double rmax = 0;
+  for (std::size_t b = 0; b < nb; ++b)
+    if (s.free_face[b] || !o.search_free_faces_only) eligible.push_back(int(b)), rmax = std::max(rmax, m.radius[b]);
+  s.ref_x.resize(eligible.size()), s.ref_y.resize(eligible.size());
+  for (std::size_t k = 0; k < eligible.size(); ++k) s.ref_x[k] = s.x[eligible[k]], s.ref_y[k] = s.y[eligible[k]];
+  s.ref_top = s.top_y;
+
+  // Platen candidates (the platen may travel skin/2 before the next rebuild).
+  s.top_candidates.clear(), s.bottom_candidates.clear();
+  if (o.platens)
+    for (int b : eligible) {
+      if (s.y[b] + m.radius[b] > s.top_y - m.skin) s.top_candidates.push_back(b);
+      if (s.y[b] - m.radius[b] < m.ymin + m.skin) s.bottom_candidates.push_back(b);
+    }
+
+  // Uniform grid over the eligible blocks; pairs from the 3 x 3 neighbourhood of each cell.
+  std::vector<std::uint64_t> keys;
+  if (o.contacts && !eligible.empty()) {
+    const double cell = 2.0 * rmax + m.skin;
+    double xmin = 1e300, ymin = 1e300;
+    for (int b : eligible) xmin = std::min(xmin, s.x[b]), ymin = std::min(ymin, s.y[b]);
+    // Cell indices clamped to [0, 2e9]: a run going unstable (stopped by the watchdog a few steps later) may carry
+    // huge or non-finite positions here, which must not overflow the conversion (NaN fails q >= 0 and maps to 0).
+    auto index = [cell](double v) {
+      const double q = v / cell;
+      return q >= 0 ? (q < 2e9 ? long(q) : 2000000000L) : 0L;
+    };
+    auto cell_of = [&](int b) { return std::pair<long, long>{index(s.x[b] - xmin), index(s.y[b] - ymin)}; };
+    auto cell_key = [](long cx, long cy) { return (std::uint64_t(cx) << 32) | std::uint64_t(cy); };
+    std::vector<std::pair<std::uint64_t, int>> cells;
+    cells.reserve(eligible.size());
+    for (int b : eligible) {
+      const auto [cx, cy] = cell_of(b);
+      cells.push_back({cell_key(cx, cy), b});
+    }
+    std::sort(cells.begin(), cells.end());
+    // Pairs from each eligible block's 3 x 3 cell neighbourhood, found in parallel into per-thread lists; the
+    // sorted union does not depend on how the blocks were split among threads.
+    const int ne = int(eligible.size());
+    std::vector<std::vector<std::uint64_t>> found(static_cast<std::size_t>(threads));
+#pragma omp parallel num_threads(threads) if (ne > 256)
+    {
+      auto& mine = found[std::size_t(omp_get_thread_num())];
+#pragma omp for schedule(static)
+      for (int k = 0; k < ne; ++k) {
+        const int a = eligible[std::size_t(k)];
+        const auto [cx, cy] = cell_of(a);
+        for (long dx = -1; dx <= 1; ++dx)
+          for (long dy = -1; dy <= 1; ++dy) {
+            if (cx + dx < 0 || cy + dy < 0) continue;
+            const std::uint64_t key = cell_key(cx + dx, cy + dy);
+            auto it = std::lower_bound(cells.begin(), cells.end(), std::pair<std::uint64_t, int>{key, -1});
+            for (; it != cells.end() && it->first == key; ++it) {
+              const int b = it->second;
+              if (b <= a) continue;
+              const double rr = m.radius[a] + m.radius[b] + m.skin;
+              const double ex = s.x[b] - s.x[a], ey = s.y[b] - s.y[a];
+              if (ex * ex + ey * ey > rr * rr) continue;
+              if (o.skip_bonded_pairs && m.bonded(a, b, s.broken)) continue;
+              mine.push_back(pair_key(a, b));
+            }
+          }
+      }
+    }
+    for (const auto& list : found) keys.insert(keys.end(), list.begin(), list.end());
+    std::sort(keys.begin(), keys.end());
+  }
+
+  ContactPairs next;
+  const auto& old = s.contacts;
+  std::size_t at = 0;
+  for (std::uint64_t key : keys) {
+    const int i = int(key >> 32), j = int(key & 0xffffffffu);
+    while (at < old.key.size() && old.key[at] < key) ++at;
+    int bond = -1;
+    for (int e = m.csr_offset[i]; e < m.csr_offset[i + 1]; ++e) {
+      const int bb = m.csr_entry[e] >> 1;
+      if (m.bi[bb] == j || m.bj[bb] == j) bond = bb;
+    }
+    double fs = 0.0;
+    if (at < old.key.size() && old.key[at] == key) fs = old.fs[at];
+    else if (bond >= 0) fs = s.fs_lin[bond];  // a bond that just broke hands over its linear shear force
+    next.i.push_back(i), next.j.push_back(j), next.bond.push_back(bond), next.law.push_back(m.pair_law(i, j, bond));
+    next.fs.push_back(fs), next.fn.push_back(0.0), next.chord.push_back(0.0), next.key.push_back(key);
+  }
+  s.contacts = std::move(next);
+}
+
+// Each pair's narrow phase and contact law run in parallel into the pair's own record; the records are then
+// summed into the contact accumulators serially in pair order, so the sums do not depend on the thread count.
+void contact_forces(const Model& m, ModelState& s, Workspace& w, const StepContext& c) {
+  std::fill(w.cfx.begin(), w.cfx.end(), 0.0);
+  std::fill(w.cfy.begin(), w.cfy.end(), 0.0);
+  std::fill(w.cm.begin(), w.cm.end(), 0.0);
+  auto& C = s.contacts;
+  const double t = m.thickness, dt = c.dt;
+  const bool advance = c.advance;
+  const int n = int(C.size());
+  w.pair_force.resize(C.size());
+  Workspace::PairForce* out = w.pair_force.data();
+#pragma omp parallel for schedule(static) num_threads(c.threads) if (n > 64)
+  for (int p = 0; p < n; ++p) {
+    const int i = C.i[p], j = C.j[p];
+    const double ex = s.x[j] - s.x[i], ey = s.y[j] - s.y[i];
+    const double rr = m.radius[i] + m.radius[j];
+    Overlap ov;
+    double vi[6], vj[6];
+    bool touching = false;
+    if (ex * ex + ey * ey < rr * rr) {
+      block_vertices(m, s, w, i, vi);
+      block_vertices(m, s, w, j, vj);
+      touching = overlap_polygons(vi, 3, vj, 3, ov);
+    }
+    // A pair still joined by its bond (listed only with skip_bonded_pairs = false): the bond's linear part is its
+    // contact, so the narrow phase above was the whole of its cost.
+    const bool intact = C.bond[p] >= 0 && !s.broken[std::size_t(C.bond[p])];
+    if (!touching || intact) {
+      if (advance) C.fs[p] = 0.0, C.fn[p] = 0.0, C.chord[p] = 0.0;
+      out[p] = Workspace::PairForce{0, 0, 0, 0, 0};
+      continue;
+    }
+    const double nx = -ov.nx, ny = -ov.ny;  // from i to j, as for bonds
+    const double tx = -ny, ty = nx;
+    const double fn = C.law[p].normal_force(ov.area, ov.chord, t);
+    const double cix = ov.px - s.x[i], ciy = ov.py - s.y[i];
+    const double cjx = ov.px - s.x[j], cjy = ov.py - s.y[j];
+    const double vrx = (s.vx[j] - s.omega[j] * cjy) - (s.vx[i] - s.omega[i] * ciy);
+    const double vry = (s.vy[j] + s.omega[j] * cjx) - (s.vy[i] + s.omega[i] * cix);
+    const double ds = (vrx * tx + vry * ty) * dt;
+    double fs = C.fs[p];
+    const double friction = C.law[p].update_shear(fn, ov.chord, t, ds, fs) ? std::abs(fs * ds) : 0.0;
+    if (advance) C.fs[p] = fs, C.fn[p] = fn, C.chord[p] = ov.chord;
+    const double fx = fn * nx + fs * tx, fy = fn * ny + fs * ty;  // on j
+    out[p] = Workspace::PairForce{fx, fy, cross(cix, ciy, fx, fy), cross(cjx, cjy, fx, fy), friction};
+  }
+  for (int p = 0; p < n; ++p) {
+    const Workspace::PairForce& f = out[p];
+    const int i = C.i[p], j = C.j[p];
+    w.cfx[j] += f.fx, w.cfy[j] += f.fy, w.cm[j] += f.mj;
+    w.cfx[i] -= f.fx, w.cfy[i] -= f.fy, w.cm[i] -= f.mi;
+    if (advance) s.e_friction += f.friction;
+  }
+}
+
+}  // namespace rbdem::stages
