@@ -219,6 +219,7 @@ IntegrationResult integrate_explicit(Engine& engine, const BlockStateVector& y0,
   check_flag(ERKStepSetStopTime(s.mem, t_end), "ERKStepSetStopTime");  // land on t_end, no dense output
   sunrealtype t = 0.0;
   check_flag(ERKStepEvolve(s.mem, t_end, s.y, &t, ARK_NORMAL), "ERKStepEvolve");
+  engine.set_top_platen(ode.top0);  // the next integration starts from the same platen position
   IntegrationResult r;
   r.state = ode.from_ode(N_VGetArrayPointer(s.y));
   long v = 0;
@@ -278,6 +279,7 @@ IntegrationResult integrate_implicit(Engine& engine, const BlockStateVector& y0,
   check_flag(ARKStepSetStopTime(s.mem, t_end), "ARKStepSetStopTime");
   sunrealtype t = 0.0;
   check_flag(ARKStepEvolve(s.mem, t_end, s.y, &t, ARK_NORMAL), "ARKStepEvolve");
+  engine.set_top_platen(ode.top0);
   IntegrationResult r;
   r.state = ode.from_ode(N_VGetArrayPointer(s.y));
   long v = 0, fe = 0, fi = 0;
@@ -309,6 +311,7 @@ IntegrationResult central_difference(Engine& engine, const BlockStateVector& y0,
       }
     });
   };
+  const double top0 = engine.top_y();
   set_state(engine, y0);
   half_kick(-1.0);  // v(-dt/2): the leapfrog's staggered start
   engine.set_dt(dt);
@@ -316,6 +319,7 @@ IntegrationResult central_difference(Engine& engine, const BlockStateVector& y0,
   half_kick(+1.0);  // v(T) from v(T - dt/2)
   IntegrationResult r;
   r.state = get_state(engine);
+  engine.set_top_platen(top0);  // the next integration starts from the same platen position
   r.stats.steps = r.stats.attempts = steps;
   r.stats.rhs_evals = steps + 2;
   r.stats.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();

@@ -204,15 +204,8 @@ Energies Engine::energies() const {
     e.strain += 0.5 * ((f.fn_b * f.fn_b / k.kbnA + f.fs_b * f.fs_b / k.kbsA + f.m_b * f.m_b / k.kbnI) * inv_keep +
                        f.fn_lin * f.fn_lin / k.knA + f.fs_lin * f.fs_lin / k.ksA);
   }
-  const double t = model_.thickness;
-  for (std::size_t c = 0; c < s.contacts.size(); ++c) {
-    if (!(s.contacts.fn[c] > 0)) continue;
-    // w = kn t A^2 / (2 L_ref) = fn^2 L_ref / (2 kn t l_c^2); shear fs^2 / (2 ks t l_c)
-    const auto& law = s.contacts.law[c];
-    const double l = s.contacts.chord[c];
-    e.strain += 0.5 * (s.contacts.fn[c] * s.contacts.fn[c] * law.lref / (law.kn * t * l * l) +
-                       s.contacts.fs[c] * s.contacts.fs[c] / (law.ks * t * l));
-  }
+  for (std::size_t c = 0; c < s.contacts.size(); ++c)
+    e.strain += s.contacts.law[c].strain_energy(s.contacts.fn[c], s.contacts.fs[c], s.contacts.chord[c]);
   e.strain += s.platen_energy;
   e.damping = s.e_damping;
   e.friction = s.e_friction;

@@ -19,19 +19,20 @@ BondStiffness Model::stiffness(int b) const {
 }
 
 LinearContact Model::pair_law(int i, int j, int bond) const {
-  if (bond >= 0) {  // a broken bond: the same linear law as its linear part had
-    const BondStiffness k = stiffness(bond);
-    return {k.knA / k.A, k.ksA / k.A, k.mu, k.L};
+  if (bond >= 0) {  // a broken bond: the very law its linear part had (the bond's K, K / kappa and L)
+    const std::size_t k = std::size_t(bond);
+    return {frame.K[k], frame.Ks[k], law[int(kind[k])].mu, frame.inv_L[k]};
   }
   // Never neighbours: d and L_ref from the blocks' inradii (the bond's d and L for equilateral blocks).
   const BondKindLaw& kl = law[layer[std::size_t(i)] == layer[std::size_t(j)] ? 0 : 1];
-  const double kn = kl.modulus / (inradius[std::size_t(i)] + inradius[std::size_t(j)]);
-  return {kn, kn / kl.kappa, kl.mu, std::sqrt(3.0) * (inradius[std::size_t(i)] + inradius[std::size_t(j)])};
+  const double r = inradius[std::size_t(i)] + inradius[std::size_t(j)];
+  const double kn = kl.modulus / r;
+  return LinearContact::per_area(kn, kn / kl.kappa, kl.mu, std::sqrt(3.0) * r, thickness);
 }
 
 LinearContact Model::platen_law(int block, double mu) const {
   const std::size_t b = std::size_t(block);
-  return {platen_kn[b], platen_kn[b] / law[0].kappa, mu, platen_lref[b]};
+  return LinearContact::per_area(platen_kn[b], platen_kn[b] / law[0].kappa, mu, platen_lref[b], thickness);
 }
 
 bool Model::bonded(int i, int j, const std::vector<std::uint8_t>& broken) const {

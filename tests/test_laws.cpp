@@ -1,7 +1,7 @@
 // The contact laws as value types (dem/laws/), each against hand-computed values (docs/theory.md, sections 5 to 7):
 // the parallel bond's failure test in tension, bending, shear under compression and under tension, the tension
 // cap, the softening branch, the static first-break load factor; the linear contact's Coulomb slip, its energy,
-// and the identity of the bond's linear part with the contact law on a closed edge.
+// and the identity of the law in a bond's units with the law per unit area.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -68,7 +68,7 @@ INSTANTIATE_TEST_SUITE_P(
         LoadCase{"tension_and_bending_with_shear", -5e3, 1.7e4, 1.0, 5e3 + 6e3, 1.7e4, sl_t5, BreakMode::tensile,
                  1.1},
         LoadCase{"normal_stress_capped_at_sigma_c", -1.2e4, 5e3, 0, 1.2e4, 5e3, sl_cap, BreakMode::tensile, 1.2}),
-    [](const ::testing::TestParamInfo<LoadCase>& info) { return info.param.name; });
+    [](const ::testing::TestParamInfo<LoadCase>& param) { return param.param.name; });
 
 TEST(ParallelBond, ForcesAreTheStiffnessesTimesTheRelativeDisplacements) {
   const double K = 2e9, Ks = 1e9, KI = K * L * L / 12.0;
@@ -137,23 +137,33 @@ TEST(ParallelBond, FirstBreakFactorIsWhereTheFailureTestFlips) {
 }
 
 TEST(LinearContact, SlidesExactlyAtMuFn) {
-  const LinearContact law{1e14, 1e14, 0.5, 1e-3};
+  // k_n = k_s = 1e14 Pa/m over a chord of L_ref = 1 mm, t = 1 m: K_s = 1e11 N/m; the increment is K_s ds.
+  const LinearContact law = LinearContact::per_area(1e14, 1e14, 0.5, 1e-3, 1.0);
   double fs = 0;
-  EXPECT_FALSE(law.update_shear(100.0, 1e-3, 1.0, -4.9e-10, fs));  // ks t l ds = 49 N < mu F_n = 50 N
+  EXPECT_FALSE(law.update_shear(100.0, 1e-3, -4.9e-10, 1.0, fs));  // K_s ds = 49 N < mu F_n = 50 N
   EXPECT_NEAR(fs, 49.0, 1e-9);
-  EXPECT_TRUE(law.update_shear(100.0, 1e-3, 1.0, -2e-11, fs));
+  EXPECT_TRUE(law.update_shear(100.0, 1e-3, -2e-11, 1.0, fs));
   EXPECT_DOUBLE_EQ(fs, 50.0);
-  EXPECT_FALSE(law.update_shear(0.0, 1e-3, 1.0, -1e-12, fs));  // no normal force, no shear force
+  EXPECT_FALSE(law.update_shear(0.0, 1e-3, -1e-12, 1.0, fs));  // no normal force, no shear force
   EXPECT_EQ(fs, 0.0);
+  // A partial chord scales the shear stiffness: half the chord, half the increment.
+  fs = 0;
+  law.update_shear(100.0, 0.5e-3, -2e-10, 1.0, fs);
+  EXPECT_NEAR(fs, 10.0, 1e-9);
 }
 
 TEST(LinearContact, NormalForceIsTheGradientOfTheOverlapPotential) {
   // w(A) = k_n t A^2 / (2 L_ref); for a whole edge in contact (l_c = L_ref) F_n = dw/d(delta) = k_n t L delta.
-  const LinearContact law{2e14, 1e14, 0.5, 1e-3};
+  const LinearContact law = LinearContact::per_area(2e14, 1e14, 0.5, 1e-3, 1.0);
   const double delta = 1e-7, area = 1e-3 * delta;
-  EXPECT_NEAR(law.normal_force(area, 1e-3, 1.0), 2e14 * 1e-3 * delta, 1e-9);
-  const double fn = law.normal_force(area, 1e-3, 1.0);
-  EXPECT_NEAR(law.strain_energy(fn, 0.0, 1e-3, 1.0), 0.5 * 2e14 * 1e-3 * delta * delta, 1e-12);
+  const double fn = law.normal_force(area, 1e-3);
+  EXPECT_NEAR(fn, 2e14 * 1e-3 * delta, 1e-9);
+  EXPECT_NEAR(law.strain_energy(fn, 0.0, 1e-3), 0.5 * 2e14 * 1e-3 * delta * delta, 1e-12);
+  // A vertex pressed into a face: A_o = chord^2 / 4 (a right-angled corner), F_n = k_n t A_o l_c / L_ref.
+  const double chord = 2e-7;
+  EXPECT_NEAR(law.normal_force(0.25 * chord * chord, chord), 2e14 * 0.25 * chord * chord * chord / 1e-3, 1e-15);
+  // The shear energy of a closed edge: F_s^2 / (2 k_s t L).
+  EXPECT_NEAR(law.strain_energy(fn, 50.0, 1e-3) - law.strain_energy(fn, 0.0, 1e-3), 2500.0 / (2 * 1e14 * 1e-3), 1e-15);
 }
 
 TEST(EdgeOverlap, FullyCompressedEdgeGivesLTimesDelta) {
@@ -175,24 +185,33 @@ TEST(EdgeOverlap, PartlyOpenEdgeIsATriangleOfTheCompressedPart) {
   EXPECT_EQ(edge_overlap(Le, 1e-6, 0.0).area, 0.0);  // open edge: no linear force (no tension)
 }
 
-// The linear part of a bond is the linear contact law on its edge: K = k_n t L, L_ref = L.
-TEST(EdgeLaw, IsTheLinearContactLawOnTheBondsEdge) {
+// The linear part of a bond is the linear contact law on its edge: K = k_n t L, L_ref = L. The law per unit area
+// and the law in the bond's units are the same law.
+TEST(LinearContact, TheBondsUnitsAndThePerAreaFormAreTheSameLaw) {
   const double kn = 3e14, kappa = 2.0, mu = 0.4, Le = 1.5e-3;
-  const LinearContact contact{kn, kn / kappa, mu, Le};
-  const EdgeLaw edge{kn * t * Le, kn * t * Le / kappa, 1.0 / Le, mu};
+  const LinearContact per_area = LinearContact::per_area(kn, kn / kappa, mu, Le, t);
+  const LinearContact bond{kn * t * Le, kn * t * Le / kappa, mu, 1.0 / Le};
   for (const auto& [dn, dth] : {std::pair{-1e-7, 0.0}, std::pair{-1e-7, 5e-5}, std::pair{0.0, 1e-4}}) {
     const EdgeOverlap e = edge_overlap(Le, dn, dth);
-    EXPECT_NEAR(edge.normal_force(e), contact.normal_force(e.area, e.chord, t), 1e-12 * contact.normal_force(e.area, e.chord, t));
-    double fs_edge = 0.0, fs_contact = 0.0;
-    const double vt = 1e-3, dt = 1e-8;
-    const double fn = contact.normal_force(e.area, e.chord, t);
-    edge.update_shear(fn, e, vt, dt, fs_edge);
-    contact.update_shear(fn, e.chord, t, vt * dt, fs_contact);
-    EXPECT_NEAR(fs_edge, fs_contact, 1e-12 * std::abs(fs_contact));
+    const double fn = bond.normal_force(e.area, e.chord);
+    EXPECT_NEAR(fn, per_area.normal_force(e.area, e.chord), 1e-12 * fn);
+    // A whole closed edge: F_n = k_n L t delta.
+    if (dth == 0.0) {
+      EXPECT_NEAR(fn, kn * Le * t * 1e-7, 1e-12 * fn);
+    }
+    double fs_bond = 0.0, fs_area = 0.0;
+    bond.update_shear(fn, e.chord, 1e-3, 1e-8, fs_bond);
+    per_area.update_shear(fn, e.chord, 1e-3, 1e-8, fs_area);
+    EXPECT_NEAR(fs_bond, fs_area, 1e-12 * std::abs(fs_area));
   }
   double fs = 1.0;
-  edge.update_shear(0.0, edge_overlap(Le, 1e-7, 0.0), 1.0, 1.0, fs);
+  bond.update_shear(0.0, 0.0, 1.0, 1.0, fs);
   EXPECT_EQ(fs, 0.0);  // an open edge carries no shear
+  // mu = +inf never slides (a bonded interface that sticks).
+  const LinearContact sticking{1e9, 1e9, std::numeric_limits<double>::infinity(), 1e3};
+  fs = 0.0;
+  EXPECT_FALSE(sticking.update_shear(1.0, 1e-3, -1.0, 1.0, fs));
+  EXPECT_NEAR(fs, 1e9, 1e-3);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // and the implicit ARKStep path reaches the reference. docs/reference_integrator.md has the measured tables.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -127,6 +128,58 @@ TEST(ReferenceIntegrator, ImplicitDirkApproachesTheReference) {
   EXPECT_LT(fine.position, 0.1 * coarse.position);
   EXPECT_LT(fine.position, 1e-4);
   EXPECT_GT(fine.position, 0.0);
+}
+
+// The same study on a specimen that has platens and post-break contacts: every joint bond broken, so the layers
+// meet through clipped polygon contacts (frictionless), the top platen closing at 0.05 m/s. The reference
+// integrates the engine's whole force evaluation (bonds, contacts, platens; Engine::evaluate_forces), and the
+// central difference converges to it at second order.
+TEST(ReferenceIntegrator, CentralDifferenceConvergesWithPlatensAndContacts) {
+  ReferenceSpecimen sp;
+  sp.platens = true;
+  sp.platen_velocity = 0.05;
+  sp.break_joints = true;
+  const ReferenceProblem p = make_reference_problem(sp);
+  auto e = p.make_engine();
+  ASSERT_GT(std::count(e->state().broken.begin(), e->state().broken.end(), std::uint8_t(1)), 0);
+  // The right-hand side is the step's force, contacts and platens included.
+  {
+    auto f = p.make_engine();
+    set_state(*f, p.y0);
+    std::vector<double> fx, fy, m;
+    f->evaluate_forces(fx, fy, m);
+    ASSERT_GT(f->state().contacts.size(), 0u);
+    f->step();
+    for (std::size_t b = 0; b < f->model().num_blocks(); ++b) {
+      EXPECT_EQ(fx[b], f->state().fx[b]) << "block " << b;
+      EXPECT_EQ(fy[b], f->state().fy[b]) << "block " << b;
+    }
+    EXPECT_GT(f->active_contacts(), 0u);
+    EXPECT_GT(f->top_force(), 0.0);
+  }
+  const double t_end = 50.0 * p.stability_limit;
+  const IntegrationResult ref = integrate_explicit(*e, p.y0, t_end, tolerances(1e-12));
+  const IntegrationResult loose = integrate_explicit(*e, p.y0, t_end, tolerances(1e-10));
+  const StateError ref_error = state_error(*e, loose.state, ref.state, p.y0);
+  const long n0 = long(std::ceil(t_end / (0.125 * p.stability_limit)));
+  std::vector<double> dt, ex, ev;
+  for (int k = 0; k < 4; ++k) {
+    const long n = n0 << k;
+    dt.push_back(t_end / double(n));
+    const StateError err = state_error(*e, central_difference(*e, p.y0, dt.back(), n).state, ref.state, p.y0);
+    ex.push_back(err.position), ev.push_back(err.velocity);
+    std::printf("platens + contacts: dt %.4e  position error %.4e  velocity error %.4e\n", dt.back(), err.position,
+                err.velocity);
+  }
+  for (std::size_t k = 0; k < ex.size(); ++k) EXPECT_GT(ex[k], 10.0 * ref_error.position) << "dt = " << dt[k];
+  const double slope_x = fitted_slope(dt, ex), slope_v = fitted_slope(dt, ev);
+  std::printf("platens + contacts: reference self-check %.3e; slopes: position %.4f, velocity %.4f\n",
+              ref_error.position, slope_x, slope_v);
+  RecordProperty("slope_position_contacts", std::to_string(slope_x));
+  EXPECT_GE(slope_x, 1.8);
+  EXPECT_LE(slope_x, 2.2);
+  EXPECT_GE(slope_v, 1.8);
+  EXPECT_LE(slope_v, 2.2);
 }
 
 }  // namespace

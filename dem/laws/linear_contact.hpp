@@ -52,24 +52,30 @@ inline EdgeOverlap edge_overlap(double L, double delta_n, double dtheta) {
   return e;
 }
 
+// The law of one contact: the stiffnesses of a closed edge of length L_ref, K = k_n t L_ref and K_s = k_s t L_ref (N/m),
+// the Coulomb coefficient, and 1 / L_ref. An intact bond's linear part uses the bond's own K (its kA) and L.
 struct LinearContact {
-  double kn = 0;    // Pa/m, normal stiffness per unit area (E*/d)
-  double ks = 0;    // Pa/m, shear stiffness per unit area (kn / kappa)
-  double mu = 0;    // Coulomb coefficient (+inf: never slides)
-  double lref = 1;  // m, reference chord L_ref of the potential (the edge length for a bond)
+  double K = 0;         // N/m, normal stiffness of a closed edge of length L_ref (k_n t L_ref)
+  double Ks = 0;        // N/m, shear stiffness of that edge (k_s t L_ref)
+  double mu = 0;        // Coulomb coefficient (+inf: never slides)
+  double inv_lref = 1;  // 1/m, 1 / L_ref
 
-  // Normal force (N, compression positive) for an overlap area per unit thickness `area` (m^2), chord (m),
-  // thickness t (m).
-  double normal_force(double area, double chord, double t) const { return kn * t * area * chord / lref; }
+  // From stiffnesses per unit area k_n, k_s (Pa/m), the thickness t and the reference chord L_ref (m).
+  static LinearContact per_area(double kn, double ks, double mu, double lref, double t) {
+    return {kn * t * lref, ks * t * lref, mu, 1.0 / lref};
+  }
 
-  // Updates the shear force `fs` (N, along the tangent) for a tangential displacement increment `ds` (m) over a
-  // chord `chord` (m) under normal force `fn`. Returns true when the contact slides.
-  bool update_shear(double fn, double chord, double t, double ds, double& fs) const {
+  // Normal force (N, compression positive) for an overlap area per unit thickness `area` (m^2) over the chord (m).
+  double normal_force(double area, double chord) const { return K * area * chord * inv_lref * inv_lref; }
+
+  // Updates the shear force `fs` (N, along the tangent) for the tangential relative velocity vt (m/s) at the
+  // contact point over dt (s), under normal force `fn`. Returns true when the contact slides.
+  bool update_shear(double fn, double chord, double vt, double dt, double& fs) const {
     if (!(fn > 0.0)) {
       fs = 0.0;
       return false;
     }
-    fs -= ks * t * chord * ds;
+    fs -= Ks * (chord * inv_lref) * vt * dt;
     const double limit = mu * fn;
     if (std::abs(fs) > limit) {
       fs = std::copysign(limit, fs);
@@ -79,29 +85,11 @@ struct LinearContact {
   }
 
   // Elastic energy (J) stored at normal force fn and shear force fs over the chord: the potential
-  // w = F_n^2 L_ref / (2 k_n t l_c^2) and F_s^2 / (2 k_s t l_c).
-  double strain_energy(double fn, double fs, double chord, double t) const {
+  // w = k_n t A_o^2 / (2 L_ref) = F_n^2 / (2 K (l_c / L_ref)^2) and F_s^2 / (2 K_s l_c / L_ref).
+  double strain_energy(double fn, double fs, double chord) const {
     if (!(fn > 0.0) || !(chord > 0.0)) return 0.0;
-    return 0.5 * (fn * fn * lref / (kn * t * chord * chord) + fs * fs / (ks * t * chord));
-  }
-};
-
-// The same law on the edge of an intact bond, in the bond's own units: K = k_n t L (N/m, the bond's kA) and
-// K_s = K / kappa, L_ref = L, 1/L precomputed. `edge` is the overlap from edge_overlap; `vt_dt` is the tangential
-// relative displacement increment at the contact point. Returns the normal force and updates `fs` as
-// LinearContact does (mu = +inf: never slides).
-struct EdgeLaw {
-  double K = 0, Ks = 0, inv_L = 0, mu = 0;
-
-  double normal_force(const EdgeOverlap& edge) const { return K * edge.area * edge.chord * inv_L * inv_L; }
-  void update_shear(double fn, const EdgeOverlap& edge, double vt, double dt, double& fs) const {
-    if (fn > 0.0) {
-      fs -= Ks * (edge.chord * inv_L) * vt * dt;
-      const double limit = mu * fn;
-      if (std::abs(fs) > limit) fs = std::copysign(limit, fs);
-    } else {
-      fs = 0.0;
-    }
+    const double c = chord * inv_lref;
+    return 0.5 * (fn * fn / (K * c * c) + fs * fs / (Ks * c));
   }
 };
 

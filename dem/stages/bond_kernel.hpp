@@ -1,6 +1,6 @@
 // One bond's kinematics and forces: the inner body of the bond stage (bonds.cpp), also used by the bond events and
 // the diagnostics (Engine::bond_forces). It reads the two blocks' kinematics and the bond's frame and calls the
-// laws: ParallelBond::forces for the parallel bond, EdgeLaw for the linear part (dem/laws/).
+// laws: ParallelBond::forces for the parallel bond, LinearContact on the bond's edge for the linear part (dem/laws/).
 #pragma once
 
 #include <cmath>
@@ -49,9 +49,9 @@ inline double cross(double ax, double ay, double bx, double by) { return ax * by
   out.fnb = pb.fn, out.fsb = pb.fs, out.mb = pb.m;
   // The linear part: the linear contact law on the compressed part of the edge.
   const BondKindLaw& law = m.law[int(m.kind[k])];
-  const EdgeLaw edge_law{f.K[k], f.Ks[k], f.inv_L[k], law.bonded_mu()};
+  const LinearContact linear{f.K[k], f.Ks[k], law.bonded_mu(), f.inv_L[k]};
   const EdgeOverlap eo = edge_overlap(f.L[k], dn, dth);
-  out.fnl = edge_law.normal_force(eo);
+  out.fnl = linear.normal_force(eo.area, eo.chord);
   const double cix = rix + 0.5 * gx, ciy = riy + 0.5 * gy;  // bond point relative to each centroid
   const double cjx = rjx - 0.5 * gx, cjy = rjy - 0.5 * gy;
   out.px = s.x[i] + cix, out.py = s.y[i] + ciy;
@@ -61,7 +61,7 @@ inline double cross(double ax, double ay, double bx, double by) { return ax * by
     const double vry = (s.vy[j] + s.omega[j] * cjx) - (s.vy[i] + s.omega[i] * cix);
     vt = vrx * tx + vry * ty;
   }
-  edge_law.update_shear(out.fnl, eo, vt, dt, fs);
+  linear.update_shear(out.fnl, eo.chord, vt, dt, fs);
   out.fsl = fs;
   const double flx = out.fnl * nx + fs * tx, fly = out.fnl * ny + fs * ty;
   const double fx = keep * (out.fnb * nx + out.fsb * tx) + flx, fy = keep * (out.fnb * ny + out.fsb * ty) + fly;

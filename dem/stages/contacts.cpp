@@ -149,7 +149,7 @@ void contact_forces(const Model& m, ModelState& s, Workspace& w, const StepConte
   std::fill(w.cfy.begin(), w.cfy.end(), 0.0);
   std::fill(w.cm.begin(), w.cm.end(), 0.0);
   auto& C = s.contacts;
-  const double t = m.thickness, dt = c.dt;
+  const double dt = c.dt;
   const bool advance = c.advance;
   const int n = int(C.size());
   w.pair_force.resize(C.size());
@@ -177,14 +177,14 @@ void contact_forces(const Model& m, ModelState& s, Workspace& w, const StepConte
     }
     const double nx = -ov.nx, ny = -ov.ny;  // from i to j, as for bonds
     const double tx = -ny, ty = nx;
-    const double fn = C.law[p].normal_force(ov.area, ov.chord, t);
+    const double fn = C.law[p].normal_force(ov.area, ov.chord);
     const double cix = ov.px - s.x[i], ciy = ov.py - s.y[i];
     const double cjx = ov.px - s.x[j], cjy = ov.py - s.y[j];
     const double vrx = (s.vx[j] - s.omega[j] * cjy) - (s.vx[i] - s.omega[i] * ciy);
     const double vry = (s.vy[j] + s.omega[j] * cjx) - (s.vy[i] + s.omega[i] * cix);
-    const double ds = (vrx * tx + vry * ty) * dt;
+    const double vt = vrx * tx + vry * ty;
     double fs = C.fs[p];
-    const double friction = C.law[p].update_shear(fn, ov.chord, t, ds, fs) ? std::abs(fs * ds) : 0.0;
+    const double friction = C.law[p].update_shear(fn, ov.chord, vt, dt, fs) ? std::abs(fs * vt * dt) : 0.0;
     if (advance) C.fs[p] = fs, C.fn[p] = fn, C.chord[p] = ov.chord;
     const double fx = fn * nx + fs * tx, fy = fn * ny + fs * ty;  // on j
     out[p] = Workspace::PairForce{fx, fy, cross(cix, ciy, fx, fy), cross(cjx, cjy, fx, fy), friction};

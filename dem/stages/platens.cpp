@@ -13,7 +13,6 @@ void platen_forces(const Model& m, ModelState& s, Workspace& w, double platen_fr
                    const StepContext& c) {
   if (c.advance) s.top_force = s.bottom_force = s.platen_energy = 0.0;
   if (!platens) return;
-  const double t = m.thickness;
   double top_total = 0.0, bottom_total = 0.0, energy = 0.0;
   for (int side = 0; side < 2; ++side) {
     const bool top = side == 0;
@@ -32,19 +31,19 @@ void platen_forces(const Model& m, ModelState& s, Workspace& w, double platen_fr
         continue;
       }
       const LinearContact law = m.platen_law(b, platen_friction);
-      const double fn = law.normal_force(ov.area, ov.chord, t);
+      const double fn = law.normal_force(ov.area, ov.chord);
       // Force on the block: -fn along the normal (out of the platen), shear along t = perp(n).
       const double nx = ov.nx, ny = ov.ny, tx = -ny, ty = nx;
       const double rx = ov.px - s.x[b], ry = ov.py - s.y[b];
       const double vrx = s.vx[b] - s.omega[b] * ry, vry = s.vy[b] + s.omega[b] * rx - wall_vy;
-      const double ds = (vrx * tx + vry * ty) * c.dt;
+      const double vt = vrx * tx + vry * ty;
       double fs = fs_hist[b];
-      if (law.update_shear(fn, ov.chord, t, ds, fs) && c.advance) s.e_friction += std::abs(fs * ds);
+      if (law.update_shear(fn, ov.chord, vt, c.dt, fs) && c.advance) s.e_friction += std::abs(fs * vt * c.dt);
       if (c.advance) fs_hist[b] = fs;
       const double fx = -fn * nx + fs * tx, fy = -fn * ny + fs * ty;
       w.cfx[b] += fx, w.cfy[b] += fy, w.cm[b] += cross(rx, ry, fx, fy);
       total += fn;
-      energy += 0.5 * (fn * fn * law.lref / (law.kn * t * ov.chord * ov.chord) + fs * fs / (law.ks * t * ov.chord));
+      energy += law.strain_energy(fn, fs, ov.chord);
     }
     (top ? top_total : bottom_total) = total;
   }
