@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 #include <gmsh.h>
+#include <omp.h>
 
 namespace rbdem {
 
@@ -20,21 +21,31 @@ namespace {
 constexpr double deg = std::numbers::pi / 180.0;
 
 // gmsh keeps global state: one session at a time, always finalized, never left open on an exception.
+// Threads: gmsh's option General.NumThreads (default 1) sets the calling thread's OpenMP default through
+// omp_set_num_threads. gmsh meshes with OpenMP threads, and a mesh made on two threads differs from run to run, so
+// the session meshes on one thread (a mesh is the same for the same inputs, bit for bit). When it ends it puts the
+// OpenMP default back as it found it: before, it stayed at one thread, and every engine built later in that thread
+// with numerics.threads = 0 ("all cores") ran on one core.
 std::mutex gmsh_mutex;
 
 class GmshSession {
  public:
-  GmshSession() : lock_(gmsh_mutex) {
+  GmshSession() : lock_(gmsh_mutex), omp_threads_(omp_get_max_threads()) {
     gmsh::initialize(0, nullptr, false);
     gmsh::option::setNumber("General.Terminal", 0);
     gmsh::option::setNumber("General.Verbosity", 1);
+    gmsh::option::setNumber("General.NumThreads", 1);
   }
-  ~GmshSession() { gmsh::finalize(); }
+  ~GmshSession() {
+    gmsh::finalize();
+    omp_set_num_threads(omp_threads_);
+  }
   GmshSession(const GmshSession&) = delete;
   GmshSession& operator=(const GmshSession&) = delete;
 
  private:
   std::lock_guard<std::mutex> lock_;
+  int omp_threads_;
 };
 
 std::string gmsh_error(const std::string& fallback) {

@@ -8,12 +8,15 @@
 #include <filesystem>
 
 #include <fmt/format.h>
+#include <omp.h>
 
 #include "compare/gate/dem_constants.hpp"
 #include "compare/gate/elastic_gate.hpp"
 #include "compare/gate/gate_cache.hpp"
 #include "dem/specimen_mesh.hpp"
+#include "dem/driver/ucs.hpp"
 #include "dem/topology.hpp"
+#include "io/results.hpp"
 
 namespace rbdem {
 namespace {
@@ -162,6 +165,26 @@ TEST(Elastic, GateVerdictIsCachedUnderAKeyOfTheElasticScene) {
   EXPECT_NO_THROW(compare::check_elastic_gate(a));
   ::unsetenv("RBDEM_CACHE_DIR");
   std::filesystem::remove_all(dir);
+}
+
+// numerics.threads = 0 means all cores: the engine of a run must get them after everything that runs before it in
+// the same process (meshing with gmsh, the elastic gate with its deal.II solves, the static elastic start), and
+// the summary must say how many it used. gmsh's initialisation used to leave OpenMP's default at one thread.
+TEST(Threads, DefaultThreadsUseEveryCoreAfterMeshingTheGateAndTheStaticStart) {
+  const int cores = omp_get_num_procs();
+  if (cores < 2) GTEST_SKIP() << "needs a machine with more than one core";
+  Scene scene;
+  scene.mesh.size = 0.004;
+  scene.numerics.threads = 0;
+  ASSERT_TRUE(scene.numerics.elastic_start);
+  compare::ElasticGateOptions go;
+  go.with_fe = true;
+  (void)compare::run_elastic_gate(scene, go);
+  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  const TestResult r = run_ucs(scene, topo);
+  const int expected = std::getenv("OMP_NUM_THREADS") ? omp_get_max_threads() : cores;
+  EXPECT_EQ(r.threads, expected);
+  EXPECT_EQ(io::run_summary(scene, r)["threads"].get<int>(), expected);
 }
 
 }  // namespace

@@ -11,6 +11,8 @@
 #include <set>
 #include <tuple>
 
+#include <omp.h>
+
 #include "dem/scene.hpp"
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
@@ -123,6 +125,23 @@ TEST(Mesh, HorizontalAndVerticalJointsAreExact) {
       else EXPECT_NEAR(a[0], c[0], 1e-15);
     }
   }
+}
+
+// The same inputs give the same mesh, bit for bit, whatever the OpenMP default of the calling thread (gmsh meshes
+// with OpenMP threads, and a mesh made on two threads differs from run to run), and the mesher hands that default
+// back unchanged.
+TEST(Mesh, SameInputsGiveTheSameMeshAndLeaveTheThreadDefaultAlone) {
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(std::max(2, before));
+  const TriMesh a = mesh_specimen(geometry(60, 0.01), 0.002);
+  EXPECT_EQ(omp_get_max_threads(), std::max(2, before));
+  const TriMesh b = mesh_specimen(geometry(60, 0.01), 0.002);
+  omp_set_num_threads(before);
+  ASSERT_EQ(a.nodes.size(), b.nodes.size());
+  ASSERT_EQ(a.triangles.size(), b.triangles.size());
+  EXPECT_TRUE(a.nodes == b.nodes);
+  EXPECT_TRUE(a.triangles == b.triangles);
+  EXPECT_TRUE(a.layer == b.layer);
 }
 
 TEST(Mesh, LayerNarrowerThanTwoElementsIsRejected) {
