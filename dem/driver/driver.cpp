@@ -15,159 +15,194 @@ namespace rbdem {
 
 namespace {
 
-// The time step: numerics.dt when set (refused above the exact stability limit), else dt_safety x that limit.
-void choose_time_step(const Engine& engine, const Scene& scene, const Topology& topo, bool allow_supercritical,
-                      TestRecord& rec) {
-  rec.dt_critical = stability_limit(engine);
-  rec.dt_block_estimate = engine.critical_step();
-  if (scene.numerics.dt > 0.0) {
-    if (scene.numerics.dt > rec.dt_critical && !allow_supercritical)
+using Clock = std::chrono::steady_clock;
+
+// One run: the engine, its record and its monitors, from start to result.
+class TestRun {
+ public:
+  TestRun(LoadingProtocol& protocol, const Scene& scene, const Topology& topo, const RunOptions& options)
+      : protocol_(protocol), scene_(scene), topo_(topo), options_(options), wall0_(Clock::now()),
+        engine_(topo, scene, engine_options(scene, options)),
+        frames_{scene.output.frame_strain_interval},
+        watchdog_(watchdog_criterion(scene, engine_), options.watchdog_every),
+        checkpointer_({scene.numerics.checkpoint_every_steps, scene.numerics.checkpoint_every_seconds, options.cancel,
+                       options.interrupt_at_step, options.checkpoint, to_toml(scene), protocol.name()}),
+        progress_{options.progress} {}
+
+  // A fresh run: the time step, the first sample and frame, the protocol's start. A resumed run: the checkpoint.
+  void start() {
+    const TestCheckpoint* resume = options_.resume;
+    if (resume && (resume->scene_toml != to_toml(scene_) || resume->test != protocol_.name()))
+      throw SceneError("the checkpoint was written for another scene or test: resume with the same command, scene "
+                       "file, --set options and mesh as the interrupted run, or start afresh without --resume");
+    if (resume) {
+      rec_ = resume->record;
+      engine_.set_dt(rec_.dt);
+      engine_.restore(resume->engine);
+    } else {
+      choose_time_step();
+      engine_.set_dt(rec_.dt);
+      rec_.sample_every = std::max(1L, protocol_.max_steps(engine_, rec_) / std::max(options_.curve_points, 1));
+      const Reading at_rest = protocol_.read(engine_);
+      rec_.curve.push_back(sample_point(engine_, at_rest));
+      rec_.frames.push_back(make_frame(engine_, at_rest, ""));
+      rec_.next_frame = scene_.output.frame_strain_interval;
+      rec_.at_peak = rec_.curve.front();
+      protocol_.start(engine_, rec_);
+      const Energies e = engine_.energies();
+      rec_.energy0 = e.kinetic + e.strain;
+    }
+    watchdog_.mark_sound(engine_, rec_);
+  }
+
+  // Explicit steps until the protocol stops the test, a guard stops the run, or max_strain. Returns false when a
+  // guard stopped it.
+  bool run() {
+    stop_reason_ = "max_strain";
+    const long max_explicit = protocol_.max_steps(engine_, rec_);
+    while (engine_.steps() < max_explicit) {
+      engine_.set_strain_for_log(protocol_.read(engine_).strain);
+      try {
+        engine_.step();
+      } catch (const InstabilityError&) {
+        watchdog_.stop("non_finite_state", "block positions are no longer finite");
+        return false;
+      }
+      const Reading reading = protocol_.read(engine_);
+      const StepView view{engine_, reading, rec_};
+      peaks_.after_step(view);
+      frames_.after_step(view);
+      const bool sampled = curve_.after_step(view);
+      if (std::string reason; protocol_.stop(engine_, reading, rec_, reason)) {
+        if (!sampled) rec_.curve.push_back(sample_point(engine_, reading));
+        stop_reason_ = reason;
+        break;
+      }
+      if (!watchdog_.after_step(view) || !checkpointer_.after_step(view, watchdog_, wall())) return false;
+      progress_.after_step(view);
+    }
+    // The final state must pass too: a run that blew up between two checks and then met a stop criterion is not
+    // done.
+    return watchdog_.check(engine_, rec_, true);
+  }
+
+  TestResult result(bool completed) {
+    TestResult r;
+    r.test = protocol_.name();
+    r.blocks = topo_.blocks.size(), r.bonds = topo_.bonds.size();
+    r.rock_bonds = topo_.count(BondKind::rock), r.joint_bonds = topo_.count(BondKind::joint);
+    r.mass_scaling = scene_.numerics.mass_scaling;
+    r.threads = engine_.max_threads();
+    r.steps = engine_.steps();
+    r.dt = rec_.dt, r.dt_critical = rec_.dt_critical, r.dt_block_estimate = rec_.dt_block_estimate;
+    r.elastic_start_strain = rec_.elastic_start_strain;
+    r.energy_ratio_max = rec_.energy_ratio_max;
+    r.stop_reason = stop_reason_;
+    if (completed) completed_result(r);
+    else stopped_result(r);
+    r.wall_seconds = wall();
+    return r;
+  }
+
+ private:
+  static EngineOptions engine_options(const Scene& scene, const RunOptions& options) {
+    EngineOptions o = EngineOptions::from_scene(scene);
+    o.thread_budget = options.thread_budget;
+    return o;
+  }
+  // The watchdog's absolute floor: the strain energy of the specimen at 1e-5 axial strain, far below any loaded
+  // state.
+  static WatchdogCriterion watchdog_criterion(const Scene& scene, const Engine& engine) {
+    WatchdogCriterion c;
+    c.floor = 0.5 * scene.rock.effective_modulus * 1e-10 * engine.specimen_width() * engine.specimen_height() *
+              engine.thickness();
+    return c;
+  }
+
+  // numerics.dt when set (refused above the exact stability limit), else dt_safety x that limit.
+  void choose_time_step() {
+    rec_.dt_critical = stability_limit(engine_);
+    rec_.dt_block_estimate = engine_.critical_step();
+    const double dt = scene_.numerics.dt;
+    if (!(dt > 0.0)) {
+      rec_.dt = scene_.numerics.dt_safety * rec_.dt_critical;
+      return;
+    }
+    if (dt > rec_.dt_critical && !options_.allow_supercritical_dt)
       throw SceneError(fmt::format("numerics.dt = {:.4g} s is above the critical time step {:.4g} s of this scene "
                                    "(2 / sqrt(lambda_max) of its {} blocks and their bonds): use numerics.dt <= "
                                    "{:.4g} s, or 0 for automatic ({:.2g} x critical)",
-                                   scene.numerics.dt, rec.dt_critical, topo.blocks.size(), rec.dt_critical,
-                                   scene.numerics.dt_safety));
-    rec.dt = scene.numerics.dt;
-  } else {
-    rec.dt = scene.numerics.dt_safety * rec.dt_critical;
-  }
-}
-
-}  // namespace
-
-TestResult run_test(LoadingProtocol& protocol, const Scene& scene, const Topology& topo, const RunOptions& options) {
-  const auto wall0 = std::chrono::steady_clock::now();
-  EngineOptions engine_options = EngineOptions::from_scene(scene);
-  engine_options.thread_budget = options.thread_budget;
-  Engine engine(topo, scene, engine_options);
-  const TestCheckpoint* resume = options.resume;
-  if (resume && (resume->scene_toml != to_toml(scene) || resume->test != protocol.name()))
-    throw SceneError("the checkpoint was written for another scene or test: resume with the same command, scene "
-                     "file, --set options and mesh as the interrupted run, or start afresh without --resume");
-  TestRecord rec;
-  if (resume) {
-    rec = resume->record;
-  } else {
-    choose_time_step(engine, scene, topo, options.allow_supercritical_dt, rec);
-  }
-  engine.set_dt(rec.dt);
-  TestResult r;
-  r.test = protocol.name();
-  r.blocks = topo.blocks.size();
-  r.bonds = topo.bonds.size();
-  r.rock_bonds = topo.count(BondKind::rock);
-  r.joint_bonds = topo.count(BondKind::joint);
-  r.mass_scaling = scene.numerics.mass_scaling;
-  r.threads = engine.max_threads();
-
-  const double H = engine.specimen_height(), W = engine.specimen_width(), t = engine.thickness();
-  const double frame_interval = scene.output.frame_strain_interval;
-  if (!resume) {
-    const long max_steps = protocol.max_steps(engine, rec);
-    rec.sample_every = std::max(1L, max_steps / std::max(options.curve_points, 1));
-    const Reading at_rest = protocol.read(engine);
-    rec.curve.push_back(sample_point(engine, at_rest));
-    rec.frames.push_back(make_frame(engine, at_rest, ""));
-    rec.next_frame = frame_interval;
-    rec.at_peak = rec.curve.front();
-    protocol.start(engine, rec);
-    const Energies e = engine.energies();
-    rec.energy0 = e.kinetic + e.strain;
-  } else {
-    engine.restore(resume->engine);
+                                   dt, rec_.dt_critical, topo_.blocks.size(), rec_.dt_critical,
+                                   scene_.numerics.dt_safety));
+    rec_.dt = dt;
   }
 
-  // The monitors, in the order they run after each step.
-  const PeakTracker peak_tracker;
-  const FrameRecorder frame_recorder{frame_interval};
-  const CurveRecorder curve_recorder;
-  // The watchdog's absolute floor: the strain energy of the specimen at 1e-5 axial strain, far below any loaded
-  // state.
-  WatchdogCriterion criterion;
-  criterion.floor = 0.5 * scene.rock.effective_modulus * 1e-10 * W * H * t;
-  Watchdog watchdog(criterion, options.watchdog_every);
-  watchdog.mark_sound(engine, rec);
-  const double wall_before = rec.wall_seconds;  // wall time of the run before it was resumed
-  auto wall = [&]() {
-    return wall_before + std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  };
-  Checkpointer checkpointer({scene.numerics.checkpoint_every_steps, scene.numerics.checkpoint_every_seconds,
-                             options.cancel, options.interrupt_at_step, options.checkpoint, to_toml(scene),
-                             protocol.name()});
-  const ProgressReporter progress{options.progress};
-
-  r.stop_reason = "max_strain";
-  bool stopped = false;  // by the watchdog
-  const long max_explicit = protocol.max_steps(engine, rec);
-  while (engine.steps() < max_explicit) {
-    engine.set_strain_for_log(protocol.read(engine).strain);
-    try {
-      engine.step();
-    } catch (const InstabilityError&) {
-      watchdog.stop("non_finite_state", "block positions are no longer finite");
-      stopped = true;
-      break;
-    }
-    const Reading reading = protocol.read(engine);
-    const StepView view{engine, reading, rec};
-    peak_tracker.after_step(view);
-    frame_recorder.after_step(view);
-    const bool sampled = curve_recorder.after_step(view);
-    std::string reason;
-    if (protocol.stop(engine, reading, rec, reason)) {
-      if (!sampled) rec.curve.push_back(sample_point(engine, reading));
-      r.stop_reason = reason;
-      break;
-    }
-    if (!watchdog.after_step(view) || !checkpointer.after_step(view, watchdog, wall())) {
-      stopped = true;
-      break;
-    }
-    progress.after_step(view);
-  }
-  // The final state must pass too: a run that blew up between two checks and then met a stop criterion is not done.
-  if (!stopped && !watchdog.check(engine, rec, true)) stopped = true;
-  r.steps = engine.steps();
-  r.dt = rec.dt, r.dt_critical = rec.dt_critical, r.dt_block_estimate = rec.dt_block_estimate;
-  r.elastic_start_strain = rec.elastic_start_strain;
-  r.energy_ratio_max = rec.energy_ratio_max;
-  if (stopped) {
+  // A run the watchdog stopped keeps its record up to the last sound state; its headline numbers are not results.
+  void stopped_result(TestResult& r) const {
     r.completed = false;
-    r.watchdog_cause = watchdog.cause();
-    r.watchdog_step = engine.steps();
+    r.watchdog_cause = watchdog_.cause();
+    r.watchdog_step = engine_.steps();
     r.watchdog_message = fmt::format(
         "the watchdog stopped the run at step {} (t = {:.4g} s, time step {:.4g} s): {}. The explicit integration is "
         "unstable for this scene: lower numerics.dt_safety (now {:.3g}) or numerics.dt, or check the stiffness and "
         "density values. Results up to step {} (the last sound state) are kept; the peak and modulus are not results",
-        engine.steps(), engine.time(), rec.dt, watchdog.detail(), scene.numerics.dt_safety,
-        watchdog.good_curve > 0 ? rec.curve[watchdog.good_curve - 1].step : 0);
-    r.curve.assign(rec.curve.begin(), rec.curve.begin() + long(watchdog.good_curve));
-    r.frames.assign(rec.frames.begin(), rec.frames.begin() + long(watchdog.good_frames));
-    r.cracks.assign(engine.cracks().begin(), engine.cracks().begin() + long(watchdog.good_cracks));
+        engine_.steps(), engine_.time(), rec_.dt, watchdog_.detail(), scene_.numerics.dt_safety,
+        watchdog_.good_curve > 0 ? rec_.curve[watchdog_.good_curve - 1].step : 0);
+    r.curve.assign(rec_.curve.begin(), rec_.curve.begin() + long(watchdog_.good_curve));
+    r.frames.assign(rec_.frames.begin(), rec_.frames.begin() + long(watchdog_.good_frames));
+    r.cracks.assign(engine_.cracks().begin(), engine_.cracks().begin() + long(watchdog_.good_cracks));
     r.crack_counts = count_cracks(r.cracks);
     r.stop_reason = "watchdog";
     r.failure_mode = "not_completed";
     r.quasi_static = false;
     r.quasi_static_reason = "the run did not complete";
-    r.wall_seconds = wall();
-    return r;
   }
-  // The peak and final frames, in order of strain; the peak sample in the curve, in order.
-  r.frames = std::move(rec.frames);
-  r.frames.push_back(make_frame(engine, protocol.read(engine), "final"));
-  if (!rec.peak_frame.x.empty()) {
-    auto at = std::lower_bound(r.frames.begin(), r.frames.end(), rec.peak_frame.strain,
-                               [](const Frame& f, double e) { return f.strain < e; });
-    r.frames.insert(at, rec.peak_frame);
+
+  // The peak and final frames in order of strain, the peak sample in the curve in order, then summarize().
+  void completed_result(TestResult& r) const {
+    r.frames = rec_.frames;
+    r.frames.push_back(make_frame(engine_, protocol_.read(engine_), "final"));
+    if (!rec_.peak_frame.x.empty()) {
+      auto at = std::lower_bound(r.frames.begin(), r.frames.end(), rec_.peak_frame.strain,
+                                 [](const Frame& f, double e) { return f.strain < e; });
+      r.frames.insert(at, rec_.peak_frame);
+    }
+    r.curve = rec_.curve;
+    auto pos = std::lower_bound(r.curve.begin(), r.curve.end(), rec_.at_peak.strain,
+                                [](const CurvePoint& p, double e) { return p.strain < e; });
+    if (pos == r.curve.end() || pos->step != rec_.at_peak.step) r.curve.insert(pos, rec_.at_peak);
+    r.cracks = engine_.cracks();
+    summarize(scene_, topo_, rec_, r);
   }
-  r.curve = std::move(rec.curve);
-  auto pos = std::lower_bound(r.curve.begin(), r.curve.end(), rec.at_peak.strain,
-                              [](const CurvePoint& p, double e) { return p.strain < e; });
-  if (pos == r.curve.end() || pos->step != rec.at_peak.step) r.curve.insert(pos, rec.at_peak);
-  r.cracks = engine.cracks();
-  summarize(scene, topo, rec, r);
-  r.wall_seconds = wall();
-  return r;
+
+  double wall() const {
+    return rec_wall_before() + std::chrono::duration<double>(Clock::now() - wall0_).count();
+  }
+  double rec_wall_before() const { return options_.resume ? options_.resume->record.wall_seconds : 0.0; }
+
+  LoadingProtocol& protocol_;
+  const Scene& scene_;
+  const Topology& topo_;
+  const RunOptions& options_;
+  Clock::time_point wall0_;
+  Engine engine_;
+  TestRecord rec_;
+  std::string stop_reason_ = "max_strain";
+  PeakTracker peaks_;
+  FrameRecorder frames_;
+  CurveRecorder curve_;
+  Watchdog watchdog_;
+  Checkpointer checkpointer_;
+  ProgressReporter progress_;
+};
+
+}  // namespace
+
+TestResult run_test(LoadingProtocol& protocol, const Scene& scene, const Topology& topo, const RunOptions& options) {
+  TestRun run(protocol, scene, topo, options);
+  run.start();
+  const bool completed = run.run();
+  return run.result(completed);
 }
 
 }  // namespace rbdem

@@ -1,0 +1,42 @@
+// The gmsh session and the readers of the current gmsh model that dem/specimen_mesh.cpp (meshing) and
+// dem/msh_import.cpp (user meshes) share. Internal to the DEM library: not installed for users.
+#pragma once
+
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "mesh/trimesh.hpp"
+
+namespace rbdem::gmsh_io {
+
+// gmsh keeps global state: one session at a time, always finalized, never left open on an exception.
+// Threads: gmsh's option General.NumThreads (default 1) sets the calling thread's OpenMP default through
+// omp_set_num_threads. gmsh meshes with OpenMP threads, and a mesh made on two threads differs from run to run, so
+// the session meshes on one thread (a mesh is the same for the same inputs, bit for bit). When it ends it puts the
+// OpenMP default back as it found it: before, it stayed at one thread, and every engine built later in that thread
+// with numerics.threads = 0 ("all cores") ran on one core.
+class GmshSession {
+ public:
+  GmshSession();
+  ~GmshSession();
+  GmshSession(const GmshSession&) = delete;
+  GmshSession& operator=(const GmshSession&) = delete;
+
+ private:
+  std::lock_guard<std::mutex> lock_;
+  int omp_threads_;
+};
+
+// The last gmsh error message, or `fallback`.
+std::string gmsh_error(const std::string& fallback);
+
+// Orients every triangle counter-clockwise and snaps nodes lying within `tol` of the rectangle's sides
+// onto them exactly (OpenCASCADE returns 0.09999999999999999 for 0.1).
+void tidy(TriMesh& mesh, double width, double height, double tol);
+
+// Collects the first-order triangles of the current gmsh model, one layer per entry of `layer_entities`.
+TriMesh collect_triangles(const std::vector<std::vector<int>>& layer_entities, std::vector<std::string> names,
+                          const std::string& source);
+
+}  // namespace rbdem::gmsh_io

@@ -1,0 +1,396 @@
+// User meshes: .msh files read through gmsh, after a pre-scan that refuses what gmsh would crash on, and the
+// checks every imported mesh must pass. See specimen_mesh.hpp (read_msh, check_user_mesh).
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <gmsh.h>
+
+#include "dem/gmsh_session.hpp"
+#include "dem/specimen_mesh.hpp"
+
+namespace rbdem {
+
+using gmsh_io::collect_triangles;
+using gmsh_io::gmsh_error;
+using gmsh_io::GmshSession;
+
+namespace {
+
+// The first line of a gmsh mesh file. Anything else is refused before gmsh sees it: gmsh picks a reader by
+// extension and content, and would run a file that is not a mesh as a .geo script.
+void require_msh_header(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string first;
+  std::error_code ec;
+  if (in && !std::filesystem::is_directory(path) && std::filesystem::file_size(path, ec) == 0 && !ec)
+    throw SceneError(fmt::format("mesh file '{}' is empty: give a gmsh .msh file", path.string()));
+  if (!in || std::filesystem::is_directory(path) || !std::getline(in, first))
+    throw SceneError(fmt::format("cannot read mesh file '{}': check --mesh / mesh.file (it must be a readable gmsh "
+                                 ".msh file)",
+                                 path.string()));
+  while (!first.empty() && (first.back() == '\r' || first.back() == ' ' || first.back() == '\t')) first.pop_back();
+  if (first != "$MeshFormat")
+    throw SceneError(fmt::format("mesh file '{}' is not a gmsh mesh: its first line is not $MeshFormat; export the "
+                                 "mesh from gmsh as MSH (File > Export > .msh, version 4.1 or 2.2)",
+                                 path.string()));
+}
+
+// Nodes per element of the gmsh element types a user mesh may hold (first and second order, points to volumes).
+int nodes_of_type(int type) {
+  switch (type) {
+    case 1: return 2;   case 2: return 3;   case 3: return 4;   case 4: return 4;   case 5: return 8;
+    case 6: return 6;   case 7: return 5;   case 8: return 3;   case 9: return 6;   case 10: return 9;
+    case 11: return 10; case 15: return 1;  case 16: return 8;  case 17: return 20; case 18: return 15;
+    case 19: return 13;
+    default: return -1;
+  }
+}
+
+// Checks that the file is ASCII MSH 2.x or 4.x and that every element has the right number of nodes and refers only
+// to nodes the file defines. gmsh 4.8 dereferences a missing node of a second-order element and crashes (found by
+// tests/fuzz/fuzz_msh), so rbdem checks this before gmsh reads the file; binary and MSH 3 files are refused.
+void prescan_msh(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  std::getline(in, line);  // $MeshFormat, checked by require_msh_header
+  double version = 0;
+  int binary = 0;
+  {
+    std::getline(in, line);
+    std::istringstream head(line);
+    if (!(head >> version >> binary))
+      throw SceneError(fmt::format("mesh file '{}': the line after $MeshFormat must read `version file-type "
+                                   "data-size` (e.g. `4.1 0 8`); export the mesh from gmsh again",
+                                   path.string()));
+  }
+  // Only what the scan below understands reaches gmsh: gmsh 4.8 reads a damaged MSH 3 or binary file without
+  // checking its counts, and tests/fuzz/fuzz_msh made it allocate 3.4 GB from a file of 199 bytes.
+  if (!((version >= 2.0 && version < 3.0) || (version >= 4.0 && version < 5.0)))
+    throw SceneError(fmt::format("mesh file '{}' is MSH version {:g}, which rbdem does not read: export the mesh from "
+                                 "gmsh as MSH 4.1 or 2.2 (File > Export, or `gmsh -2 -format msh41`)",
+                                 path.string(), version));
+  if (binary != 0)
+    throw SceneError(fmt::format("mesh file '{}' is {}: rbdem reads ASCII .msh files only (it checks a mesh before "
+                                 "gmsh reads it); export it again without `Save in binary format` (or with "
+                                 "`Mesh.Binary = 0;`)",
+                                 path.string(), binary == 1 ? "a binary .msh file" : "of an unknown file type"));
+  const bool v4 = version >= 4.0;
+  auto bad = [&](const std::string& what) {
+    return SceneError(fmt::format("mesh file '{}' is malformed: {}; export the mesh from gmsh again", path.string(),
+                                  what));
+  };
+  std::set<long long> nodes;
+  bool have_nodes = false;
+  auto read_line = [&](std::istringstream& ls, const char* section) {
+    if (!std::getline(in, line)) throw bad(fmt::format("the {} section ends early", section));
+    ls.clear();
+    ls.str(line);
+  };
+  std::istringstream ls;
+  bool have_elements = false;
+  while (std::getline(in, line)) {
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t')) line.pop_back();
+    // gmsh takes a section by the start of its header line ("$ElementsX" is read as $Elements, "$NOD" and "$ELM"
+    // as MSH 1 nodes and elements; found by tests/fuzz/fuzz_msh): only the exact headers, once each, get past.
+    auto starts = [&](const char* key) { return line.rfind(key, 0) == 0; };
+    const bool nodes_like = starts("$NO") || starts("$Nodes") || starts("$ParametricNodes");
+    const bool elements_like = starts("$ELM") || starts("$Elements");
+    if ((nodes_like && (line != "$Nodes" || have_nodes)) || (elements_like && (line != "$Elements" || have_elements)))
+      throw bad(fmt::format("the section header `{}` is not a single $Nodes or $Elements",
+                            line.substr(0, std::min<std::size_t>(line.size(), 40))));
+    if (line == "$Nodes") {
+      have_nodes = true;
+      long long blocks = 1, count = 0;
+      read_line(ls, "$Nodes");
+      if (v4 ? !(ls >> blocks >> count) : !(ls >> count)) throw bad("the $Nodes header is not numbers");
+      if (blocks < 0 || count < 0) throw bad("negative node counts");
+      for (long long b = 0; b < blocks; ++b) {
+        long long n = count;
+        if (v4) {
+          long long dim = 0, tag = 0, parametric = 0;
+          read_line(ls, "$Nodes");
+          if (!(ls >> dim >> tag >> parametric >> n) || n < 0) throw bad("a node block header is not numbers");
+        }
+        // gmsh reads numbers regardless of lines: one number too many or too few shifts every later node
+        // (gmsh 4.8 then crashes, found by tests/fuzz/fuzz_msh), so each line must hold exactly its numbers.
+        auto numbers = [&](std::istringstream& l) {
+          int found = 0;
+          for (double x = 0; l >> x; ++found) {
+          }
+          if (!l.eof()) return -1;  // a token that is not a number
+          return found;
+        };
+        for (long long k = 0; k < n; ++k) {
+          long long tag = 0;
+          read_line(ls, "$Nodes");
+          if (!(ls >> tag) || tag < 1) throw bad("a node tag is not a positive integer");
+          const int rest = numbers(ls);
+          if (v4 ? rest != 0 : rest != 3)
+            throw bad(fmt::format("the line of node {} does not hold exactly {}", tag,
+                                  v4 ? "its tag" : "its tag and x y z"));
+          nodes.insert(tag);
+        }
+        if (v4)
+          for (long long k = 0; k < n; ++k) {
+            read_line(ls, "$Nodes");
+            const int found = numbers(ls);
+            if (found < 3) throw bad("a node coordinate line does not hold x y z");
+          }
+      }
+    } else if (line == "$Elements") {
+      have_elements = true;
+      long long blocks = 1, count = 0;
+      read_line(ls, "$Elements");
+      if (v4 ? !(ls >> blocks >> count) : !(ls >> count)) throw bad("the $Elements header is not numbers");
+      if (blocks < 0 || count < 0) throw bad("negative element counts");
+      for (long long b = 0; b < blocks; ++b) {
+        long long n = count;
+        int type = 0;
+        if (v4) {
+          long long dim = 0, tag = 0;
+          read_line(ls, "$Elements");
+          if (!(ls >> dim >> tag >> type >> n) || n < 0) throw bad("an element block header is not numbers");
+        }
+        for (long long k = 0; k < n; ++k) {
+          long long tag = 0;
+          read_line(ls, "$Elements");
+          if (!(ls >> tag)) throw bad("an element tag is not a number");
+          if (!v4) {
+            int ntags = 0;
+            if (!(ls >> type >> ntags) || ntags < 0) throw bad(fmt::format("element {} has no type", tag));
+            for (long long t = 0, skip = 0; t < ntags; ++t)
+              if (!(ls >> skip)) throw bad(fmt::format("element {} has fewer tags than it says", tag));
+          }
+          const int expected = nodes_of_type(type);
+          if (expected < 0)
+            throw SceneError(fmt::format("mesh file '{}': element {} has gmsh type {}, which rbdem does not read: "
+                                         "use first-order triangles (type 2)",
+                                         path.string(), tag, type));
+          int found = 0;
+          for (long long node = 0; ls >> node; ++found)
+            if (!nodes.count(node))
+              throw SceneError(fmt::format("mesh file '{}': element {} refers to node {}, which the file does not "
+                                           "define; export the mesh from gmsh again",
+                                           path.string(), tag, node));
+          if (found != expected)
+            throw bad(fmt::format("element {} of type {} has {} nodes instead of {}", tag, type, found, expected));
+        }
+      }
+    }
+  }
+}
+
+// Distinct nodes at the same place (within `tol`): the triangles around them look adjacent but share no edge, so no
+// bond would join them. Nodes are hashed into cells of size tol; a duplicate lies in the same or a neighbouring cell.
+void refuse_duplicate_nodes(const TriMesh& mesh, double tol, const std::string& source) {
+  if (!(tol > 0)) return;
+  const double x0 = mesh.nodes.empty() ? 0.0 : mesh.nodes[0][0], y0 = mesh.nodes.empty() ? 0.0 : mesh.nodes[0][1];
+  auto cell_of = [&](const std::array<double, 2>& p) {
+    return std::pair<long, long>{long(std::floor((p[0] - x0) / tol)), long(std::floor((p[1] - y0) / tol))};
+  };
+  std::map<std::pair<long, long>, std::vector<int>> grid;
+  for (std::size_t k = 0; k < mesh.nodes.size(); ++k) {
+    const auto& p = mesh.nodes[k];
+    const auto [ci, cj] = cell_of(p);
+    for (long i = ci - 1; i <= ci + 1; ++i)
+      for (long j = cj - 1; j <= cj + 1; ++j) {
+        auto it = grid.find({i, j});
+        if (it == grid.end()) continue;
+        for (int other : it->second) {
+          const auto& q = mesh.nodes[other];
+          if (std::abs(q[0] - p[0]) <= tol && std::abs(q[1] - p[1]) <= tol)
+            throw SceneError(fmt::format("mesh file '{}': two nodes at ({:.6g}, {:.6g}) m: the triangles around them "
+                                         "share no edge and would not be bonded; merge duplicate nodes (gmsh: "
+                                         "Tools > Coherence Mesh, or `Coherence Mesh;` in the .geo) and save again",
+                                         source, p[0], p[1]));
+        }
+      }
+    grid[{ci, cj}].push_back(int(k));
+  }
+}
+
+// A node inside an edge that only one triangle holds (a hanging node, T-junction): the mesh is not conforming and
+// the blocks on either side of that edge would not be bonded. Nodes are binned in a grid of about one edge length.
+void refuse_hanging_nodes(const TriMesh& mesh, double tol, const std::string& source) {
+  std::map<std::pair<int, int>, int> uses;
+  for (const auto& tri : mesh.triangles)
+    for (int e = 0; e < 3; ++e) ++uses[std::minmax(tri[e], tri[(e + 1) % 3])];
+  double xmin = 1e300, ymin = 1e300, xmax = -1e300, ymax = -1e300, edge_sum = 0;
+  for (const auto& p : mesh.nodes) {
+    xmin = std::min(xmin, p[0]), xmax = std::max(xmax, p[0]);
+    ymin = std::min(ymin, p[1]), ymax = std::max(ymax, p[1]);
+  }
+  for (const auto& [edge, n] : uses) {
+    const auto& a = mesh.nodes[edge.first];
+    const auto& b = mesh.nodes[edge.second];
+    edge_sum += std::hypot(b[0] - a[0], b[1] - a[1]);
+  }
+  const double cell = std::max(edge_sum / double(std::max<std::size_t>(uses.size(), 1)), 1e-300);
+  const double span = std::max(xmax - xmin, ymax - ymin);
+  // At most about 4 cells per node along each side keeps the grid small for any input.
+  const double limit = 4.0 * std::sqrt(double(mesh.nodes.size())) + 1.0;
+  const double h = std::max(cell, span / limit);
+  auto cell_of = [&](double v, double lo) { return long(std::floor((v - lo) / h)); };
+  std::map<std::pair<long, long>, std::vector<int>> grid;
+  for (std::size_t k = 0; k < mesh.nodes.size(); ++k)
+    grid[{cell_of(mesh.nodes[k][0], xmin), cell_of(mesh.nodes[k][1], ymin)}].push_back(int(k));
+  for (const auto& [edge, n] : uses) {
+    if (n != 1) continue;
+    const auto& a = mesh.nodes[edge.first];
+    const auto& b = mesh.nodes[edge.second];
+    const double dx = b[0] - a[0], dy = b[1] - a[1], len2 = dx * dx + dy * dy;
+    if (!(len2 > 0)) continue;
+    const long i0 = cell_of(std::min(a[0], b[0]) - tol, xmin), i1 = cell_of(std::max(a[0], b[0]) + tol, xmin);
+    const long j0 = cell_of(std::min(a[1], b[1]) - tol, ymin), j1 = cell_of(std::max(a[1], b[1]) + tol, ymin);
+    const int ea = edge.first, eb = edge.second;  // clang 14 lambdas cannot capture structured bindings
+    auto test = [&](int k) {
+      if (k == ea || k == eb) return;
+      const auto& p = mesh.nodes[k];
+      const double t = ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len2;
+      const double dist = std::abs((p[0] - a[0]) * dy - (p[1] - a[1]) * dx) / std::sqrt(len2);
+      if (t > 0 && t < 1 && dist <= tol)
+        throw SceneError(fmt::format(
+                "mesh file '{}': node at ({:.6g}, {:.6g}) m lies inside the edge ({:.6g}, {:.6g})-({:.6g}, {:.6g}) m "
+                "of a neighbouring triangle (a T-junction): the mesh is not conforming and those blocks would not be "
+                "bonded; mesh all surfaces together so that they share nodes (gmsh: fragment the geometry, then "
+                "mesh)",
+                source, p[0], p[1], a[0], a[1], b[0], b[1]));
+    };
+    // A long edge over many cells: testing every node is cheaper than visiting the cells.
+    if (double(i1 - i0 + 1) * double(j1 - j0 + 1) > double(mesh.nodes.size())) {
+      for (std::size_t k = 0; k < mesh.nodes.size(); ++k) test(int(k));
+      continue;
+    }
+    for (long i = i0; i <= i1; ++i)
+      for (long j = j0; j <= j1; ++j)
+        if (auto it = grid.find({i, j}); it != grid.end())
+          for (int k : it->second) test(k);
+  }
+}
+
+}  // namespace
+
+void check_user_mesh(TriMesh& mesh, const std::string& source) {
+  if (mesh.triangles.empty())
+    throw SceneError(fmt::format("mesh file '{}' has no triangles in its physical surfaces", source));
+  for (const auto& tri : mesh.triangles)
+    for (int v : tri)
+      if (v < 0 || std::size_t(v) >= mesh.nodes.size())
+        throw SceneError(fmt::format("mesh file '{}': a triangle refers to node {} of {}", source, v,
+                                     mesh.nodes.size()));
+  double xmin = 1e300, ymin = 1e300, xmax = -1e300, ymax = -1e300;
+  for (const auto& p : mesh.nodes) {
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]))
+      throw SceneError(fmt::format("mesh file '{}': a node has a non-finite coordinate ({}, {}); remesh",
+                                   source, p[0], p[1]));
+    xmin = std::min(xmin, p[0]), xmax = std::max(xmax, p[0]);
+    ymin = std::min(ymin, p[1]), ymax = std::max(ymax, p[1]);
+  }
+  const double span = std::max(xmax - xmin, ymax - ymin);
+  if (!std::isfinite(span))
+    throw SceneError(fmt::format("mesh file '{}': node coordinates span more than 1e308 m; rbdem reads coordinates in "
+                                 "metres: rescale the mesh",
+                                 source));
+  // Lengths below this are zero at the mesh's scale (coordinates carry about 16 digits).
+  const double tol = 1e-9 * span;
+  // Zero-area triangles are refused: a block without area has no mass. Clockwise triangles are turned
+  // counter-clockwise (gmsh writes either orientation depending on the surface normal); noted, not refused.
+  std::size_t reoriented = 0;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    const double a = signed_area(mesh, t);
+    double longest = 0;
+    for (int e = 0; e < 3; ++e) {
+      const auto& p = mesh.nodes[tri[e]];
+      const auto& q = mesh.nodes[tri[(e + 1) % 3]];
+      longest = std::max(longest, std::hypot(q[0] - p[0], q[1] - p[1]));
+    }
+    // |a| = longest edge x height / 2: a height under tol is a triangle flattened onto a line.
+    if (!(std::abs(a) > 0.5 * longest * tol))
+      throw SceneError(fmt::format("mesh file '{}': triangle {} (nodes ({:.6g}, {:.6g}), ({:.6g}, {:.6g}), "
+                                   "({:.6g}, {:.6g}) m) is degenerate (zero area); remove it or remesh",
+                                   source, t, mesh.nodes[tri[0]][0], mesh.nodes[tri[0]][1],
+                                   mesh.nodes[tri[1]][0], mesh.nodes[tri[1]][1], mesh.nodes[tri[2]][0],
+                                   mesh.nodes[tri[2]][1]));
+    if (a < 0) {
+      std::swap(mesh.triangles[t][1], mesh.triangles[t][2]);
+      ++reoriented;
+    }
+  }
+  if (reoriented > 0)
+    mesh.notes.push_back(fmt::format("{} clockwise triangles of {} turned counter-clockwise", reoriented,
+                                     source));
+  refuse_duplicate_nodes(mesh, tol, source);
+  refuse_hanging_nodes(mesh, tol, source);
+}
+
+TriMesh read_msh(const std::filesystem::path& path) {
+  if (!std::filesystem::exists(path))
+    throw SceneError(fmt::format("mesh file '{}' does not exist: check --mesh / mesh.file", path.string()));
+  require_msh_header(path);
+  prescan_msh(path);
+  GmshSession session;
+  TriMesh mesh;
+  try {
+    gmsh::open(path.string());
+  } catch (...) {
+    throw SceneError(fmt::format("cannot read mesh file '{}': {} (expected a gmsh .msh file)", path.string(),
+                                 gmsh_error("not a readable mesh")));
+  }
+  gmsh::vectorpair groups;
+  std::vector<int> volume_types;
+  std::vector<std::vector<std::size_t>> volume_tags, volume_nodes;
+  try {
+    gmsh::model::getPhysicalGroups(groups, 2);
+    gmsh::model::mesh::getElements(volume_types, volume_tags, volume_nodes, 3, -1);
+  } catch (...) {
+    throw SceneError(fmt::format("cannot read the groups of '{}': {}", path.string(), gmsh_error("gmsh error")));
+  }
+  std::size_t volume_elements = 0;
+  for (const auto& t : volume_tags) volume_elements += t.size();
+  if (volume_elements > 0)
+    throw SceneError(fmt::format("mesh file '{}' is a 3D mesh ({} volume elements): rbdem needs a planar triangle "
+                                 "mesh in the x-y plane; mesh the 2D cross-section (gmsh: Mesh > 2D) and save again",
+                                 path.string(), volume_elements));
+  if (groups.empty())
+    throw SceneError(fmt::format("mesh file '{}' has no physical surface groups: define one physical surface per "
+                                 "rock layer (Physical Surface(\"layer_0\") = {{...}}) and save again",
+                                 path.string()));
+  std::vector<std::vector<int>> layer_entities;
+  std::vector<std::string> names;
+  std::set<int> seen;
+  for (const auto& [dim, tag] : groups) {
+    std::vector<int> entities;
+    std::string name;
+    try {
+      gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
+      gmsh::model::getPhysicalName(dim, tag, name);
+    } catch (...) {
+      throw SceneError(fmt::format("cannot read physical group {} of '{}': {}", tag, path.string(),
+                                   gmsh_error("gmsh error")));
+    }
+    for (int e : entities)
+      if (!seen.insert(e).second)
+        throw SceneError(fmt::format("mesh file '{}': surface {} belongs to two physical groups; each triangle must "
+                                     "be in exactly one layer",
+                                     path.string(), e));
+    names.push_back(name.empty() ? fmt::format("group_{}", tag) : name);
+    layer_entities.push_back(entities);
+  }
+  try {
+    mesh = collect_triangles(layer_entities, names, path.string());
+  } catch (const SceneError&) {
+    throw;
+  } catch (...) {
+    throw SceneError(fmt::format("cannot read the elements of '{}': {}", path.string(), gmsh_error("gmsh error")));
+  }
+  check_user_mesh(mesh, path.string());
+  return mesh;
+}
+
+}  // namespace rbdem
