@@ -8,6 +8,7 @@
 #include <omp.h>
 
 #include "dem/stages/bond_kernel.hpp"
+#include "dem/scene_keys.hpp"
 
 namespace rbdem {
 
@@ -212,5 +213,48 @@ Energies Engine::energies() const {
   e.work_platen = s.e_work;
   return e;
 }
+
+
+namespace scene_keys {
+
+// [numerics]: time stepping, damping, threads, the contact-search savings, the elastic start, checkpoints.
+void declare_numerics(Keys& k) {
+  k.add(real("numerics.damping", "-", 0.0, 0.99, "Cundall local damping coefficient alpha",
+             [](Scene& s) -> double& { return s.numerics.damping; }));
+  k.add(positive("numerics.dt_safety", "-", 0.7,
+                 "fraction of the critical time step used (above 0.7 the failure phase was found unstable: "
+                 "docs/performance.md)",
+                 [](Scene& s) -> double& { return s.numerics.dt_safety; }));
+  k.add(real("numerics.dt", "s", 0.0, 1.0,
+             "requested time step; 0 = automatic; a step above the critical one is refused",
+             [](Scene& s) -> double& { return s.numerics.dt; }));
+  k.add(real("numerics.mass_scaling", "-", 1.0, 1e8,
+             "density multiplier for quasi-static runs (dt grows as its square root); reported",
+             [](Scene& s) -> double& { return s.numerics.mass_scaling; }));
+  k.add(integer("numerics.threads", "-", 0, 1024, "OpenMP threads for one run; 0 = all cores",
+                [](Scene& s) -> int& { return s.numerics.threads; }));
+  k.add(boolean("numerics.elastic_start",
+                "start failure runs from the static elastic state just below the first bond failure",
+                [](Scene& s) -> bool& { return s.numerics.elastic_start; }));
+  k.add(real("numerics.elastic_start_fraction", "-", 0.0, 0.99,
+             "fraction of the first-break load at which the explicit run takes over from the static state",
+             [](Scene& s) -> double& { return s.numerics.elastic_start_fraction; }, true));
+  k.add(boolean("numerics.skip_bonded_pairs",
+                "no narrow phase for pairs joined by an intact bond (false: clip them too and discard the "
+                "result, the same answer at a higher cost; docs/performance.md)",
+                [](Scene& s) -> bool& { return s.numerics.skip_bonded_pairs; }));
+  k.add(boolean("numerics.search_free_faces_only",
+                "contact search only among blocks with a broken bond or a boundary edge (false: all blocks, "
+                "which adds corner contacts inside intact rock; docs/performance.md)",
+                [](Scene& s) -> bool& { return s.numerics.search_free_faces_only; }));
+  k.add(integer("numerics.checkpoint_every_steps", "-", 0, 2000000000,
+                "rbdem ucs writes checkpoint.h5 every this many explicit steps (0 = off); --resume continues",
+                [](Scene& s) -> int& { return s.numerics.checkpoint_every_steps; }));
+  k.add(real("numerics.checkpoint_every_seconds", "s", 0.0, 1e7,
+             "rbdem ucs writes checkpoint.h5 every this much wall-clock time (0 = off)",
+             [](Scene& s) -> double& { return s.numerics.checkpoint_every_seconds; }));
+}
+
+}  // namespace scene_keys
 
 }  // namespace rbdem

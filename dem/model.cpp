@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "common/fault_injection.hpp"
+#include "dem/scene_keys.hpp"
 
 namespace rbdem {
 
@@ -134,5 +135,51 @@ Model build_model(const Topology& topo, const Scene& scene, double mass_scaling)
   m.skin = 0.2 * mean_length;
   return m;
 }
+
+
+namespace scene_keys {
+
+// The keys of one contact kind; `section` is "rock" or "joint".
+void add_material(Keys& k, const std::string& section, std::function<MaterialParams&(Scene&)> m) {
+  const std::string p = section + ".";
+  const std::string what = section == "rock" ? "bonds inside a layer" : "bonds across layers (joints)";
+  k.add(positive(p + "effective_modulus", "Pa", 1e14,
+                 "effective modulus E* of " + what + ": k_n = E*/d (linear part and parallel bond)",
+                 [m](Scene& s) -> double& { return m(s).effective_modulus; }));
+  k.add(positive(p + "stiffness_ratio", "-", 100.0, "normal to shear stiffness ratio kappa = k_n/k_s of " + what,
+                 [m](Scene& s) -> double& { return m(s).stiffness_ratio; }));
+  k.add(positive(p + "tensile_strength", "Pa", 1e12, "parallel bond tensile strength sigma_c of " + what,
+                 [m](Scene& s) -> double& { return m(s).tensile_strength; }));
+  k.add(positive(p + "cohesion", "Pa", 1e12, "parallel bond cohesion c of " + what,
+                 [m](Scene& s) -> double& { return m(s).cohesion; }));
+  k.add(real(p + "friction_deg", "deg", 0.0, 89.0,
+             "parallel bond friction angle phi_b: shear strength c - sigma_n tan(phi_b) of " + what,
+             [m](Scene& s) -> double& { return m(s).friction_deg; }));
+  k.add(real(p + "contact_friction", "-", 0.0, 10.0,
+             "Coulomb coefficient mu of the linear part and of contacts after breakage, " + what,
+             [m](Scene& s) -> double& { return m(s).contact_friction; }));
+  k.add(real(p + "moment_factor", "-", 0.0, 1.0,
+             "moment contribution factor beta_m in the bond tensile stress of " + what,
+             [m](Scene& s) -> double& { return m(s).moment_factor; }));
+  k.add(real(p + "fracture_energy", "J/m^2", 0.0, 1e6,
+             "fracture energy G_f of " + what + ": after its strength is reached a bond softens linearly and "
+             "breaks when it has dissipated G_f per unit bond area, whatever the mesh (crack band); 0 = "
+             "brittle, as in the seed paper (breaks at its strength)",
+             [m](Scene& s) -> double& { return m(s).fracture_energy; }));
+  k.add(boolean(p + "slip_when_bonded",
+                "true: the linear part slides at mu F_n even while the parallel bond is intact (PFC's linear "
+                "parallel bond); false: a bonded interface sticks until its bond breaks, " + what,
+                [m](Scene& s) -> bool& { return m(s).slip_when_bonded; }));
+}
+
+// [rock], [joint]: the bond and contact laws of each kind, and the block density.
+void declare_materials(Keys& k) {
+  add_material(k, "rock", [](Scene& s) -> MaterialParams& { return s.rock; });
+  k.add(positive("rock.density", "kg/m^3", 1e5, "block density",
+                 [](Scene& s) -> double& { return s.rock.density; }));
+  add_material(k, "joint", [](Scene& s) -> MaterialParams& { return s.joint; });
+}
+
+}  // namespace scene_keys
 
 }  // namespace rbdem

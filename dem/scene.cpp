@@ -1,6 +1,8 @@
 // Scene registry, TOML reader, overrides and printers. See scene.hpp.
 #include "dem/scene.hpp"
 
+#include "dem/scene_keys.hpp"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -18,162 +20,18 @@ namespace rbdem {
 
 namespace {
 
-using ValueRef = std::variant<double*, int*, bool*, std::string*>;
-
-struct Entry {
-  ParamInfo info;
-  std::function<ValueRef(Scene&)> ref;
-};
-
-Entry real(std::string key, std::string unit, double lo, double hi, std::string doc,
-           std::function<double&(Scene&)> get, bool lo_exclusive = false) {
-  ParamInfo info{std::move(key), ParamKind::real, std::move(unit), std::move(doc), lo, hi, lo_exclusive, {}};
-  return {std::move(info), [get](Scene& s) -> ValueRef { return &get(s); }};
-}
-Entry positive(std::string key, std::string unit, double hi, std::string doc, std::function<double&(Scene&)> get) {
-  return real(std::move(key), std::move(unit), 0.0, hi, std::move(doc), std::move(get), true);
-}
-Entry integer(std::string key, std::string unit, int lo, int hi, std::string doc, std::function<int&(Scene&)> get) {
-  ParamInfo info{std::move(key), ParamKind::integer, std::move(unit), std::move(doc), double(lo), double(hi), false, {}};
-  return {std::move(info), [get](Scene& s) -> ValueRef { return &get(s); }};
-}
-Entry boolean(std::string key, std::string doc, std::function<bool&(Scene&)> get) {
-  ParamInfo info{std::move(key), ParamKind::boolean, "-", std::move(doc), 0, 1, false, {}};
-  return {std::move(info), [get](Scene& s) -> ValueRef { return &get(s); }};
-}
-Entry choice(std::string key, std::vector<std::string> choices, std::string doc,
-             std::function<std::string&(Scene&)> get) {
-  ParamInfo info{std::move(key), ParamKind::choice, "-", std::move(doc), 0, 0, false, std::move(choices)};
-  return {std::move(info), [get](Scene& s) -> ValueRef { return &get(s); }};
-}
-Entry text(std::string key, std::string doc, std::function<std::string&(Scene&)> get) {
-  ParamInfo info{std::move(key), ParamKind::text, "-", std::move(doc), 0, 0, false, {}};
-  return {std::move(info), [get](Scene& s) -> ValueRef { return &get(s); }};
-}
-
-// The keys of one contact kind; `section` is "rock" or "joint".
-void add_material(std::vector<Entry>& e, const std::string& section, std::function<MaterialParams&(Scene&)> m) {
-  const std::string p = section + ".";
-  const std::string what = section == "rock" ? "bonds inside a layer" : "bonds across layers (joints)";
-  e.push_back(positive(p + "effective_modulus", "Pa", 1e14,
-                       "effective modulus E* of " + what + ": k_n = E*/d (linear part and parallel bond)",
-                       [m](Scene& s) -> double& { return m(s).effective_modulus; }));
-  e.push_back(positive(p + "stiffness_ratio", "-", 100.0, "normal to shear stiffness ratio kappa = k_n/k_s of " + what,
-                       [m](Scene& s) -> double& { return m(s).stiffness_ratio; }));
-  e.push_back(positive(p + "tensile_strength", "Pa", 1e12, "parallel bond tensile strength sigma_c of " + what,
-                       [m](Scene& s) -> double& { return m(s).tensile_strength; }));
-  e.push_back(positive(p + "cohesion", "Pa", 1e12, "parallel bond cohesion c of " + what,
-                       [m](Scene& s) -> double& { return m(s).cohesion; }));
-  e.push_back(real(p + "friction_deg", "deg", 0.0, 89.0,
-                   "parallel bond friction angle phi_b: shear strength c - sigma_n tan(phi_b) of " + what,
-                   [m](Scene& s) -> double& { return m(s).friction_deg; }));
-  e.push_back(real(p + "contact_friction", "-", 0.0, 10.0,
-                   "Coulomb coefficient mu of the linear part and of contacts after breakage, " + what,
-                   [m](Scene& s) -> double& { return m(s).contact_friction; }));
-  e.push_back(real(p + "moment_factor", "-", 0.0, 1.0,
-                   "moment contribution factor beta_m in the bond tensile stress of " + what,
-                   [m](Scene& s) -> double& { return m(s).moment_factor; }));
-  e.push_back(real(p + "fracture_energy", "J/m^2", 0.0, 1e6,
-                   "fracture energy G_f of " + what + ": after its strength is reached a bond softens linearly and "
-                   "breaks when it has dissipated G_f per unit bond area, whatever the mesh (crack band); 0 = "
-                   "brittle, as in the seed paper (breaks at its strength)",
-                   [m](Scene& s) -> double& { return m(s).fracture_energy; }));
-  e.push_back(boolean(p + "slip_when_bonded",
-                      "true: the linear part slides at mu F_n even while the parallel bond is intact (PFC's linear "
-                      "parallel bond); false: a bonded interface sticks until its bond breaks, " + what,
-                      [m](Scene& s) -> bool& { return m(s).slip_when_bonded; }));
-}
+using scene_keys::Entry;
+using scene_keys::ValueRef;
 
 std::vector<Entry> make_registry() {
-  std::vector<Entry> e;
-  // [specimen]
-  e.push_back(positive("specimen.width", "m", 100.0, "specimen width (horizontal)",
-                       [](Scene& s) -> double& { return s.specimen.width; }));
-  e.push_back(positive("specimen.height", "m", 100.0, "specimen height (load axis, vertical)",
-                       [](Scene& s) -> double& { return s.specimen.height; }));
-  e.push_back(positive("specimen.thickness", "m", 100.0, "out-of-plane thickness t (bond area A = L t)",
-                       [](Scene& s) -> double& { return s.specimen.thickness; }));
-  e.push_back(choice("specimen.model", {"plane_strain", "plane_stress"},
-                     "2D interpretation of the continuum constants (FE model and Amadei's formula)",
-                     [](Scene& s) -> std::string& { return s.specimen.model; }));
-  // [joint_set]
-  e.push_back(real("joint_set.dip_deg", "deg", 0.0, 90.0,
-                   "joint dip from the horizontal; the load is vertical (0 = joints normal to the load)",
-                   [](Scene& s) -> double& { return s.joint_set.dip_deg; }));
-  e.push_back(positive("joint_set.spacing", "m", 100.0, "normal distance between neighbouring joints",
-                       [](Scene& s) -> double& { return s.joint_set.spacing; }));
-  e.push_back(real("joint_set.offset", "m", -100.0, 100.0,
-                   "shift of the joint set along its normal; 0 puts a joint through the specimen centre",
-                   [](Scene& s) -> double& { return s.joint_set.offset; }));
-  e.push_back(boolean("joint_set.enabled", "false gives intact rock (no joints)",
-                      [](Scene& s) -> bool& { return s.joint_set.enabled; }));
-  // [mesh]
-  e.push_back(positive("mesh.size", "m", 1.0, "target triangle edge length h (one rigid block per triangle)",
-                       [](Scene& s) -> double& { return s.mesh.size; }));
-  e.push_back(text("mesh.file", "user mesh (.msh; physical surfaces = layers); empty = mesh the specimen",
-                   [](Scene& s) -> std::string& { return s.mesh.file; }));
-  // [rock], [joint]
-  add_material(e, "rock", [](Scene& s) -> MaterialParams& { return s.rock; });
-  e.push_back(positive("rock.density", "kg/m^3", 1e5, "block density",
-                       [](Scene& s) -> double& { return s.rock.density; }));
-  add_material(e, "joint", [](Scene& s) -> MaterialParams& { return s.joint; });
-  // [loading]
-  e.push_back(positive("loading.platen_velocity", "m/s", 100.0, "closing speed of the top platen (bottom fixed)",
-                       [](Scene& s) -> double& { return s.loading.platen_velocity; }));
-  e.push_back(real("loading.platen_friction", "-", 0.0, 10.0, "Coulomb coefficient between platens and blocks",
-                   [](Scene& s) -> double& { return s.loading.platen_friction; }));
-  e.push_back(real("loading.stop_fraction", "-", 0.0, 1.0,
-                   "stop when the stress falls below this fraction of the peak, after the peak",
-                   [](Scene& s) -> double& { return s.loading.stop_fraction; }, true));
-  e.push_back(positive("loading.max_strain", "-", 1.0, "stop at this axial strain in any case",
-                       [](Scene& s) -> double& { return s.loading.max_strain; }));
-  e.push_back(positive("loading.post_peak_strain", "-", 1000.0,
-                       "stop when the strain exceeds (1 + this) x the strain at the peak (residual phase reached)",
-                       [](Scene& s) -> double& { return s.loading.post_peak_strain; }));
-  // [numerics]
-  e.push_back(real("numerics.damping", "-", 0.0, 0.99, "Cundall local damping coefficient alpha",
-                   [](Scene& s) -> double& { return s.numerics.damping; }));
-  e.push_back(positive("numerics.dt_safety", "-", 0.7,
-                       "fraction of the critical time step used (above 0.7 the failure phase was found unstable: "
-                       "docs/performance.md)",
-                       [](Scene& s) -> double& { return s.numerics.dt_safety; }));
-  e.push_back(real("numerics.dt", "s", 0.0, 1.0,
-                   "requested time step; 0 = automatic; a step above the critical one is refused",
-                   [](Scene& s) -> double& { return s.numerics.dt; }));
-  e.push_back(real("numerics.mass_scaling", "-", 1.0, 1e8,
-                   "density multiplier for quasi-static runs (dt grows as its square root); reported",
-                   [](Scene& s) -> double& { return s.numerics.mass_scaling; }));
-  e.push_back(integer("numerics.threads", "-", 0, 1024, "OpenMP threads for one run; 0 = all cores",
-                      [](Scene& s) -> int& { return s.numerics.threads; }));
-  e.push_back(boolean("numerics.elastic_start",
-                      "start failure runs from the static elastic state just below the first bond failure",
-                      [](Scene& s) -> bool& { return s.numerics.elastic_start; }));
-  e.push_back(real("numerics.elastic_start_fraction", "-", 0.0, 0.99,
-                   "fraction of the first-break load at which the explicit run takes over from the static state",
-                   [](Scene& s) -> double& { return s.numerics.elastic_start_fraction; }, true));
-  e.push_back(boolean("numerics.skip_bonded_pairs",
-                      "no narrow phase for pairs joined by an intact bond (false: clip them too and discard the "
-                      "result, the same answer at a higher cost; docs/performance.md)",
-                      [](Scene& s) -> bool& { return s.numerics.skip_bonded_pairs; }));
-  e.push_back(boolean("numerics.search_free_faces_only",
-                      "contact search only among blocks with a broken bond or a boundary edge (false: all blocks, "
-                      "which adds corner contacts inside intact rock; docs/performance.md)",
-                      [](Scene& s) -> bool& { return s.numerics.search_free_faces_only; }));
-  e.push_back(integer("numerics.checkpoint_every_steps", "-", 0, 2000000000,
-                      "rbdem ucs writes checkpoint.h5 every this many explicit steps (0 = off); --resume continues",
-                      [](Scene& s) -> int& { return s.numerics.checkpoint_every_steps; }));
-  e.push_back(real("numerics.checkpoint_every_seconds", "s", 0.0, 1e7,
-                   "rbdem ucs writes checkpoint.h5 every this much wall-clock time (0 = off)",
-                   [](Scene& s) -> double& { return s.numerics.checkpoint_every_seconds; }));
-  // [elastic]
-  e.push_back(positive("elastic.tolerance", "-", 1.0,
-                       "elastic gate: largest relative difference of DEM and Amadei moduli accepted",
-                       [](Scene& s) -> double& { return s.elastic.tolerance; }));
-  // [output]
-  e.push_back(positive("output.frame_strain_interval", "-", 1.0,
-                       "save block positions every this much axial strain (plus the peak and the last state)",
-                       [](Scene& s) -> double& { return s.output.frame_strain_interval; }));
-  return e;
+  scene_keys::Keys k;
+  scene_keys::declare_geometry(k);
+  scene_keys::declare_materials(k);
+  scene_keys::declare_loading(k);
+  scene_keys::declare_numerics(k);
+  scene_keys::declare_elastic(k);
+  scene_keys::declare_output(k);
+  return std::move(k.entries);
 }
 
 const std::vector<Entry>& registry() {
@@ -561,5 +419,43 @@ std::string parameter_reference() {
                        parameter_text(defaults, e.info.key), e.info.doc);
   return out;
 }
+
+
+namespace scene_keys {
+
+Entry real(std::string key, std::string unit, double lo, double hi, std::string doc,
+           std::function<double&(Scene&)> get, bool lo_exclusive) {
+  ParamInfo info{std::move(key), ParamKind::real, std::move(unit), std::move(doc), lo, hi, lo_exclusive, {}};
+  return {std::move(info), [get](Scene& s) -> ValueRef { return &get(s); }};
+}
+Entry positive(std::string key, std::string unit, double hi, std::string doc, std::function<double&(Scene&)> get) {
+  return real(std::move(key), std::move(unit), 0.0, hi, std::move(doc), std::move(get), true);
+}
+Entry integer(std::string key, std::string unit, int lo, int hi, std::string doc, std::function<int&(Scene&)> get) {
+  ParamInfo info{std::move(key), ParamKind::integer, std::move(unit), std::move(doc), double(lo), double(hi), false, {}};
+  return {std::move(info), [get](Scene& s) -> ValueRef { return &get(s); }};
+}
+Entry boolean(std::string key, std::string doc, std::function<bool&(Scene&)> get) {
+  ParamInfo info{std::move(key), ParamKind::boolean, "-", std::move(doc), 0, 1, false, {}};
+  return {std::move(info), [get](Scene& s) -> ValueRef { return &get(s); }};
+}
+Entry choice(std::string key, std::vector<std::string> choices, std::string doc,
+             std::function<std::string&(Scene&)> get) {
+  ParamInfo info{std::move(key), ParamKind::choice, "-", std::move(doc), 0, 0, false, std::move(choices)};
+  return {std::move(info), [get](Scene& s) -> ValueRef { return &get(s); }};
+}
+Entry text(std::string key, std::string doc, std::function<std::string&(Scene&)> get) {
+  ParamInfo info{std::move(key), ParamKind::text, "-", std::move(doc), 0, 0, false, {}};
+  return {std::move(info), [get](Scene& s) -> ValueRef { return &get(s); }};
+}
+
+// [elastic]: the elastic gate (compare/gate/elastic_gate.hpp).
+void declare_elastic(Keys& k) {
+  k.add(positive("elastic.tolerance", "-", 1.0,
+                 "elastic gate: largest relative difference of DEM and Amadei moduli accepted",
+                 [](Scene& s) -> double& { return s.elastic.tolerance; }));
+}
+
+}  // namespace scene_keys
 
 }  // namespace rbdem

@@ -10,6 +10,7 @@
 #include <gmsh.h>
 
 #include "dem/gmsh_session.hpp"
+#include "dem/scene_keys.hpp"
 
 namespace rbdem {
 
@@ -200,5 +201,40 @@ TriMesh make_mesh(const Scene& scene, const std::filesystem::path& msh_out) {
   if (!scene.mesh.file.empty()) return read_msh(scene.mesh.file);
   return mesh_specimen(SpecimenGeometry::from_scene(scene), scene.mesh.size, msh_out);
 }
+
+
+namespace scene_keys {
+
+// [specimen], [joint_set], [mesh]: the specimen geometry and its mesh.
+void declare_geometry(Keys& k) {
+  // [specimen]
+  k.add(positive("specimen.width", "m", 100.0, "specimen width (horizontal)",
+                 [](Scene& s) -> double& { return s.specimen.width; }));
+  k.add(positive("specimen.height", "m", 100.0, "specimen height (load axis, vertical)",
+                 [](Scene& s) -> double& { return s.specimen.height; }));
+  k.add(positive("specimen.thickness", "m", 100.0, "out-of-plane thickness t (bond area A = L t)",
+                 [](Scene& s) -> double& { return s.specimen.thickness; }));
+  k.add(choice("specimen.model", {"plane_strain", "plane_stress"},
+               "2D interpretation of the continuum constants (FE model and Amadei's formula)",
+               [](Scene& s) -> std::string& { return s.specimen.model; }));
+  // [joint_set]
+  k.add(real("joint_set.dip_deg", "deg", 0.0, 90.0,
+             "joint dip from the horizontal; the load is vertical (0 = joints normal to the load)",
+             [](Scene& s) -> double& { return s.joint_set.dip_deg; }));
+  k.add(positive("joint_set.spacing", "m", 100.0, "normal distance between neighbouring joints",
+                 [](Scene& s) -> double& { return s.joint_set.spacing; }));
+  k.add(real("joint_set.offset", "m", -100.0, 100.0,
+             "shift of the joint set along its normal; 0 puts a joint through the specimen centre",
+             [](Scene& s) -> double& { return s.joint_set.offset; }));
+  k.add(boolean("joint_set.enabled", "false gives intact rock (no joints)",
+                [](Scene& s) -> bool& { return s.joint_set.enabled; }));
+  // [mesh]
+  k.add(positive("mesh.size", "m", 1.0, "target triangle edge length h (one rigid block per triangle)",
+                 [](Scene& s) -> double& { return s.mesh.size; }));
+  k.add(text("mesh.file", "user mesh (.msh; physical surfaces = layers); empty = mesh the specimen",
+             [](Scene& s) -> std::string& { return s.mesh.file; }));
+}
+
+}  // namespace scene_keys
 
 }  // namespace rbdem

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "dem/driver/summary.hpp"
+#include "dem/scene_keys.hpp"
 
 namespace rbdem {
 
@@ -133,5 +134,17 @@ void ProgressReporter::after_step(const StepView& v) const {
   report({v.engine.steps(), v.engine.platen_displacement() / v.engine.specimen_height(), v.reading.stress,
           v.record.peak, int(v.engine.cracks().size())});
 }
+
+
+namespace scene_keys {
+
+// [output]: what the recorders keep.
+void declare_output(Keys& k) {
+  k.add(positive("output.frame_strain_interval", "-", 1.0,
+                 "save block positions every this much axial strain (plus the peak and the last state)",
+                 [](Scene& s) -> double& { return s.output.frame_strain_interval; }));
+}
+
+}  // namespace scene_keys
 
 }  // namespace rbdem

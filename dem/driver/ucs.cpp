@@ -6,6 +6,7 @@
 
 #include "dem/driver/monitors.hpp"
 #include "dem/static_solve.hpp"
+#include "dem/scene_keys.hpp"
 
 namespace rbdem {
 
@@ -76,5 +77,26 @@ TestResult run_ucs(const Scene& scene, const Topology& topo, const RunOptions& o
   UcsProtocol protocol(scene, options.curve_points);
   return run_test(protocol, scene, topo, options);
 }
+
+
+namespace scene_keys {
+
+// [loading]: the platens and the stop criteria of the compression tests.
+void declare_loading(Keys& k) {
+  k.add(positive("loading.platen_velocity", "m/s", 100.0, "closing speed of the top platen (bottom fixed)",
+                 [](Scene& s) -> double& { return s.loading.platen_velocity; }));
+  k.add(real("loading.platen_friction", "-", 0.0, 10.0, "Coulomb coefficient between platens and blocks",
+             [](Scene& s) -> double& { return s.loading.platen_friction; }));
+  k.add(real("loading.stop_fraction", "-", 0.0, 1.0,
+             "stop when the stress falls below this fraction of the peak, after the peak",
+             [](Scene& s) -> double& { return s.loading.stop_fraction; }, true));
+  k.add(positive("loading.max_strain", "-", 1.0, "stop at this axial strain in any case",
+                 [](Scene& s) -> double& { return s.loading.max_strain; }));
+  k.add(positive("loading.post_peak_strain", "-", 1000.0,
+                 "stop when the strain exceeds (1 + this) x the strain at the peak (residual phase reached)",
+                 [](Scene& s) -> double& { return s.loading.post_peak_strain; }));
+}
+
+}  // namespace scene_keys
 
 }  // namespace rbdem
