@@ -1,5 +1,6 @@
 // deal.II transversely isotropic elastic model on a TriMesh. See fe_model.hpp for the model and its boundary
-// conditions, THEORY.md 1 for the constants, NOTES-dealii-gmsh.md for the deal.II traps avoided here.
+// conditions, docs/theory.md (section 2) for the constants, docs/continuum.md for the deal.II 9.4 pitfalls avoided
+// here (CellData<2>(3) for triangles, counter-clockwise cells, MPI before Trilinos, the mapping passed explicitly).
 //
 // Stages, each a function below: check inputs -> triangulation straight from the arrays -> DoFs, sparsity and
 // platen DoFs -> assemble K per unit thickness -> keep the platen rows of K, impose the platen displacements ->
@@ -117,7 +118,7 @@ void check_inputs(const TriMesh& mesh, const theory::TIConstants& c, double bedd
   if (!c.admissible())
     fail("the transversely isotropic constants (" + constants_text(c) +
          ") are not admissible: they need E, E', G' > 0, -1 < nu < 1 and 1 - nu - 2 nu'^2 E/E' > 0 "
-         "(THEORY.md 1); check the units (Pa) and the pairing of E with nu and E' with nu'");
+         "(docs/theory.md, section 2); check the units (Pa) and the pairing of E with nu and E' with nu'");
   if (!std::isfinite(bedding_deg)) fail("bedding_deg is not a finite angle; give the bedding dip in degrees");
   if (!(thickness > 0) || !std::isfinite(thickness))
     fail("thickness = " + std::to_string(thickness) + " m; give the positive out-of-plane thickness in m");

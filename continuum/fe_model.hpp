@@ -3,7 +3,7 @@
 // platens. This header is deal.II-free (plain C++17) so that callers do not pay deal.II's compile cost.
 //
 // The material is homogeneous: the TI stiffness C = S^-1 with S = theory::rotated_compliance(
-// theory::reduced_compliance(c, plane), bedding_deg) (THEORY.md 1), bedding trace at bedding_deg counter-clockwise
+// theory::reduced_compliance(c, plane), bedding_deg) (docs/theory.md, section 2), bedding trace at bedding_deg counter-clockwise
 // from x. The specimen occupies the mesh bounding box [xmin, xmax] x [ymin, ymax]; W = xmax - xmin, H = ymax - ymin.
 // Platens (boundary nodes identified by coordinate, tolerance 1e-6 max(W, H)):
 //   frictionless: top u_y = -delta, bottom u_y = 0, u_x free on both except one pin u_x = 0 at the bottom-left

@@ -56,7 +56,7 @@ constexpr types::manifold_id hole_manifold_id = 1;
 void check_inputs(const theory::TIConstants& c, double angle_deg, const HoleOptions& o) {
   auto fail = [](const std::string& what) { throw std::invalid_argument("solve_hole: " + what); };
   if (!c.admissible())
-    fail("the transversely isotropic constants are not admissible (THEORY.md 1); check the units (Pa) and the "
+    fail("the transversely isotropic constants are not admissible (docs/theory.md, section 2); check the units (Pa) and the "
          "pairing of E with nu and E' with nu'");
   if (!std::isfinite(angle_deg)) fail("material_angle_deg is not finite; give the bedding angle in degrees");
   if (o.degree != 1 && o.degree != 2)

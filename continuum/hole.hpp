@@ -1,5 +1,5 @@
 // Verification case: stress concentration at a circular hole in a transversely isotropic plate under uniaxial
-// tension, against Lekhnitskii's closed form for the infinite plate (THEORY.md 6). Checks the constitutive model
+// tension, against Lekhnitskii's closed form for the infinite plate (docs/theory.md, section 9). Checks the constitutive model
 // of the continuum twin (the same plane stiffness C = S^-1 as continuum/fe_model.hpp) and the FE discretisation.
 // This header is deal.II-free (plain C++17); the deal.II model is in hole.cpp.
 //
@@ -12,7 +12,7 @@
 //
 // Closed form, infinite plate, orthotropic axes aligned with the load, global compliance S (Voigt [xx, yy, xy]):
 //     SCF = sigma_thetatheta(theta = 90 deg) / p = 1 + sqrt((2 S12 + S66) / S11 + 2 sqrt(S22 / S11))
-// which for the load along material axis 1 (angle 0) is THEORY.md 6 with a_ij = theory::reduced_compliance;
+// which for the load along material axis 1 (angle 0) is docs/theory.md, section 9 with a_ij = theory::reduced_compliance;
 // isotropic: 3. The finite plate differs from it by O((a/L)^2) (docs/continuum_hole.md quantifies it).
 //
 // Mesh: a structured graded polar mesh of quadrilaterals (FE_Q(degree), MappingQ(degree), the hole boundary on a
@@ -66,7 +66,7 @@ HoleResult solve_hole(const theory::TIConstants& c, double material_angle_deg, t
 
 // The infinite-plate closed form above for a global compliance with S16 = S26 = 0 (load along x).
 double hole_scf_closed_form(const theory::Compliance3& S);
-// Load along material axis 1 (THEORY.md 6): hole_scf_closed_form(rotated_compliance(reduced_compliance(c, plane), 0)).
+// Load along material axis 1 (docs/theory.md, section 9): hole_scf_closed_form(rotated_compliance(reduced_compliance(c, plane), 0)).
 double lekhnitskii_hole_scf(const theory::TIConstants& c, theory::Plane plane);
 
 }  // namespace rbdem::continuum

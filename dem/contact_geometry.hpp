@@ -1,6 +1,6 @@
 // Overlap geometry of two convex polygons, and of a convex polygon with a half-plane (a platen).
 //
-// This is the narrow phase of THEORY.md 4b (Feng, Han and Owen 2012). For polygons A and B that overlap, with
+// This is the narrow phase of docs/theory.md, section 7 (Feng, Han and Owen 2012). For polygons A and B that overlap, with
 // nu_B the outward normal of B:
 //   area    A_o = area of A intersect B                      (Green's theorem over the clipped boundaries)
 //   S       = integral of nu_B ds over the part of B's boundary inside A  = dA_o/dx_B (translation of B)

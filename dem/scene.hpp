@@ -24,7 +24,7 @@ struct SpecimenParams {
 };
 
 struct JointSetParams {
-  double dip_deg = 60.0;  // deg, dip of the joint planes from the horizontal (THEORY.md convention)
+  double dip_deg = 60.0;  // deg, dip of the joint planes from the horizontal (docs/theory.md, section 1)
   double spacing = 0.01;  // m, normal distance between joints
   double offset = 0.0;    // m, shift of the set along its normal, from the specimen centre
   bool enabled = true;    // false: intact rock, no joints

@@ -114,7 +114,7 @@ std::filesystem::path write_report(const StudySpec& spec, const std::vector<Case
   md += "## Peak strength versus joint dip\n\n";
   md += "Jaeger: sliding on a joint whose envelope is the bonded interface's (docs/model.md: in compression the "
         "linear part shares the traction with the parallel bond, so a sticking interface has twice the bond's "
-        "cohesion), capped by the group's measured strength at beta = 90 deg (THEORY.md 3). table.csv also gives "
+        "cohesion), capped by the group's measured strength at beta = 90 deg (docs/theory.md, section 4). table.csv also gives "
         "Jaeger with the bonds' own cohesion and friction (jaeger_bond_pa).\n\n";
   md += "| case | beta (deg) | peak (MPa) | Jaeger (MPa) | strain at peak | E50 (GPa) | failure mode | cracks rock t/s "
         "| cracks joint t/s | steps | wall (s) |\n|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|\n";

@@ -1,4 +1,4 @@
-// The deal.II transversely isotropic FE model (continuum/fe_model.hpp) against the closed forms of THEORY.md 1:
+// The deal.II transversely isotropic FE model (continuum/fe_model.hpp) against the closed forms of docs/theory.md, section 2:
 // with frictionless platens the stress is uniform and a linear element reproduces E_app = 1/S22 to round-off (a
 // patch test); bonded platens stiffen the specimen and converge with refinement.
 //

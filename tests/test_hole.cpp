@@ -1,4 +1,4 @@
-// Stress concentration at a circular hole (continuum/hole.hpp) against Lekhnitskii's closed form (THEORY.md 6).
+// Stress concentration at a circular hole (continuum/hole.hpp) against Lekhnitskii's closed form (docs/theory.md, section 9).
 //
 // The tolerances come from the convergence tables of docs/continuum_hole.md (L/a = 40, isotropic, TI plane
 // stress, TI plane strain; reference: Q2 level 6 at the same L/a):
@@ -45,7 +45,7 @@ double relative_error(const HoleResult& r) { return (r.scf - r.scf_closed_form) 
 TEST(Hole, ClosedFormIsThreeForIsotropicMaterial) {
   EXPECT_NEAR(lekhnitskii_hole_scf(isotropic, Plane::stress), 3.0, 1e-12);
   EXPECT_NEAR(lekhnitskii_hole_scf(isotropic, Plane::strain), 3.0, 1e-12);
-  // Plane stress by hand (THEORY.md 6): a11 = 1/E, a22 = 1/E', a12 = -nu'/E', a66 = 1/G'.
+  // Plane stress by hand (docs/theory.md, section 9): a11 = 1/E, a22 = 1/E', a12 = -nu'/E', a66 = 1/G'.
   const double a11 = 1 / 40e9, a22 = 1 / 10e9, a12 = -0.2 / 10e9, a66 = 1 / 6e9;
   EXPECT_NEAR(lekhnitskii_hole_scf(layered, Plane::stress),
               1 + std::sqrt((2 * a12 + a66) / a11 + 2 * std::sqrt(a22 / a11)), 1e-12);

@@ -1,5 +1,5 @@
 // The static elastic solve against the explicit engine and against the closed form of an aligned block grid
-// (THEORY.md 2 and 4).
+// (docs/theory.md, sections 3, 5).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -150,7 +150,7 @@ GridMeasurement measure_grid(double a, double b) {
   return {stress / eps_yy, (k.kbnA + k.knA) / (k.L * topo.thickness), eps_xx / eps_yy};
 }
 
-// THEORY.md 2: rigid a x b blocks on an aligned grid with full-face bonds of normal stiffness k_n per area give
+// docs/theory.md, section 3: rigid a x b blocks on an aligned grid with full-face bonds of normal stiffness k_n per area give
 // E_y = k_n b, E_x = k_n a and nu = 0. E_x is measured by the same vertical test on the grid of b x a blocks.
 TEST(Static, AlignedGridOfRectangularBlocksGivesKnTimesSize) {
   const double a = 0.004, b = 0.0025;

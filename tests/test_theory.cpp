@@ -1,4 +1,4 @@
-// Closed-form theory against itself and against independent limits (THEORY.md sections 1-3).
+// Closed-form theory against itself and against independent limits (docs/theory.md, sections 2-4).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// Closed-form transversely isotropic elasticity and Jaeger strength. See elasticity.hpp and THEORY.md.
+// Closed-form transversely isotropic elasticity and Jaeger strength. See elasticity.hpp and docs/theory.md.
 #include "theory/elasticity.hpp"
 
 #include <cmath>

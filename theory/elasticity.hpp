@@ -1,4 +1,4 @@
-// Closed-form theory of THEORY.md: transversely isotropic elasticity (sections 1, 2) and Jaeger's plane of
+// Closed-form theory (docs/theory.md): transversely isotropic elasticity (sections 2, 3) and Jaeger's plane of
 // weakness (section 3). Plain functions of plain values, SI units, angles in degrees at the interface.
 //
 // Convention: beta is the dip of the bedding / joints from the horizontal, the load is vertical. The bedding
@@ -37,7 +37,7 @@ Compliance3 rotated_compliance(const ReducedCompliance& a, double theta_deg);
 // Apparent modulus under a vertical uniaxial stress with frictionless platens: 1 / S22(beta).
 double apparent_modulus(const ReducedCompliance& a, double beta_deg);
 double apparent_modulus(const TIConstants& c, double beta_deg, Plane plane);
-// Amadei's plane-stress formula written out (THEORY.md 1), kept separate as an independent check.
+// Amadei's plane-stress formula written out (docs/theory.md, section 2), kept separate as an independent check.
 double amadei_plane_stress(const TIConstants& c, double beta_deg);
 
 // Recovers the constants from a measured 2D reduced compliance. Plane stress: E = 1/a11, E' = 1/a22,
@@ -53,7 +53,7 @@ TIConstants goodman(double E_r, double nu_r, double k_n, double k_s, double spac
 // constants of the layered medium, for checking Goodman's formula with a thin soft layer.
 TIConstants backus(double E1, double nu1, double h1, double E2, double nu2, double h2);
 
-// Jaeger's single plane of weakness (THEORY.md 3). Angles in degrees; returns the axial strength in Pa.
+// Jaeger's single plane of weakness (docs/theory.md, section 4). Angles in degrees; returns the axial strength in Pa.
 struct JaegerInput {
   double cohesion = 0;       // c_j, Pa
   double friction_deg = 0;   // phi_j

@@ -1,5 +1,5 @@
 // The DEM as an elastic material: its transversely isotropic constants measured by static virtual tests, and
-// Goodman's equivalent-continuum estimate from the scene's bond parameters (THEORY.md 1, 2, 4).
+// Goodman's equivalent-continuum estimate from the scene's bond parameters (docs/theory.md, sections 2, 3, 5).
 //
 // Virtual test: the scene's specimen, meshed at one joint dip beta, between frictionless platens, solved by
 // solve_static() (exact elastic state of the bonded blocks with the linear parts' open/stick/slip states). The

@@ -1,4 +1,4 @@
-// The elastic gate: the DEM's static elastic response against Amadei's closed form (THEORY.md 1) and the deal.II
+// The elastic gate: the DEM's static elastic response against Amadei's closed form (docs/theory.md, section 2) and the deal.II
 // FE twin, over the joint dip beta = 0, 15, ..., 90 deg, before any failure run is trusted.
 //
 // For each beta the scene's specimen is meshed at that dip (everything else as in the scene) and

@@ -1,5 +1,5 @@
 // DEM verification cases: objectivity, the parallel bond's moment stiffness, a bonded pair's frequency, energy
-// in a frictionless impact, and the static elastic solve against the explicit run (THEORY.md 4, 5, 6).
+// in a frictionless impact, and the static elastic solve against the explicit run (docs/theory.md, sections 5, 8, 9).
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -29,7 +29,7 @@ EngineOptions free_blocks(const Scene& s) {
 CaseResult objectivity(const Context&) {
   CaseResult r;
   r.checks = "a rigid translation (0.3 m, -0.2 m) and rotation (1 rad) of the bonded specimen create no bond force";
-  r.reference = "objectivity of the co-rotated bond kinematics (THEORY.md 4, 6): zero force";
+  r.reference = "objectivity of the co-rotated bond kinematics (docs/theory.md, sections 5, 9): zero force";
   r.unit = "strain";
   const RigidMotionMeasure m = rigid_motion_forces();
   r.measured = m.spurious_strain, r.reference_value = 0, r.error = m.spurious_strain;
@@ -44,7 +44,7 @@ CaseResult objectivity(const Context&) {
 CaseResult bond_moment(const Context&) {
   CaseResult r;
   r.checks = "the parallel bond's moment under a small relative rotation of two bonded blocks";
-  r.reference = "M = -kb_n I dtheta, kb_n = E*/d, I = t L^3 / 12 (THEORY.md 4)";
+  r.reference = "M = -kb_n I dtheta, kb_n = E*/d, I = t L^3 / 12 (docs/theory.md, section 5)";
   r.unit = "N m";
   const Scene scene = elastic_scene();
   const double a = 1e-3, b = 0.8e-3, t = 1.0, dth = 1e-7;
@@ -65,7 +65,7 @@ CaseResult bond_moment(const Context&) {
 CaseResult pair_frequency(const Context&) {
   CaseResult r;
   r.checks = "the period of a bonded block oscillating against a fixed one (bond and closed linear part in parallel)";
-  r.reference = "T = 2 pi sqrt(m / k), k = 2 E* L t / d (parallel bond + linear part, THEORY.md 4, 4b)";
+  r.reference = "T = 2 pi sqrt(m / k), k = 2 E* L t / d (parallel bond + linear part, docs/theory.md, sections 5, 7)";
   r.unit = "s";
   const double steps_per_period = 200;
   const PairPeriodMeasure m = bonded_pair_period(steps_per_period);
@@ -85,7 +85,7 @@ CaseResult pair_frequency(const Context&) {
 CaseResult impact_energy(const Context&) {
   CaseResult r;
   r.checks = "kinetic energy after a frictionless elastic impact of two blocks (head on and oblique at 20 deg)";
-  r.reference = "energy conservation (THEORY.md 6): KE_after = KE_before";
+  r.reference = "energy conservation (docs/theory.md, section 9): KE_after = KE_before";
   r.unit = "-";
   double worst = 0;
   long steps = 0;

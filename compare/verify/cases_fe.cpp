@@ -1,6 +1,6 @@
 // Continuum (deal.II) cases and the side-by-side DEM/FE cases: the frictionless-platen patch test against Amadei
 // in plane strain and plane stress, the isotropic limit, the elastic gate (DEM vs Amadei with the DEM's own
-// constants) and the block-centroid displacement fields of DEM and FE (THEORY.md 1).
+// constants) and the block-centroid displacement fields of DEM and FE (docs/theory.md, section 2).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -35,8 +35,8 @@ CaseResult patch(const Context& ctx, theory::Plane plane) {
   const bool strain = plane == theory::Plane::strain;
   r.checks = fmt::format("FE apparent modulus between frictionless platens at seven dips, plane {}",
                          strain ? "strain" : "stress");
-  r.reference = strain ? "1 / S22(beta) with S = T^T a T (matrix products, THEORY.md 1)"
-                       : "Amadei's plane-stress formula written out (THEORY.md 1)";
+  r.reference = strain ? "1 / S22(beta) with S = T^T a T (matrix products, docs/theory.md, section 2)"
+                       : "Amadei's plane-stress formula written out (docs/theory.md, section 2)";
   r.unit = "Pa";
   Scene scene;
   scene.mesh.size = ctx.quick ? 0.004 : 0.002;
@@ -175,13 +175,13 @@ CaseResult fields(const Context& ctx) {
 }
 
 // Lekhnitskii's stress concentration at a circular hole in an infinite anisotropic plate, load along material
-// axis 1 (THEORY.md 6), against the FE quarter plate (L / a = 40) with quadratic elements (docs/continuum_hole.md).
+// axis 1 (docs/theory.md, section 9), against the FE quarter plate (L / a = 40) with quadratic elements (docs/continuum_hole.md).
 const theory::TIConstants layered{40e9, 0.25, 10e9, 0.2, 6e9};
 
 CaseResult hole_scf(const Context& ctx) {
   CaseResult r;
   r.checks = "the hoop stress concentration at a circular hole in a TI plate (E/E' = 4), plane stress and strain";
-  r.reference = "Lekhnitskii: SCF = 1 + sqrt((2 a12 + a66) / a11 + 2 sqrt(a22 / a11)) (THEORY.md 6)";
+  r.reference = "Lekhnitskii: SCF = 1 + sqrt((2 a12 + a66) / a11 + 2 sqrt(a22 / a11)) (docs/theory.md, section 9)";
   r.unit = "-";
   const int level = ctx.quick ? 2 : 4;
   double worst = 0;

@@ -1,4 +1,4 @@
-// Strength cases (full run only): the default dip study against Jaeger's plane of weakness (THEORY.md 3),
+// Strength cases (full run only): the default dip study against Jaeger's plane of weakness (docs/theory.md, section 4),
 // reported with the difference, not forced to agree.
 #include <algorithm>
 #include <chrono>
@@ -45,7 +45,7 @@ const DipStudy& dip_study(const Context& ctx) {
 CaseResult min_angle(const Context& ctx) {
   CaseResult r;
   r.checks = "the dip of the strength minimum of the default study (dips 0, 15, ..., 90)";
-  r.reference = "Jaeger's plane of weakness: 45 + phi_j / 2 (THEORY.md 3), on the same dip grid";
+  r.reference = "Jaeger's plane of weakness: 45 + phi_j / 2 (docs/theory.md, section 4), on the same dip grid";
   r.unit = "deg";
   const DipStudy& d = dip_study(ctx);
   r.measured = d.group.min_beta_deg;
@@ -62,7 +62,7 @@ CaseResult min_angle(const Context& ctx) {
 CaseResult jaeger_curve(const Context& ctx) {
   CaseResult r;
   r.checks = "the strength-versus-dip curve of the default study and its anisotropy ratio";
-  r.reference = "Jaeger's strength with the bonded joint's envelope and the measured 90-deg strength (THEORY.md 3)";
+  r.reference = "Jaeger's strength with the bonded joint's envelope and the measured 90-deg strength (docs/theory.md, section 4)";
   r.unit = "-";
   const DipStudy& d = dip_study(ctx);
   double s90 = d.group.strength_90_pa, worst = 0, jmin = 1e300;

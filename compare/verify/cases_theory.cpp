@@ -1,5 +1,5 @@
 // Closed-form cases: the rotated compliance against matrix products, Amadei's written-out formula, and Goodman's
-// equivalent continuum against Backus's exact layered medium (THEORY.md 1, 2).
+// equivalent continuum against Backus's exact layered medium (docs/theory.md, sections 2, 3).
 #include <algorithm>
 #include <cmath>
 
@@ -53,7 +53,7 @@ CaseResult rotated_compliance(const Context&) {
 CaseResult amadei(const Context&) {
   CaseResult r;
   r.checks = "the apparent modulus 1 / S22(beta) in plane stress against Amadei's formula written out";
-  r.reference = "1/E(beta) = cos^4/E' + sin^4/E + (1/G' - 2 nu'/E') sin^2 cos^2 (Amadei; THEORY.md 1)";
+  r.reference = "1/E(beta) = cos^4/E' + sin^4/E + (1/G' - 2 nu'/E') sin^2 cos^2 (Amadei; docs/theory.md, section 2)";
   r.unit = "Pa";
   double worst = 0;
   for (const auto& [label, c] : {std::pair{"paper_dem", paper_dem}, std::pair{"slate", slate}})
@@ -78,7 +78,7 @@ CaseResult amadei(const Context&) {
 CaseResult goodman_backus(const Context&) {
   CaseResult r;
   r.checks = "Goodman's rock-plus-joint constants against the exact (Backus) medium of a thin soft layer";
-  r.reference = "Backus average of the layered medium (THEORY.md 2); the difference vanishes as h / s -> 0";
+  r.reference = "Backus average of the layered medium (docs/theory.md, section 3); the difference vanishes as h / s -> 0";
   r.unit = "Pa";
   const double Er = 60e9, nur = 0.2, s = 0.01, kn = 2e12, ks = 0.8e12;
   std::vector<double> errors;
