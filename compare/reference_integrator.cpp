@@ -240,7 +240,7 @@ IntegrationResult integrate_implicit(Engine& engine, const BlockStateVector& y0,
   sunindextype half_band = 0;
   if (options.solver == LinearSolver::band) {
     // Number the blocks along the longer side: bonded blocks then sit close in the numbering.
-    const bool along_x = engine.specimen_width() >= engine.specimen_height();
+    const bool along_x = engine.model().width >= engine.model().height;
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
       const ModelState& st = engine.state();
       return along_x ? st.x[std::size_t(a)] < st.x[std::size_t(b)] : st.y[std::size_t(a)] < st.y[std::size_t(b)];

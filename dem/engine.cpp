@@ -160,12 +160,6 @@ double Engine::critical_step() const {
   return dt;
 }
 
-double Engine::intact_fraction(int b) const {
-  const std::size_t k = std::size_t(b);
-  if (state_.broken[k]) return 0.0;
-  return ParallelBond::intact_fraction(state_.drive[k], model_.frame.rupture[k]);
-}
-
 BondForces Engine::bond_forces(int b) const {
   BondForces out;
   const std::size_t k = std::size_t(b);
@@ -173,16 +167,12 @@ BondForces Engine::bond_forces(int b) const {
   double fs = state_.fs_lin[k];
   stages::BondEval ev;
   stages::eval_bond(model_, state_, work_, b, 0.0, fs, 1.0, ev);
-  const double keep = intact_fraction(b);
+  const double keep = work_.keep[k];
   out.fn_b = keep * ev.fnb, out.fs_b = keep * ev.fsb, out.m_b = keep * ev.mb, out.fn_lin = ev.fnl, out.fs_lin = ev.fsl;
   const double L = model_.frame.L[k], A = model_.frame.A[k];
   model_.law[int(model_.kind[k])].bond.strength.stresses(ev.fnb, ev.fsb, ev.mb, A, A * L * L / 12.0, 0.5 * L,
                                                          out.sigma, out.tau);
   return out;
-}
-
-std::size_t Engine::intact_bonds() const {
-  return std::size_t(std::count(state_.broken.begin(), state_.broken.end(), std::uint8_t(0)));
 }
 
 std::size_t Engine::active_contacts() const {
@@ -200,7 +190,7 @@ Energies Engine::energies() const {
     const BondForces f = bond_forces(int(b));
     const BondStiffness k = model_.stiffness(int(b));
     // A damaged bond stores keep k delta^2 / 2 = f^2 / (2 keep k) in its parallel part (f = keep k delta).
-    const double keep = intact_fraction(int(b));
+    const double keep = work_.keep[b];
     const double inv_keep = keep > 0.0 ? 1.0 / keep : 0.0;
     e.strain += 0.5 * ((f.fn_b * f.fn_b / k.kbnA + f.fs_b * f.fs_b / k.kbsA + f.m_b * f.m_b / k.kbnI) * inv_keep +
                        f.fn_lin * f.fn_lin / k.knA + f.fs_lin * f.fs_lin / k.ksA);

@@ -105,16 +105,12 @@ class Engine {
   void set_top_platen(double top_y) { state_.top_y = top_y; }
 
   // --- diagnostics ---
-  BondStiffness stiffness(int bond) const { return model_.stiffness(bond); }
   BondForces bond_forces(int bond) const;  // the forces of a bond in the current state
-  double intact_fraction(int bond) const;  // the fraction of its elastic forces bond b still carries
   Energies energies() const;
-  std::size_t intact_bonds() const;
   std::size_t active_contacts() const;
   const EngineOptions& options() const { return options_; }
   int max_threads() const { return nthreads_; }  // the most threads a step may use
   bool has_platens() const { return options_.platens; }
-  bool has_contacts() const { return options_.contacts; }
   double platen_friction() const { return options_.platen_friction; }
 
   // Convenience reads of the state.
@@ -122,16 +118,11 @@ class Engine {
   long steps() const { return state_.steps; }
   const std::vector<Crack>& cracks() const { return state_.cracks; }
   double top_y() const { return state_.top_y; }
-  double bottom_y() const { return model_.ymin; }
   double top_force() const { return state_.top_force; }        // N, compression positive
   double bottom_force() const { return state_.bottom_force; }  // N, compression positive
   double platen_displacement() const { return model_.ymax - state_.top_y; }
-  double specimen_height() const { return model_.height; }
-  double specimen_width() const { return model_.width; }
-  double thickness() const { return model_.thickness; }
 
   // --- what the driver controls ---
-  void set_platen_velocity(double v) { state_.platen_velocity = v; }
   void set_breakage(bool on) { state_.breakage = on; }  // off: an elastic lattice (tests, stability checks)
   void set_strain_for_log(double strain) { state_.strain_for_log = strain; }
   // Called for each new crack (after it is logged).

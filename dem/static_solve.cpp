@@ -59,7 +59,7 @@ std::vector<PlatenRow> platen_rows(const Engine& e) {
   for (std::size_t k = 0; k < E.size(); ++k) {
     if (E.side[k] != Side::top && E.side[k] != Side::bottom) continue;
     const int b = E.block[k];
-    rows.push_back({b, E.side[k] == Side::top, e.model().platen_kn[std::size_t(b)] * e.thickness() * E.length[k],
+    rows.push_back({b, E.side[k] == Side::top, e.model().platen_kn[std::size_t(b)] * e.model().thickness * E.length[k],
                     E.mx[k] - topo.blocks.cx[b], E.my[k] - topo.blocks.cy[b]});
   }
   return rows;
@@ -82,7 +82,7 @@ class Stiffness {
     T.reserve(nbond * 36 + platens.size() * 9 + 1);
     for (std::size_t b = 0; b < nbond; ++b) {
       rows_[b] = bond_rows(e, b);
-      k_[b] = e.stiffness(int(b));
+      k_[b] = e.model().stiffness(int(b));
       if (broken[b]) continue;
       for (int p = 0; p < 6; ++p)
         for (int q = 0; q < 6; ++q) T.emplace_back(rows_[b].dof[p], rows_[b].dof[q], 1.0);
@@ -303,7 +303,7 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
       r.platen_fs[p.block] += -(p.k / M.law[0].kappa) * uxp * tx;
     }
   }
-  const double H = e.specimen_height(), W = e.specimen_width(), t = e.thickness();
+  const double H = e.model().height, W = e.model().width, t = e.model().thickness;
   r.apparent_modulus = (r.top_force / (W * t)) / (delta / H);
 
   // Bond forces and the load factor of the first bond failure (all forces scale with the displacement).
@@ -314,7 +314,7 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
     const BondRows row = bond_rows(e, b);
     double dn = 0, ds = 0, dr = 0;
     for (int k = 0; k < 6; ++k) dn += row.an[k] * u[row.dof[k]], ds += row.as[k] * u[row.dof[k]], dr += row.ar[k] * u[row.dof[k]];
-    const BondStiffness k = e.stiffness(int(b));
+    const BondStiffness k = e.model().stiffness(int(b));
     const double fn = -k.kbnA * dn, fs = -k.kbsA * ds, m = -k.kbnI * dr;
     r.fn_b[b] = fn, r.fs_b[b] = fs, r.m_b[b] = m;
     const std::uint8_t ls = r.linear_state[b];

@@ -146,7 +146,7 @@ GridMeasurement measure_grid(double a, double b) {
   int vertical = -1;
   for (std::size_t k = 0; k < topo.bonds.size() && vertical < 0; ++k)
     if (topo.bonds.ny[k] == 1.0) vertical = int(k);
-  const BondStiffness k = engine.stiffness(vertical);
+  const BondStiffness k = engine.model().stiffness(vertical);
   return {stress / eps_yy, (k.kbnA + k.knA) / (k.L * topo.thickness), eps_xx / eps_yy};
 }
 

@@ -114,8 +114,8 @@ class TestRun {
   // state.
   static WatchdogCriterion watchdog_criterion(const Scene& scene, const Engine& engine) {
     WatchdogCriterion c;
-    c.floor = 0.5 * scene.rock.effective_modulus * 1e-10 * engine.specimen_width() * engine.specimen_height() *
-              engine.thickness();
+    c.floor = 0.5 * scene.rock.effective_modulus * 1e-10 * engine.model().width * engine.model().height *
+              engine.model().thickness;
     return c;
   }
 

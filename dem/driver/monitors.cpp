@@ -131,7 +131,7 @@ bool Checkpointer::after_step(const StepView& v, Watchdog& watchdog, double wall
 
 void ProgressReporter::after_step(const StepView& v) const {
   if (!report || v.engine.steps() % 1000 != 0) return;
-  report({v.engine.steps(), v.engine.platen_displacement() / v.engine.specimen_height(), v.reading.stress,
+  report({v.engine.steps(), v.engine.platen_displacement() / v.engine.model().height, v.reading.stress,
           v.record.peak, int(v.engine.cracks().size())});
 }
 

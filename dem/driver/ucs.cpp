@@ -11,7 +11,7 @@
 namespace rbdem {
 
 Reading UcsProtocol::platen_reading(const Engine& engine) const {
-  const double H = engine.specimen_height(), area = engine.specimen_width() * engine.thickness();
+  const double H = engine.model().height, area = engine.model().width * engine.model().thickness;
   Reading r;
   r.strain = engine.platen_displacement() / H;
   r.stress_top = engine.top_force() / area;
@@ -23,7 +23,7 @@ Reading UcsProtocol::platen_reading(const Engine& engine) const {
 Reading UcsProtocol::read(const Engine& engine) const { return platen_reading(engine); }
 
 long UcsProtocol::max_steps(const Engine& engine, const TestRecord& record) const {
-  const double H = engine.specimen_height(), v = scene_.loading.platen_velocity;
+  const double H = engine.model().height, v = scene_.loading.platen_velocity;
   return long(std::ceil((scene_.loading.max_strain - record.elastic_start_strain) * H / (v * record.dt)));
 }
 
@@ -34,7 +34,7 @@ void UcsProtocol::start(Engine& engine, TestRecord& record) {
 // The model is linear until the first bond breaks: solve that part statically and hand over to the explicit run
 // at a fraction of the first-break load.
 void UcsProtocol::elastic_start(Engine& engine, TestRecord& record) const {
-  const double H = engine.specimen_height(), area = engine.specimen_width() * engine.thickness();
+  const double H = engine.model().height, area = engine.model().width * engine.model().thickness;
   const double v = scene_.loading.platen_velocity;
   const StaticResult st = solve_static(engine, {1e-6 * H, false, 30});
   const double max_factor = scene_.loading.max_strain * H / st.platen_displacement;
