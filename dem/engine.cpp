@@ -40,7 +40,7 @@ Engine::Engine(const Topology& topo, const Scene& scene, const EngineOptions& op
   s.rebuild = true;
 
   Workspace& w = work_;
-  w.slot_fx.assign(nbond, 0.0), w.slot_fy.assign(nbond, 0.0), w.slot_mi.assign(nbond, 0.0), w.slot_mj.assign(nbond, 0.0);
+  w.slot.assign(nbond, Workspace::Slot{0.0, 0.0, 0.0, 0.0});
   w.cfx.assign(nb, 0.0), w.cfy.assign(nb, 0.0), w.cm.assign(nb, 0.0);
   w.ext_fx.assign(nb, 0.0), w.ext_fy.assign(nb, 0.0), w.ext_m.assign(nb, 0.0);
 
@@ -164,9 +164,7 @@ BondForces Engine::bond_forces(int b) const {
   BondForces out;
   const std::size_t k = std::size_t(b);
   if (state_.broken[k]) return out;
-  double fs = state_.fs_lin[k];
-  stages::BondEval ev;
-  stages::eval_bond(model_, state_, work_, b, 0.0, fs, 1.0, ev);
+  const stages::BondEval ev = stages::eval_bond(model_, state_, work_, b, 0.0, state_.fs_lin[k], 1.0);
   const double keep = work_.keep[k];
   out.fn_b = keep * ev.fnb, out.fs_b = keep * ev.fsb, out.m_b = keep * ev.mb, out.fn_lin = ev.fnl, out.fs_lin = ev.fsl;
   const double L = model_.frame.L[k], A = model_.frame.A[k];
@@ -190,7 +188,7 @@ Energies Engine::energies() const {
     const BondForces f = bond_forces(int(b));
     const BondStiffness k = model_.stiffness(int(b));
     // A damaged bond stores keep k delta^2 / 2 = f^2 / (2 keep k) in its parallel part (f = keep k delta).
-    const double keep = work_.keep[b];
+    const double keep = work_.keep[b];  // >= 0: the bond is intact
     const double inv_keep = keep > 0.0 ? 1.0 / keep : 0.0;
     e.strain += 0.5 * ((f.fn_b * f.fn_b / k.kbnA + f.fs_b * f.fs_b / k.kbsA + f.m_b * f.m_b / k.kbnI) * inv_keep +
                        f.fn_lin * f.fn_lin / k.knA + f.fs_lin * f.fs_lin / k.ksA);

@@ -94,7 +94,7 @@ Model build_model(const Topology& topo, const Scene& scene, double mass_scaling)
   m.bi = N.i, m.bj = N.j, m.kind = N.kind;
   BondFrames& f = m.frame;
   for (auto* v : {&f.rix, &f.riy, &f.rjx, &f.rjy, &f.n0x, &f.n0y, &f.L, &f.inv_L, &f.K, &f.Ks, &f.KI, &f.A,
-                  &f.rupture})
+                  &f.rupture, &f.mu_bonded, &f.tension_limit, &f.cohesion_A, &f.tan_phi, &f.beta_m})
     v->resize(nbond);
   for (std::size_t b = 0; b < nbond; ++b) {
     const BondKindLaw& kl = m.law[int(N.kind[b])];
@@ -108,6 +108,10 @@ Model build_model(const Topology& topo, const Scene& scene, double mass_scaling)
     f.KI[b] = f.K[b] * L * L * kl.bond.inertia_factor;
     f.A[b] = L * m.thickness;
     f.rupture[b] = kl.bond.rupture_index(f.K[b], L);
+    const BondStrength& st = kl.bond.strength;
+    f.mu_bonded[b] = kl.bonded_mu();
+    f.tension_limit[b] = st.sigma_c * f.A[b], f.cohesion_A[b] = st.cohesion * f.A[b];
+    f.tan_phi[b] = st.tan_phi, f.beta_m[b] = st.beta_m;
   }
 
   // CSR with the block's role encoded: entry = 2 bond + (block is j).

@@ -37,6 +37,9 @@ struct BondFrames {
   std::vector<double> rix, riy, rjx, rjy, n0x, n0y;
   std::vector<double> L, inv_L, K, Ks, KI, A;
   std::vector<double> rupture;  // r_u of a softening bond (docs/model.md); 0 for brittle kinds
+  // The kind's law per bond, so the kernel streams it: the linear part's Coulomb coefficient while bonded (+inf:
+  // it sticks), the strength in force units sigma_c A and c A, tan(phi_b) and beta_m.
+  std::vector<double> mu_bonded, tension_limit, cohesion_A, tan_phi, beta_m;
   std::size_t size() const { return L.size(); }
 };
 

@@ -28,27 +28,22 @@ namespace rbdem {
 struct EdgeOverlap {
   double area = 0, chord = 0, s_c = 0;
 };
+// Written without branches (every case is computed and one is selected) so that the bond kernel vectorises.
 inline EdgeOverlap edge_overlap(double L, double delta_n, double dtheta) {
   const double h = 0.5 * L;
   const double u0 = -delta_n - h * dtheta, u1 = -delta_n + h * dtheta;  // overlap at s = -L/2 and s = +L/2
-  EdgeOverlap e;
-  if (u0 >= 0.0 && u1 >= 0.0) {
-    e.area = -delta_n * L;
-    e.chord = L;
-    return e;
-  }
-  if (u0 <= 0.0 && u1 <= 0.0) return e;
-  // Partly compressed: the overlap is a triangle from the zero crossing s0 to the compressed end.
+  const bool closed = (u0 >= 0.0) & (u1 >= 0.0), open = (u0 <= 0.0) & (u1 <= 0.0);  // & not &&: no branch
+  // Partly compressed: the overlap is a triangle from the zero crossing s0 to the compressed end (dtheta is not 0
+  // there; elsewhere s0 is not used).
   const double s0 = delta_n / dtheta;  // u(s0) = 0
-  if (u1 > 0.0) {
-    e.chord = h - s0;
-    e.area = 0.5 * u1 * e.chord;
-    e.s_c = 0.5 * (s0 + h);
-  } else {
-    e.chord = s0 + h;
-    e.area = 0.5 * u0 * e.chord;
-    e.s_c = 0.5 * (s0 - h);
-  }
+  const bool upper = u1 > 0.0;         // the end s = +L/2 is the compressed one
+  const double chord = upper ? h - s0 : s0 + h;
+  const double area = 0.5 * (upper ? u1 : u0) * chord;
+  const double s_c = upper ? 0.5 * (s0 + h) : 0.5 * (s0 - h);
+  EdgeOverlap e;
+  e.area = closed ? -delta_n * L : (open ? 0.0 : area);
+  e.chord = closed ? L : (open ? 0.0 : chord);
+  e.s_c = (closed | open) ? 0.0 : s_c;
   return e;
 }
 
@@ -71,17 +66,19 @@ struct LinearContact {
   // Updates the shear force `fs` (N, along the tangent) for the tangential relative velocity vt (m/s) at the
   // contact point over dt (s), under normal force `fn`. Returns true when the contact slides.
   bool update_shear(double fn, double chord, double vt, double dt, double& fs) const {
-    if (!(fn > 0.0)) {
-      fs = 0.0;
-      return false;
-    }
-    fs -= Ks * (chord * inv_lref) * vt * dt;
+    const double trial = trial_shear(chord, vt, dt, fs);
+    fs = shear_force(fn, trial);
+    return (fn > 0.0) & (std::abs(trial) > mu * fn);
+  }
+  // The same without branches (the bond kernel vectorises it): the elastic trial from the old shear force, then
+  // the new shear force (Coulomb-limited, zero without a normal force).
+  double trial_shear(double chord, double vt, double dt, double fs) const {
+    return fs - Ks * (chord * inv_lref) * vt * dt;
+  }
+  double shear_force(double fn, double trial) const {
     const double limit = mu * fn;
-    if (std::abs(fs) > limit) {
-      fs = std::copysign(limit, fs);
-      return true;
-    }
-    return false;
+    const double clamped = std::abs(trial) > limit ? std::copysign(limit, trial) : trial;
+    return fn > 0.0 ? clamped : 0.0;
   }
 
   // Elastic energy (J) stored at normal force fn and shear force fs over the chord: the potential

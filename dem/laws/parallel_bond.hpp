@@ -71,8 +71,13 @@ struct BondLoad {
 
   // From the bond's undamaged forces (fn compression positive), 1 / L and A = L t.
   static BondLoad of(const BondStrength& st, double fn, double fs, double m, double inv_L, double A) {
-    return {-fn + st.beta_m * std::abs(m) * 6.0 * inv_L, st.sigma_c * A, std::abs(fs),
-            st.cohesion * A - std::min(-fn, st.sigma_c * A) * st.tan_phi};
+    return of(st.sigma_c * A, st.cohesion * A, st.tan_phi, st.beta_m, fn, fs, m, inv_L);
+  }
+  // The same with the strength already in force units: sigma_c A and c A (N).
+  static BondLoad of(double sigma_c_A, double cohesion_A, double tan_phi, double beta_m, double fn, double fs,
+                     double m, double inv_L) {
+    return {-fn + beta_m * std::abs(m) * 6.0 * inv_L, sigma_c_A, std::abs(fs),
+            cohesion_A - std::min(-fn, sigma_c_A) * tan_phi};
   }
 
   // Fails when the failure index reaches `scale` (1: the strength; a softened bond's largest index so far).

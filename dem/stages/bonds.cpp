@@ -6,6 +6,7 @@
 // the thread count. Softened bonds carry the fraction `keep` of their elastic forces set by the largest failure
 // index reached up to the previous step (docs/model.md, "Softening bonds").
 #include <algorithm>
+#include <cstdint>
 
 #include <omp.h>
 
@@ -14,45 +15,96 @@
 
 namespace rbdem::stages {
 
-void bond_forces(const Model& m, ModelState& s, Workspace& w, const StepContext& c) {
+namespace {
+
+// What one thread's share of the kernel reads and writes.
+struct KernelRange {
+  BondArrays a;
+  const double *tension_limit, *cohesion_A, *tan_phi, *beta_m, *inv_L;  // the strength in force units
+  const double *drive, *keep;
+  double* fs_lin;
+  Workspace::Slot* slot;
+  int* flag;
+  double dt;
+  int advance, test;  // 0 or 1 (int, not bool: the vectoriser does not take one-bit values from memory)
+  int lo, hi;
+};
+
+// The kernel over the bonds [lo, hi): no branches, so `omp simd` vectorises it; broken bonds compute too and write
+// a zero slot. `Damaged`: some bond carries only part of its elastic forces (a softening bond past its strength),
+// else every factor is 1 and the kernel skips the multiplications. flag[b] = 1 where the failure test held.
+template <bool Damaged>
+[[gnu::always_inline]] inline void bond_range_body(const KernelRange& range) {
+  // A local copy: the stores must not make the loop reload its array pointers from memory.
+  const KernelRange r = range;
+#pragma omp simd
+  for (int b = r.lo; b < r.hi; ++b) {
+    const double factor = r.keep[b];  // read always: a read under a condition would not vectorise
+    const bool alive = factor >= 0.0;  // broken bonds are marked -1 (refresh_keep)
+    const BondEval ev = eval_bond(r.a, b, r.dt, r.fs_lin[b], Damaged ? factor : 1.0);
+    r.slot[b].fx = alive ? ev.fx : 0.0;
+    r.slot[b].fy = alive ? ev.fy : 0.0;
+    r.slot[b].mi = alive ? ev.mi : 0.0;
+    r.slot[b].mj = alive ? ev.mj : 0.0;
+    r.fs_lin[b] = (alive & (r.advance != 0)) ? ev.fsl : r.fs_lin[b];
+    const BondLoad q = BondLoad::of(r.tension_limit[b], r.cohesion_A[b], r.tan_phi[b], r.beta_m[b], ev.fnb, ev.fsb,
+                                    ev.mb, r.inv_L[b]);
+    const double scale = r.drive[b] > 0.0 ? r.drive[b] : 1.0;
+    r.flag[b] = (r.test != 0) & alive & ((q.tension >= scale * q.tension_limit) | (q.shear >= scale * q.shear_limit));
+  }
+}
+
+// The kernel compiled for AVX-512, AVX2 and the baseline instruction set, one chosen when the program starts. The
+// arithmetic is the same in each (no fused multiply-add, no reassociation: dem/CMakeLists.txt), so are the numbers.
+[[gnu::target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")]] void bond_range_intact(const KernelRange& r) {
+  bond_range_body<false>(r);
+}
+[[gnu::target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")]] void bond_range_damaged(const KernelRange& r) {
+  bond_range_body<true>(r);
+}
+
+template <bool Damaged>
+void bond_kernel(const Model& m, ModelState& s, Workspace& w, const StepContext& c) {
   const int n = int(m.num_bonds());
   const bool test = c.advance && s.breakage;
-  if (int(w.flagged.size()) < c.threads) w.flagged.resize(std::size_t(c.threads));
-  for (auto& v : w.flagged) v.clear();
-  const std::uint8_t* broken = s.broken.data();
-  double* fs_lin = s.fs_lin.data();
-  const double* drive = s.drive.data();
-  const double* keep = w.keep.data();
-  double *sfx = w.slot_fx.data(), *sfy = w.slot_fy.data(), *smi = w.slot_mi.data(), *smj = w.slot_mj.data();
-  const BondFrames& f = m.frame;
+  const BondArrays a(m, s, w);
+  w.flag.resize(std::size_t(n));
 #pragma omp parallel num_threads(c.threads)
   {
-    auto& mine = w.flagged[std::size_t(omp_get_thread_num())];
-#pragma omp for schedule(static) nowait
-    for (int b = 0; b < n; ++b) {
-      if (broken[b]) {
-        sfx[b] = sfy[b] = smi[b] = smj[b] = 0.0;
-        continue;
-      }
-      double fs = fs_lin[b];
-      BondEval ev;
-      eval_bond(m, s, w, b, c.dt, fs, keep[b], ev);
-      sfx[b] = ev.fx, sfy[b] = ev.fy, smi[b] = ev.mi, smj[b] = ev.mj;
-      if (!c.advance) continue;
-      fs_lin[b] = fs;
-      if (!test) continue;
-      const BondStrength& st = m.law[int(m.kind[std::size_t(b)])].bond.strength;
-      const BondLoad q = BondLoad::of(st, ev.fnb, ev.fsb, ev.mb, f.inv_L[std::size_t(b)], f.A[std::size_t(b)]);
-      if (q.failure(drive[b] > 0.0 ? drive[b] : 1.0) != BreakMode::none) mine.push_back(b);
+    // Contiguous chunks in thread order: the flagged lists, read in thread order, are in bond order.
+    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+    const int lo = int(std::int64_t(n) * t / nt), hi = int(std::int64_t(n) * (t + 1) / nt);
+    const BondFrames& f = m.frame;
+    const KernelRange range{a, f.tension_limit.data(), f.cohesion_A.data(), f.tan_phi.data(), f.beta_m.data(),
+                            f.inv_L.data(), s.drive.data(), w.keep.data(), s.fs_lin.data(), w.slot.data(),
+                            w.flag.data(), c.dt, int(c.advance), int(test), lo, hi};
+    if (Damaged) bond_range_damaged(range);
+    else bond_range_intact(range);
+    if (test) {
+      auto& mine = w.flagged[std::size_t(t)];
+      for (int b = lo; b < hi; ++b)
+        if (w.flag[std::size_t(b)]) mine.push_back(b);
     }
   }
+}
+
+}  // namespace
+
+void bond_forces(const Model& m, ModelState& s, Workspace& w, const StepContext& c) {
+  if (int(w.flagged.size()) < c.threads) w.flagged.resize(std::size_t(c.threads));
+  for (auto& v : w.flagged) v.clear();
+  if (w.damaged > 0) bond_kernel<true>(m, s, w, c);
+  else bond_kernel<false>(m, s, w, c);
 }
 
 void refresh_keep(const Model& m, const ModelState& s, Workspace& w) {
   const std::size_t n = m.num_bonds();
   w.keep.resize(n);
-  for (std::size_t b = 0; b < n; ++b)
-    w.keep[b] = s.broken[b] ? 0.0 : ParallelBond::intact_fraction(s.drive[b], m.frame.rupture[b]);
+  w.damaged = 0;
+  for (std::size_t b = 0; b < n; ++b) {
+    w.keep[b] = s.broken[b] ? -1.0 : ParallelBond::intact_fraction(s.drive[b], m.frame.rupture[b]);
+    if (!s.broken[b] && s.drive[b] > 0.0) ++w.damaged;
+  }
 }
 
 int bond_events(const Model& m, ModelState& s, Workspace& w, const std::function<void(const Crack&)>& on_crack) {
@@ -62,21 +114,23 @@ int bond_events(const Model& m, ModelState& s, Workspace& w, const std::function
       const std::size_t k = std::size_t(b);
       const BondKindLaw& law = m.law[int(m.kind[k])];
       // The positions have not moved since the kernel: the same evaluation gives the same undamaged forces.
-      double fs = s.fs_lin[k];
-      BondEval ev;
-      eval_bond(m, s, w, b, 0.0, fs, 1.0, ev);
-      const BondLoad q = BondLoad::of(law.bond.strength, ev.fnb, ev.fsb, ev.mb, m.frame.inv_L[k], m.frame.A[k]);
+      const BondEval ev = eval_bond(m, s, w, b, 0.0, s.fs_lin[k], 1.0);
+      const BondLoad q = BondLoad::of(m.frame.tension_limit[k], m.frame.cohesion_A[k], m.frame.tan_phi[k],
+                                      m.frame.beta_m[k], ev.fnb, ev.fsb, ev.mb, m.frame.inv_L[k]);
+      const bool was_damaged = s.drive[k] > 0.0;
       const BreakMode mode = law.bond.advance(q, m.frame.rupture[k], s.drive[k]);
       w.keep[k] = ParallelBond::intact_fraction(s.drive[k], m.frame.rupture[k]);
+      if (!was_damaged && s.drive[k] > 0.0) ++w.damaged;
       if (mode == BreakMode::none) continue;
       Crack crack;
       const double L = m.frame.L[k], A = m.frame.A[k];
       law.bond.strength.stresses(ev.fnb, ev.fsb, ev.mb, A, A * L * L / 12.0, 0.5 * L, crack.sigma, crack.tau);
       crack.mode = mode, crack.bond = b, crack.kind = m.kind[k], crack.x = ev.px, crack.y = ev.py;
       crack.time = s.time, crack.strain = s.strain_for_log;
+      if (s.drive[k] > 0.0) --w.damaged;
       s.broken[k] = 1;
-      w.keep[k] = 0.0;
-      w.slot_fx[k] = w.slot_fy[k] = w.slot_mi[k] = w.slot_mj[k] = 0.0;  // the pair's contact carries the linear part
+      w.keep[k] = -1.0;
+      w.slot[k] = {0.0, 0.0, 0.0, 0.0};  // the pair's contact carries the linear part from now on
       s.free_face[std::size_t(m.bi[k])] = s.free_face[std::size_t(m.bj[k])] = 1;
       // With skip_bonded_pairs = false the pair is in the contact list already: it takes over the linear shear.
       const int lo = std::min(m.bi[k], m.bj[k]), hi = std::max(m.bi[k], m.bj[k]);

@@ -15,10 +15,10 @@ namespace {
 // Adds the slot of one CSR entry (2 bond + 1 if the block is the bond's j) to a block's force and moment. Without
 // branches: a block's role in its bonds follows no pattern, so an `if` mispredicts, and x + (-1) a is x - a exactly.
 inline void add_slot(int e, const Workspace& w, double& fx, double& fy, double& m) {
-  const std::size_t b = std::size_t(e >> 1);
+  const Workspace::Slot& s = w.slot[std::size_t(e >> 1)];
   const bool is_j = e & 1;
   const double sign = is_j ? 1.0 : -1.0;
-  fx += sign * w.slot_fx[b], fy += sign * w.slot_fy[b], m += is_j ? w.slot_mj[b] : w.slot_mi[b];
+  fx += sign * s.fx, fy += sign * s.fy, m += is_j ? s.mj : s.mi;
 }
 
 }  // namespace

@@ -28,8 +28,16 @@ namespace rbdem {
 // What the step derives from the state and writes before it reads: never part of a snapshot.
 struct Workspace {
   std::vector<double> cos_t, sin_t;                   // of each block's theta
-  std::vector<double> slot_fx, slot_fy, slot_mi, slot_mj;  // per bond: force on j (on i the opposite), moments
-  std::vector<double> keep;                           // per bond: fraction of its elastic forces it carries
+  // Per bond, the forces it applies: on j (on i the opposite) and the moments on i and j. One record per bond (the
+  // gather reads a bond's record whole, and a vectorised kernel stores it whole).
+  struct Slot {
+    double fx, fy, mi, mj;
+  };
+  std::vector<Slot> slot;
+  std::vector<double> keep;                           // per bond: fraction of its elastic forces it carries;
+                                                      // -1 for a broken bond (the kernel's "alive" test)
+  std::size_t damaged = 0;                            // intact bonds past their strength (softening)
+  std::vector<int> flag;                              // per bond: the failure test held this step
   std::vector<std::vector<int>> flagged;              // per thread: bonds whose failure test held, in bond order
   std::vector<double> cfx, cfy, cm;                   // per block: contact and boundary forces of this step
   struct PairForce {
