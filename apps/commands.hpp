@@ -2,6 +2,7 @@
 #pragma once
 
 #include <functional>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -10,7 +11,8 @@ namespace rbdem::cli {
 using Runner = std::function<int()>;
 
 Runner add_mesh_command(CLI::App& app);
-Runner add_ucs_command(CLI::App& app);
+// rbdem ucs | triaxial | brazilian: one test (apps/cmd_test.cpp).
+Runner add_test_command(CLI::App& app, const std::string& test);
 Runner add_sweep_command(CLI::App& app);
 Runner add_calibrate_command(CLI::App& app);
 Runner add_verify_command(CLI::App& app);

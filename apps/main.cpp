@@ -3,6 +3,8 @@
 // Usage:
 //   rbdem                                   the default study (paper specimen), table and report
 //   rbdem ucs --beta 60 --out runs/b60      one uniaxial compression test
+//   rbdem triaxial --beta 60 --confining 10e6 --out runs/t60   one confined compression test
+//   rbdem brazilian --beta 30 --out runs/bz30                  one Brazilian test of a disc
 //   rbdem sweep study.toml --out runs/s     a parameter study (resumable; mpirun spreads the cases)
 //   rbdem mesh --beta 30 --out s.msh        the specimen mesh, for inspection in gmsh
 //   rbdem elastic --out runs/el             DEM vs FE vs Amadei elastic moduli and the elastic gate
@@ -36,7 +38,9 @@ int main(int argc, char** argv) {
   std::map<CLI::App*, Runner> runners;
   runners[nullptr] = nullptr;
   auto add = [&](Runner r) { runners[app.get_subcommands({}).back()] = std::move(r); };
-  add(add_ucs_command(app));
+  add(add_test_command(app, "ucs"));
+  add(add_test_command(app, "triaxial"));
+  add(add_test_command(app, "brazilian"));
   add(add_sweep_command(app));
   add(add_calibrate_command(app));
   add(add_mesh_command(app));

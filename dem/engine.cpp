@@ -72,6 +72,7 @@ void Engine::step() {
   stages::detect_contacts(model_, state_, detection_, c.threads);
   stages::contact_forces(model_, state_, work_, c);
   stages::platen_forces(model_, state_, work_, options_.platen_friction, options_.platens, c);
+  stages::jacket_forces(model_, state_, work_, c);
   stages::integrate(model_, state_, work_, options_.damping, c.threads);
   stages::update_rotations(state_, work_, c.threads);
   state_.top_y -= state_.platen_velocity * state_.dt;
@@ -86,6 +87,7 @@ void Engine::evaluate_forces(std::vector<double>& fx, std::vector<double>& fy, s
   stages::detect_contacts(model_, state_, detection_, c.threads);
   stages::contact_forces(model_, state_, work_, c);
   stages::platen_forces(model_, state_, work_, options_.platen_friction, options_.platens, c);
+  stages::jacket_forces(model_, state_, work_, c);
   stages::gather_forces(model_, state_, work_, fx, fy, moment);
 }
 
@@ -199,6 +201,7 @@ Energies Engine::energies() const {
   e.damping = s.e_damping;
   e.friction = s.e_friction;
   e.work_platen = s.e_work;
+  e.work_jacket = s.e_work_jacket;
   return e;
 }
 

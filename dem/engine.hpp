@@ -52,6 +52,7 @@ struct Energies {
   double damping = 0;      // J, dissipated by local damping (cumulative)
   double friction = 0;     // J, dissipated by sliding contacts (cumulative, approximate)
   double work_platen = 0;  // J, work done by the top platen (cumulative)
+  double work_jacket = 0;  // J, work done by the confining pressure (cumulative)
 };
 
 // The forces of one bond in its co-rotated frame (diagnostics, static comparisons, energies).
@@ -125,6 +126,8 @@ class Engine {
   // --- what the driver controls ---
   void set_breakage(bool on) { state_.breakage = on; }  // off: an elastic lattice (tests, stability checks)
   void set_strain_for_log(double strain) { state_.strain_for_log = strain; }
+  // The confining pressure on the jacket (Pa; dem/stages/jacket.cpp).
+  void set_confining_pressure(double p) { state_.confining_pressure = p; }
   // Called for each new crack (after it is logged).
   std::function<void(const Crack&)> on_crack;
 

@@ -36,6 +36,12 @@ LinearContact Model::platen_law(int block, double mu) const {
   return LinearContact::per_area(platen_kn[b], platen_kn[b] / law[0].kappa, mu, platen_lref[b], thickness);
 }
 
+bool Model::has_intact_bond(int b, const std::vector<std::uint8_t>& broken) const {
+  for (int o = csr_offset[std::size_t(b)]; o < csr_offset[std::size_t(b) + 1]; ++o)
+    if (!broken[std::size_t(csr_entry[std::size_t(o)] >> 1)]) return true;
+  return false;
+}
+
 bool Model::bonded(int i, int j, const std::vector<std::uint8_t>& broken) const {
   for (int o = csr_offset[i]; o < csr_offset[i + 1]; ++o) {
     const int b = csr_entry[o] >> 1;
@@ -132,6 +138,17 @@ Model build_model(const Topology& topo, const Scene& scene, double mass_scaling)
   for (std::size_t e = 0; e < topo.boundary.size(); ++e)
     if (topo.boundary.side[e] == Side::top || topo.boundary.side[e] == Side::bottom)
       m.platen_lref[std::size_t(topo.boundary.block[e])] = topo.boundary.length[e];
+
+  for (std::size_t e = 0; e < topo.boundary.size(); ++e) {
+    const Side side = topo.boundary.side[e];
+    if (side == Side::top || side == Side::bottom) continue;
+    const int b = topo.boundary.block[e];
+    m.jacket.block.push_back(b);
+    m.jacket.ax.push_back(topo.boundary.ax[e] - G.cx[std::size_t(b)]);
+    m.jacket.ay.push_back(topo.boundary.ay[e] - G.cy[std::size_t(b)]);
+    m.jacket.bx.push_back(topo.boundary.bx[e] - G.cx[std::size_t(b)]);
+    m.jacket.by.push_back(topo.boundary.by[e] - G.cy[std::size_t(b)]);
+  }
 
   double mean_length = 0;
   for (double L : N.length) mean_length += L;

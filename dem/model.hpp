@@ -79,6 +79,14 @@ struct Model {
   std::vector<double> platen_lref;  // m, the block's edge on the platen, else the inradius-based length
   double skin = 0;                  // m, broad-phase skin (0.2 mean edge lengths)
 
+  // The jacket: the outer edges a confining pressure acts on (every boundary edge not on a platen), with their end
+  // points in the block's reference frame (relative to the reference centroid), outside to the right of a -> b.
+  struct JacketEdges {
+    std::vector<int> block;
+    std::vector<double> ax, ay, bx, by;  // m
+    std::size_t size() const { return block.size(); }
+  } jacket;
+
   BondStiffness stiffness(int bond) const;
   // The linear contact law of a pair of blocks after their bond broke (bond >= 0) or that were never
   // neighbours (bond = -1).
@@ -87,6 +95,8 @@ struct Model {
   LinearContact platen_law(int block, double mu) const;
   // Whether blocks i and j share an intact bond, given the bonds' broken flags.
   bool bonded(int i, int j, const std::vector<std::uint8_t>& broken) const;
+  // Whether block b has at least one intact bond.
+  bool has_intact_bond(int b, const std::vector<std::uint8_t>& broken) const;
 };
 
 // Builds the model of `topo` with the scene's materials and mass scaling. The model keeps a pointer to `topo`,

@@ -327,12 +327,19 @@ void validate(const Scene& scene) {
         throw SceneError(fmt::format("{} = '{}' is not allowed: expected {}", p.key, v, range_text(p)));
     }
   }
-  if (scene.mesh.size > 0.25 * std::min(scene.specimen.width, scene.specimen.height))
+  if (scene.specimen.shape == "disc") {
+    if (scene.mesh.size > 0.1 * scene.specimen.diameter)
+      throw SceneError(fmt::format("mesh.size = {} m is too coarse for a disc of specimen.diameter = {} m: use at most "
+                                   "a tenth of the diameter ({} m)",
+                                   fmt_real(scene.mesh.size), fmt_real(scene.specimen.diameter),
+                                   fmt_real(0.1 * scene.specimen.diameter)));
+  } else if (scene.mesh.size > 0.25 * std::min(scene.specimen.width, scene.specimen.height)) {
     throw SceneError(fmt::format("mesh.size = {} m is too coarse for a {} x {} m specimen: use at most a quarter of "
                                  "the smaller side ({} m)",
                                  fmt_real(scene.mesh.size), fmt_real(scene.specimen.width),
                                  fmt_real(scene.specimen.height),
                                  fmt_real(0.25 * std::min(scene.specimen.width, scene.specimen.height))));
+  }
   // The mesher needs at least two elements across a layer (mesh_specimen checks the same; failing here reports
   // it before any elastic gate or sweep starts).
   if (scene.joint_set.enabled && scene.mesh.file.empty() && scene.joint_set.spacing < 2.0 * scene.mesh.size)

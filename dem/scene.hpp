@@ -17,8 +17,11 @@
 namespace rbdem {
 
 struct SpecimenParams {
+  std::string shape = "rectangle";  // rectangle (compression tests) | disc (the Brazilian test)
   double width = 0.05;              // m, horizontal extent
   double height = 0.10;             // m, vertical extent (load axis)
+  double diameter = 0.05;           // m, of a disc specimen
+  double contact_arc_deg = 10.0;    // deg, angle 2 alpha that each flattened end of a disc subtends at its centre
   double thickness = 1.0;           // m, out of plane
   std::string model = "plane_strain";  // continuum interpretation: plane_strain | plane_stress
 };
@@ -58,6 +61,7 @@ struct LoadingParams {
   double stop_fraction = 0.7;     // -, stop when the stress falls below this fraction of the peak
   double max_strain = 0.01;       // -, stop at this axial strain whatever happens
   double post_peak_strain = 1.0;  // -, stop when the strain exceeds (1 + this) x the strain at the peak
+  double confining_pressure = 0.0;  // Pa, lateral pressure of a confined (triaxial) test; 0 = uniaxial
 };
 
 struct NumericsParams {

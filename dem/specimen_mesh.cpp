@@ -25,8 +25,10 @@ constexpr double deg = std::numbers::pi / 180.0;
 
 SpecimenGeometry SpecimenGeometry::from_scene(const Scene& scene) {
   SpecimenGeometry g;
-  g.width = scene.specimen.width;
-  g.height = scene.specimen.height;
+  g.disc = scene.specimen.shape == "disc";
+  g.contact_arc_deg = g.disc ? scene.specimen.contact_arc_deg : 0.0;
+  g.width = g.disc ? scene.specimen.diameter : scene.specimen.width;
+  g.height = g.disc ? scene.specimen.diameter : scene.specimen.height;
   g.dip_deg = scene.joint_set.dip_deg;
   g.spacing = scene.joint_set.spacing;
   g.offset = scene.joint_set.offset;
@@ -54,7 +56,7 @@ std::vector<JointSegment> joint_segments(const SpecimenGeometry& g, double min_p
   const std::array<double, 2> c{0.5 * g.width, 0.5 * g.height};
   const auto d = g.direction();
   const auto n = g.normal();
-  // Extent of the rectangle along the normal, measured from the centre.
+  // Extent of the specimen along the normal, measured from the centre.
   double rmin = 1e300, rmax = -1e300;
   for (double x : {0.0, g.width})
     for (double y : {0.0, g.height}) {
@@ -62,6 +64,8 @@ std::vector<JointSegment> joint_segments(const SpecimenGeometry& g, double min_p
       rmin = std::min(rmin, r);
       rmax = std::max(rmax, r);
     }
+  const double radius = 0.5 * g.width;
+  if (g.disc) rmin = -radius, rmax = radius;
   const double tol = 1e-9 * std::max(g.width, g.height);
   const long kmin = long(std::ceil((rmin - g.offset) / g.spacing - 1e-9));
   const long kmax = long(std::floor((rmax - g.offset) / g.spacing + 1e-9));
@@ -75,10 +79,11 @@ std::vector<JointSegment> joint_segments(const SpecimenGeometry& g, double min_p
                                      r, std::min(r - rmin, rmax - r), min_piece));
       continue;
     }
-    // Clip the infinite line p(t) = c + r n + t d to the rectangle (Liang-Barsky).
+    // Clip the infinite line p(t) = c + r n + t d to the rectangle (Liang-Barsky) or to the disc (the chord).
     const std::array<double, 2> p{c[0] + r * n[0], c[1] + r * n[1]};
     double t0 = -1e300, t1 = 1e300;
-    for (int axis = 0; axis < 2; ++axis) {
+    if (g.disc) t1 = std::sqrt(radius * radius - r * r), t0 = -t1;
+    for (int axis = 0; axis < 2 && !g.disc; ++axis) {
       const double lo = 0.0, hi = axis == 0 ? g.width : g.height;
       if (d[axis] == 0.0) continue;  // parallel to this pair of sides; inside since |r| < extent
       double ta = (lo - p[axis]) / d[axis], tb = (hi - p[axis]) / d[axis];
@@ -106,7 +111,26 @@ TriMesh mesh_specimen(const SpecimenGeometry& g, double h, const std::filesystem
   TriMesh mesh;
   try {
     gmsh::model::add("specimen");
-    const int rect = gmsh::model::occ::addRectangle(0, 0, 0, g.width, g.height);
+    int rect = 0;
+    if (g.disc && g.contact_arc_deg > 0.0) {
+      // Flattened at the top and bottom over the contact arc 2 alpha: two arcs and two flat ends.
+      const double R = 0.5 * g.width, a = 0.5 * g.contact_arc_deg * deg, pi = std::numbers::pi;
+      auto at = [&](double q) { return gmsh::model::occ::addPoint(R + R * std::cos(q), R + R * std::sin(q), 0); };
+      const int c = gmsh::model::occ::addPoint(R, R, 0);
+      const int tr = at(0.5 * pi - a), tl = at(0.5 * pi + a), bl = at(1.5 * pi - a), br = at(1.5 * pi + a);
+      const int right = gmsh::model::occ::addCircleArc(br, c, tr), top = gmsh::model::occ::addLine(tr, tl);
+      const int left = gmsh::model::occ::addCircleArc(tl, c, bl), bottom = gmsh::model::occ::addLine(bl, br);
+      rect = gmsh::model::occ::addPlaneSurface({gmsh::model::occ::addCurveLoop({right, top, left, bottom})});
+      gmsh::model::occ::remove({{0, c}});
+    } else if (g.disc) {
+      // Two half circles, so that the top and bottom points are geometry vertices and hence mesh nodes.
+      const double R = 0.5 * g.width;
+      const int right = gmsh::model::occ::addCircle(R, R, 0, R, -1, -0.5 * std::numbers::pi, 0.5 * std::numbers::pi);
+      const int left = gmsh::model::occ::addCircle(R, R, 0, R, -1, 0.5 * std::numbers::pi, 1.5 * std::numbers::pi);
+      rect = gmsh::model::occ::addPlaneSurface({gmsh::model::occ::addCurveLoop({right, left})});
+    } else {
+      rect = gmsh::model::occ::addRectangle(0, 0, 0, g.width, g.height);
+    }
     gmsh::vectorpair tools;
     const auto d = g.direction();
     const double reach = 0.05 * std::hypot(g.width, g.height);  // lines overshoot the sides; trimmed below
@@ -163,7 +187,14 @@ TriMesh mesh_specimen(const SpecimenGeometry& g, double h, const std::filesystem
                                                       {-eps, g.height - eps, g.width + eps, g.height + eps},
                                                       {-eps, -eps, eps, g.height + eps}}};
     const std::array<const char*, 4> sides{"bottom", "right", "top", "left"};
-    for (int s = 0; s < 4; ++s) {
+    if (g.disc) {
+      gmsh::vectorpair rim;
+      gmsh::model::getBoundary(surfaces, rim, true, false, false);
+      std::vector<int> tags;
+      for (const auto& dt : rim) tags.push_back(std::abs(dt.second));
+      gmsh::model::setPhysicalName(1, gmsh::model::addPhysicalGroup(1, tags), "rim");
+    }
+    for (int s = 0; s < 4 && !g.disc; ++s) {
       gmsh::vectorpair in_box;
       gmsh::model::getEntitiesInBoundingBox(boxes[s][0], boxes[s][1], -eps, boxes[s][2], boxes[s][3], eps, in_box, 1);
       std::vector<int> tags;
@@ -208,10 +239,19 @@ namespace scene_keys {
 // [specimen], [joint_set], [mesh]: the specimen geometry and its mesh.
 void declare_geometry(Keys& k) {
   // [specimen]
-  k.add(positive("specimen.width", "m", 100.0, "specimen width (horizontal)",
+  k.add(choice("specimen.shape", {"rectangle", "disc"},
+               "rectangle: width x height (uniaxial and confined compression); disc: diameter (the Brazilian test)",
+               [](Scene& s) -> std::string& { return s.specimen.shape; }));
+  k.add(positive("specimen.width", "m", 100.0, "specimen width (horizontal) of a rectangle",
                  [](Scene& s) -> double& { return s.specimen.width; }));
-  k.add(positive("specimen.height", "m", 100.0, "specimen height (load axis, vertical)",
+  k.add(positive("specimen.height", "m", 100.0, "specimen height (load axis, vertical) of a rectangle",
                  [](Scene& s) -> double& { return s.specimen.height; }));
+  k.add(positive("specimen.diameter", "m", 100.0, "diameter of a disc (the Brazilian test; loaded along the vertical)",
+                 [](Scene& s) -> double& { return s.specimen.diameter; }));
+  k.add(real("specimen.contact_arc_deg", "deg", 0.0, 60.0,
+             "a disc's top and bottom are flattened over this angle 2 alpha (the contact arc of loading jaws, "
+             "ISRM: about 10 deg), so that the flat platens load an arc rather than a point; 0 = a full disc",
+             [](Scene& s) -> double& { return s.specimen.contact_arc_deg; }));
   k.add(positive("specimen.thickness", "m", 100.0, "out-of-plane thickness t (bond area A = L t)",
                  [](Scene& s) -> double& { return s.specimen.thickness; }));
   k.add(choice("specimen.model", {"plane_strain", "plane_stress"},

@@ -1,8 +1,9 @@
 // Specimen geometry and meshing through the gmsh C++ API.
 //
-// The specimen is the W x H rectangle [0, W] x [0, H] cut by a set of parallel joints dipping at beta from the
-// horizontal, spaced s along their normal n = (-sin beta, cos beta), one joint through the centre when the
-// offset is 0. gmsh meshes it so that every joint is a chain of mesh edges and every layer (region between
+// The specimen is the W x H rectangle [0, W] x [0, H], or the disc of diameter D inscribed in [0, D] x [0, D] (with
+// mesh nodes at its top and bottom points, where the platens of the Brazilian test touch it), cut by a set of
+// parallel joints dipping at beta from the horizontal, spaced s along their normal n = (-sin beta, cos beta), one
+// joint through the centre when the offset is 0. gmsh meshes it so that every joint is a chain of mesh edges and every layer (region between
 // joints) is its own physical surface group. User meshes are read from .msh files (physical surfaces = layers).
 #pragma once
 
@@ -17,9 +18,11 @@
 namespace rbdem {
 
 struct SpecimenGeometry {
-  double width = 0.05, height = 0.10;            // m
+  double width = 0.05, height = 0.10;            // m (a disc: width = height = its diameter)
   double dip_deg = 60.0, spacing = 0.01, offset = 0.0;  // deg, m, m
   bool joints = true;
+  bool disc = false;                             // the disc inscribed in the width x height box
+  double contact_arc_deg = 0.0;                  // a disc's flattened ends subtend 2 alpha (0: a full disc)
 
   static SpecimenGeometry from_scene(const Scene& scene);
   // Unit vectors along the joints and along their normal; exact at 0 and 90 degrees.
@@ -33,8 +36,9 @@ struct JointSegment {
   double length() const;
 };
 
-// The joint segments inside the rectangle. Joints that only touch a corner or lie on a side are left out;
-// a joint that would cut off a corner piece thinner than `min_piece` is left out too and noted in `notes`.
+// The joint segments inside the specimen. Joints that only touch a corner (or the rim of a disc) or lie on a side
+// are left out; a joint that would cut off a corner (or rim) piece thinner than `min_piece` is left out too and
+// noted in `notes`.
 std::vector<JointSegment> joint_segments(const SpecimenGeometry& g, double min_piece = 0.0,
                                          std::vector<std::string>* notes = nullptr);
 

@@ -67,6 +67,11 @@ struct ModelState {
   std::vector<int> top_candidates, bottom_candidates;
   std::vector<double> top_fs, bottom_fs;       // per block platen shear history (N)
 
+  // --- boundary state: the confining pressure (the jacket) ---
+  double confining_pressure = 0;               // Pa, on every outer edge that is not on a platen
+  int jacket_lost = 0, jacket_lost_max = 0;    // jacket edges without pressure now / at most so far (blocks that
+                                               // lost every bond and contact: the rule in dem/stages/jacket.cpp)
+
   // --- clock ---
   double dt = 0, time = 0;                     // s
   long steps = 0;
@@ -75,6 +80,7 @@ struct ModelState {
 
   // --- energy accounts (cumulative, J) ---
   double e_damping = 0, e_friction = 0, e_work = 0;
+  double e_work_jacket = 0;                    // J, work of the confining pressure
   double platen_energy = 0;                    // J, elastic energy in the platen contacts at the last step
 
   std::vector<Crack> cracks;                   // the crack log, in order of breakage
@@ -82,7 +88,7 @@ struct ModelState {
   std::size_t num_blocks() const { return x.size(); }
 
   // The field table: calls f(name, field, extent, kinematic) for every field above, in a fixed order. `field` is a
-  // reference to a std::vector<T> (T: double, int, std::uint8_t) or a scalar (double, long, bool); the contact
+  // reference to a std::vector<T> (T: double, int, std::uint8_t) or a scalar (double, long, int, bool); the contact
   // pairs and the crack log are visited as their own types (ContactPairs, std::vector<Crack>). `kinematic` marks
   // the six block arrays the reference integrator evolves. Both the const and the mutable visits use this list.
   template <class F>
@@ -124,6 +130,9 @@ struct ModelState {
     f("bottom_candidates", s.bottom_candidates, Extent::free, false);
     f("top_fs", s.top_fs, Extent::blocks, false);
     f("bottom_fs", s.bottom_fs, Extent::blocks, false);
+    f("confining_pressure", s.confining_pressure, Extent::scalar, false);
+    f("jacket_lost", s.jacket_lost, Extent::scalar, false);
+    f("jacket_lost_max", s.jacket_lost_max, Extent::scalar, false);
     f("dt", s.dt, Extent::scalar, false);
     f("time", s.time, Extent::scalar, false);
     f("steps", s.steps, Extent::scalar, false);
@@ -132,6 +141,7 @@ struct ModelState {
     f("e_damping", s.e_damping, Extent::scalar, false);
     f("e_friction", s.e_friction, Extent::scalar, false);
     f("e_work", s.e_work, Extent::scalar, false);
+    f("e_work_jacket", s.e_work_jacket, Extent::scalar, false);
     f("platen_energy", s.platen_energy, Extent::scalar, false);
     f("cracks", s.cracks, Extent::free, false);
   }

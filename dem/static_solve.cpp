@@ -71,15 +71,22 @@ std::vector<PlatenRow> platen_rows(const Engine& e) {
 //   K_sym:  parallel bond + linear part in its state (closed: normal; sticking: shear) + platens + pin.
 //   K_full: K_sym + the sliding linear parts' F_s = -+ mu k_n A delta_n (a shear force driven by the normal
 //           closure: non-symmetric, one rank-one term per sliding bond, inside the bond's own block).
+// A weak spring on one degree of freedom that removes a rigid-body mode (a load without resultant leaves it unloaded).
+struct Pin {
+  int dof;
+  double k;
+};
+
 class Stiffness {
  public:
-  Stiffness(const Engine& e, const std::vector<PlatenRow>& platens, double pin) : e_(e), platens_(platens), pin_(pin) {
+  Stiffness(const Engine& e, const std::vector<PlatenRow>& platens, std::vector<Pin> pins)
+      : e_(e), platens_(platens), pins_(std::move(pins)) {
     const auto& broken = e.state().broken;
     const std::size_t nbond = e.model().num_bonds();
     rows_.resize(nbond);
     k_.resize(nbond);
     std::vector<Eigen::Triplet<double>> T;
-    T.reserve(nbond * 36 + platens.size() * 9 + 1);
+    T.reserve(nbond * 36 + platens.size() * 9 + pins_.size());
     for (std::size_t b = 0; b < nbond; ++b) {
       rows_[b] = bond_rows(e, b);
       k_[b] = e.model().stiffness(int(b));
@@ -90,7 +97,7 @@ class Stiffness {
     for (const auto& pr : platens)
       for (int p = 0; p < 3; ++p)
         for (int q = 0; q < 3; ++q) T.emplace_back(3 * pr.block + p, 3 * pr.block + q, 1.0);
-    T.emplace_back(0, 0, 1.0);
+    for (const Pin& p : pins_) T.emplace_back(p.dof, p.dof, 1.0);
     const long n = long(3 * e.model().num_blocks());
     pattern_.resize(n, n);
     pattern_.setFromTriplets(T.begin(), T.end());
@@ -107,7 +114,7 @@ class Stiffness {
       for (int p = 0; p < 3; ++p)
         for (int q = 0; q < 3; ++q) platen_slots_[9 * k + 3 * p + q] = slot(d0 + p, d0 + q);
     }
-    pin_slot_ = slot(0, 0);
+    for (const Pin& p : pins_) pin_slots_.push_back(slot(p.dof, p.dof));
   }
 
   const BondRows& rows(std::size_t b) const { return rows_[b]; }
@@ -142,7 +149,7 @@ class Stiffness {
       for (int a = 0; a < 3; ++a)
         for (int c = 0; c < 3; ++c) v[platen_slots_[9 * m + 3 * a + c]] += p.k * ay[a] * ay[c] + ks * ax[a] * ax[c];
     }
-    v[pin_slot_] += pin_;
+    for (std::size_t k = 0; k < pins_.size(); ++k) v[pin_slots_[k]] += pins_[k].k;
     if (!full) return;
     *full = sym;
     double* w = full->valuePtr();
@@ -168,11 +175,11 @@ class Stiffness {
 
   const Engine& e_;
   const std::vector<PlatenRow>& platens_;
-  double pin_;
+  std::vector<Pin> pins_;
   std::vector<BondRows> rows_;
   std::vector<BondStiffness> k_;
   std::vector<int> slots_, platen_slots_;
-  int pin_slot_ = 0;
+  std::vector<int> pin_slots_;
   SpMat pattern_;
 };
 
@@ -199,20 +206,37 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
   const Model& M = e.model();
   const auto& broken = e.state().broken;
   const std::size_t nb = M.num_blocks(), nbond = M.num_bonds();
-  const double delta = options.platen_displacement;
-  const auto platens = platen_rows(e);
-  if (platens.empty())
+  const double delta = options.platens ? options.platen_displacement : 0.0;
+  const auto platens = options.platens ? platen_rows(e) : std::vector<PlatenRow>{};
+  if (options.platens && platens.empty())
     throw std::invalid_argument("static solve: the specimen has no edges on the platens (check the mesh boundary)");
+  if (!options.load.empty() && options.load.size() != 3 * nb)
+    throw std::invalid_argument("static solve: the load has " + std::to_string(options.load.size()) +
+                                " entries; it needs 3 per block (fx, fy, moment)");
+  if (!options.platens && options.anchors.empty())
+    throw std::invalid_argument("static solve: without platens the specimen needs an anchor block (rigid modes)");
   StaticResult r;
   r.platen_displacement = delta;
   r.dofs = 3 * nb;
   r.linear_state.assign(nbond, StaticResult::stick);
 
-  double mean_diag = 0;
-  for (const auto& p : platens) mean_diag += p.k;
-  const double pin = e.platen_friction() > 0.0 ? 0.0 : 1e-3 * mean_diag / double(platens.size());
+  // Weak springs for the rigid-body modes the supports leave free: the x translation between frictionless platens;
+  // without platens all three dofs of each anchor block. A load without resultant leaves them unloaded.
+  std::vector<Pin> pins;
+  if (options.platens) {
+    double mean_diag = 0;
+    for (const auto& p : platens) mean_diag += p.k;
+    if (!(e.platen_friction() > 0.0)) pins.push_back({0, 1e-3 * mean_diag / double(platens.size())});
+  } else {
+    double k = 0, L2 = 0;
+    for (std::size_t b = 0; b < nbond; ++b) k += M.frame.K[b], L2 += M.frame.L[b] * M.frame.L[b];
+    k /= double(std::max<std::size_t>(nbond, 1)), L2 /= double(std::max<std::size_t>(nbond, 1));
+    for (int b : options.anchors)
+      pins.insert(pins.end(), {{3 * b, 1e-3 * k}, {3 * b + 1, 1e-3 * k}, {3 * b + 2, 1e-3 * k * L2}});
+  }
 
   Eigen::VectorXd f = Eigen::VectorXd::Zero(long(3 * nb));
+  for (std::size_t k = 0; k < options.load.size(); ++k) f[long(k)] = options.load[k];
   for (const auto& p : platens)
     if (p.top) {  // overlap = u_y(point) + delta: energy k (u_y + delta)^2 / 2 gives the load -k delta
       f[3 * p.block + 1] -= p.k * delta;
@@ -223,7 +247,7 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
   // that opened or slide, so BiCGSTAB preconditioned by that factorisation converges in a few iterations from
   // the previous solution; if it does not, the current K_sym is factorised (same symbolic analysis) and BiCGSTAB
   // retried, and sparse LU of K_full is the last resort.
-  const Stiffness stiffness(e, platens, pin);
+  const Stiffness stiffness(e, platens, pins);
   SpMat K_sym, K_full;
   Ldlt factor;
   factor.analyzePattern(stiffness.pattern());
@@ -304,7 +328,7 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
     }
   }
   const double H = e.model().height, W = e.model().width, t = e.model().thickness;
-  r.apparent_modulus = (r.top_force / (W * t)) / (delta / H);
+  r.apparent_modulus = delta > 0.0 ? (r.top_force / (W * t)) / (delta / H) : 0.0;
 
   // Bond forces and the load factor of the first bond failure (all forces scale with the displacement).
   r.fn_b.resize(nbond), r.fs_b.resize(nbond), r.m_b.resize(nbond), r.fs_lin.assign(nbond, 0.0);
@@ -356,7 +380,7 @@ double stability_limit(const Engine& e, int iterations) {
   std::vector<std::uint8_t> sticking(M.num_bonds(), StaticResult::stick);
   const auto platens = platen_rows(e);
   SpMat K;
-  Stiffness(e, platens, 0.0).assemble(sticking, K, nullptr);
+  Stiffness(e, platens, {}).assemble(sticking, K, nullptr);
   Eigen::VectorXd inv_sqrt_m(long(3 * nb));
   for (std::size_t b = 0; b < nb; ++b) {
     inv_sqrt_m[3 * b] = inv_sqrt_m[3 * b + 1] = 1.0 / std::sqrt(M.mass[b]);
@@ -375,6 +399,74 @@ double stability_limit(const Engine& e, int iterations) {
     v = w / norm;
   }
   return 2.0 / std::sqrt(lambda);
+}
+
+std::vector<double> jacket_load(const Engine& engine, double pressure) {
+  const Model& M = engine.model();
+  std::vector<double> f(3 * M.num_blocks(), 0.0);
+  const double pt = pressure * M.thickness;
+  const auto& J = M.jacket;
+  for (std::size_t e = 0; e < J.size(); ++e) {
+    const std::size_t b = std::size_t(J.block[e]);
+    // The same force as the jacket stage (dem/stages/jacket.cpp) in the reference configuration.
+    const double fx = -pt * (J.by[e] - J.ay[e]), fy = pt * (J.bx[e] - J.ax[e]);
+    const double rx = 0.5 * (J.ax[e] + J.bx[e]), ry = 0.5 * (J.ay[e] + J.by[e]);
+    f[3 * b] += fx, f[3 * b + 1] += fy, f[3 * b + 2] += rx * fy - ry * fx;
+  }
+  return f;
+}
+
+StaticResult superpose(const StaticResult& a, double fa, const StaticResult& b, double fb) {
+  StaticResult r = b;
+  auto mix = [&](std::vector<double>& out, const std::vector<double>& x, const std::vector<double>& y) {
+    out.resize(y.size());
+    for (std::size_t k = 0; k < y.size(); ++k) out[k] = fa * x[k] + fb * y[k];
+  };
+  mix(r.ux, a.ux, b.ux), mix(r.uy, a.uy, b.uy), mix(r.rotation, a.rotation, b.rotation);
+  mix(r.fn_b, a.fn_b, b.fn_b), mix(r.fs_b, a.fs_b, b.fs_b), mix(r.m_b, a.m_b, b.m_b);
+  mix(r.fs_lin, a.fs_lin, b.fs_lin), mix(r.platen_fs, a.platen_fs, b.platen_fs);
+  r.top_force = fa * a.top_force + fb * b.top_force;
+  r.bottom_force = fa * a.bottom_force + fb * b.bottom_force;
+  r.platen_displacement = fa * a.platen_displacement + fb * b.platen_displacement;
+  r.first_break_factor = std::numeric_limits<double>::infinity();
+  r.first_break_bond = -1;
+  return r;
+}
+
+double first_break_along(const Engine& e, const StaticResult& base, const StaticResult& inc, int* bond) {
+  const Model& M = e.model();
+  const BondFrames& f = M.frame;
+  double best = std::numeric_limits<double>::infinity();
+  int which = -1;
+  for (std::size_t b = 0; b < M.num_bonds(); ++b) {
+    if (e.state().broken[b]) continue;
+    const double lam = affine_break_factor(f.tension_limit[b], f.cohesion_A[b], f.tan_phi[b], f.beta_m[b], f.inv_L[b],
+                                           base.fn_b[b], base.fs_b[b], base.m_b[b], inc.fn_b[b], inc.fs_b[b],
+                                           inc.m_b[b]);
+    if (lam < best) best = lam, which = int(b);
+  }
+  if (bond) *bond = which;
+  return best;
+}
+
+void apply_static_path(Engine& e, const StaticResult& base, const StaticResult& inc, double lambda, double velocity) {
+  const StaticResult st = superpose(base, 1.0, inc, lambda);
+  const double rate = velocity / inc.platen_displacement;  // the increment per second
+  const Model& M = e.model();
+  e.edit([&](ModelState& s) {
+    for (std::size_t b = 0; b < M.num_blocks(); ++b) {
+      s.x[b] = M.x0[b] + st.ux[b];
+      s.y[b] = M.y0[b] + st.uy[b];
+      s.theta[b] = st.rotation[b];
+      s.vx[b] = rate * inc.ux[b], s.vy[b] = rate * inc.uy[b], s.omega[b] = rate * inc.rotation[b];
+    }
+    s.fs_lin = st.fs_lin;
+    const double mid = 0.5 * (s.top_y + M.ymin);
+    for (std::size_t b = 0; b < M.num_blocks(); ++b)
+      if (st.platen_fs[b] != 0.0) (s.y[b] > mid ? s.top_fs : s.bottom_fs)[b] = st.platen_fs[b];
+    s.top_y = M.ymax - st.platen_displacement;
+    s.time = lambda * inc.platen_displacement / velocity;
+  });
 }
 
 }  // namespace rbdem

@@ -46,10 +46,35 @@ struct StaticOptions {
   bool linear_parts_always_closed = false;  // every linear part closed and sticking (no active-set iteration)
   int max_iterations = 30;
   double krylov_tolerance = 1e-10;  // relative residual of the BiCGSTAB solves (states with sliding linear parts)
+  // External loads: the generalized force on each block (fx, fy, moment; N, N, N m), 3 entries per block, in the
+  // reference configuration (e.g. a confining pressure, jacket_load()). Empty = none.
+  std::vector<double> load;
+  // false: no platens (a specimen held only by its loads, e.g. a disc under diametral forces); then `anchors` name
+  // blocks whose three dofs get a weak spring against the rigid-body modes (the loads must have no resultant).
+  bool platens = true;
+  std::vector<int> anchors;
 };
 
 // Static solve for the engine's current (reference) configuration; uses its bonds, materials and platens.
 StaticResult solve_static(const Engine& engine, const StaticOptions& options = {});
+
+// The generalized load of a pressure p (Pa) on the engine's jacket edges (every outer edge not on a platen) in
+// the reference configuration: F = -p t L n at each edge's midpoint, 3 entries per block.
+std::vector<double> jacket_load(const Engine& engine, double pressure);
+
+// a x fa + b x fb, field by field (displacements, rotations, bond forces, linear-part and platen shear, platen
+// forces and displacement): two solutions of the same linear problem superpose when their linear-part states agree.
+StaticResult superpose(const StaticResult& a, double fa, const StaticResult& b, double fb);
+
+// The smallest lambda >= 0 at which some bond reaches its strength along the affine path base + lambda x increment
+// (ParallelBond's test: dem/laws/parallel_bond.hpp), and that bond; +inf when none does.
+double first_break_along(const Engine& engine, const StaticResult& base, const StaticResult& increment, int* bond = nullptr);
+
+// Puts the engine into base + lambda x increment, with the velocity field of the increment's platen closing at
+// `velocity` (base is static: an isotropic state reached before the axial loading). The engine's clock is set to
+// the time the platen needs for lambda x increment.
+void apply_static_path(Engine& engine, const StaticResult& base, const StaticResult& increment, double lambda,
+                       double velocity);
 
 // Puts the engine into the static state scaled by `factor` (displacements, rotations, the top platen, the linear
 // parts' and platens' shear history), with the quasi-static velocity field of a platen closing at `velocity`.

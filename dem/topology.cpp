@@ -116,6 +116,7 @@ Topology build_topology(const TriMesh& mesh, double thickness, double density) {
         else if (std::abs(pu[0] - topo.xmax) <= tol && std::abs(pv[0] - topo.xmax) <= tol) side = Side::right;
         E.block.push_back(int(t));
         E.node_a.push_back(u), E.node_b.push_back(v);
+        E.ax.push_back(pu[0]), E.ay.push_back(pu[1]), E.bx.push_back(pv[0]), E.by.push_back(pv[1]);
         E.mx.push_back(0.5 * (pu[0] + pv[0])), E.my.push_back(0.5 * (pu[1] + pv[1]));
         E.length.push_back(len);
         E.side.push_back(side);

@@ -47,7 +47,8 @@ struct BondGeometry {
 
 struct BoundaryEdges {
   std::vector<int> block;
-  std::vector<int> node_a, node_b;
+  std::vector<int> node_a, node_b;     // in the block's counter-clockwise order: the outside is right of a -> b
+  std::vector<double> ax, ay, bx, by;  // their coordinates, m
   std::vector<double> mx, my;          // edge midpoint, m (the contact point of a platen on this edge)
   std::vector<double> length;
   std::vector<Side> side;

@@ -16,7 +16,7 @@ using namespace h5;
 
 namespace {
 
-constexpr int checkpoint_version = 3;  // 3: the state as a field table (structure of arrays), the test's name
+constexpr int checkpoint_version = 4;  // 4: the jacket (confining pressure), the lateral strain in the curve
 
 std::string frame_name(std::size_t k) { return fmt::format("{:05d}", k); }
 
@@ -27,11 +27,11 @@ void write_curve(const Writer& w, hid_t loc, const std::string& name, const std:
   std::vector<std::int32_t> broken;
   for (const auto& p : curve) {
     step.push_back(p.step);
-    d.insert(d.end(), {p.time, p.strain, p.stress_top, p.stress_bottom, p.kinetic, p.strain_energy});
+    d.insert(d.end(), {p.time, p.strain, p.stress_top, p.stress_bottom, p.kinetic, p.strain_energy, p.lateral_strain});
     broken.insert(broken.end(), p.broken.begin(), p.broken.end());
   }
   w.dataset(g, "step", step);
-  w.dataset(g, "values", d.data(), {hsize_t(curve.size()), 6});
+  w.dataset(g, "values", d.data(), {hsize_t(curve.size()), 7});
   w.dataset(g, "broken", broken.data(), {hsize_t(curve.size()), 4});
 }
 
@@ -41,12 +41,12 @@ std::vector<CurvePoint> read_curve(const Reader& rd, hid_t loc, const std::strin
   const auto d = rd.dataset<double>(g, "values");
   const auto broken = rd.dataset<std::int32_t>(g, "broken");
   std::vector<CurvePoint> curve(step.size());
-  if (d.size() != 6 * step.size() || broken.size() != 4 * step.size()) throw std::runtime_error("bad curve " + name);
+  if (d.size() != 7 * step.size() || broken.size() != 4 * step.size()) throw std::runtime_error("bad curve " + name);
   for (std::size_t k = 0; k < curve.size(); ++k) {
     CurvePoint& p = curve[k];
     p.step = step[k];
-    p.time = d[6 * k], p.strain = d[6 * k + 1], p.stress_top = d[6 * k + 2], p.stress_bottom = d[6 * k + 3];
-    p.kinetic = d[6 * k + 4], p.strain_energy = d[6 * k + 5];
+    p.time = d[7 * k], p.strain = d[7 * k + 1], p.stress_top = d[7 * k + 2], p.stress_bottom = d[7 * k + 3];
+    p.kinetic = d[7 * k + 4], p.strain_energy = d[7 * k + 5], p.lateral_strain = d[7 * k + 6];
     for (int c = 0; c < 4; ++c) p.broken[std::size_t(c)] = broken[4 * k + std::size_t(c)];
   }
   return curve;
@@ -110,6 +110,8 @@ struct FieldWriter {
       w.attribute(g, name, field);
     } else if constexpr (std::is_same_v<T, long>) {
       w.attribute(g, name, std::int64_t(field));
+    } else if constexpr (std::is_same_v<T, int>) {
+      w.attribute(g, name, std::int32_t(field));
     } else if constexpr (std::is_same_v<T, bool>) {
       w.attribute(g, name, std::int32_t(field));
     } else if constexpr (std::is_same_v<T, std::vector<double>>) {
@@ -157,6 +159,8 @@ struct FieldReader {
       field = rd.attribute<double>(g, name);
     } else if constexpr (std::is_same_v<T, long>) {
       field = long(rd.attribute<std::int64_t>(g, name));
+    } else if constexpr (std::is_same_v<T, int>) {
+      field = int(rd.attribute<std::int32_t>(g, name));
     } else if constexpr (std::is_same_v<T, bool>) {
       field = rd.attribute<std::int32_t>(g, name) != 0;
     } else if constexpr (std::is_same_v<T, std::vector<double>>) {

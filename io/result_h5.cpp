@@ -124,18 +124,18 @@ void write_h5_file(const std::string& tmp, const Scene& scene, const TriMesh& me
       const Id g = w.group(file, "history");
       const std::size_t n = r.curve.size();
       std::vector<std::int64_t> step(n);
-      std::vector<double> time(n), strain(n), st(n), sb(n), ek(n), es(n);
+      std::vector<double> time(n), strain(n), st(n), sb(n), ek(n), es(n), lat(n);
       std::array<std::vector<std::int32_t>, 4> broken;
       for (auto& v : broken) v.resize(n);
       for (std::size_t k = 0; k < n; ++k) {
         const CurvePoint& p = r.curve[k];
         step[k] = p.step, time[k] = p.time, strain[k] = p.strain, st[k] = p.stress_top, sb[k] = p.stress_bottom;
-        ek[k] = p.kinetic, es[k] = p.strain_energy;
+        ek[k] = p.kinetic, es[k] = p.strain_energy, lat[k] = p.lateral_strain;
         for (std::size_t c = 0; c < 4; ++c) broken[c][k] = p.broken[c];
       }
       w.dataset(g, "step", step), w.dataset(g, "time_s", time), w.dataset(g, "strain", strain);
       w.dataset(g, "stress_top_pa", st), w.dataset(g, "stress_bottom_pa", sb);
-      w.dataset(g, "kinetic_j", ek), w.dataset(g, "strain_energy_j", es);
+      w.dataset(g, "kinetic_j", ek), w.dataset(g, "strain_energy_j", es), w.dataset(g, "lateral_strain", lat);
       w.dataset(g, "broken_rock_tensile", broken[0]), w.dataset(g, "broken_rock_shear", broken[1]);
       w.dataset(g, "broken_joint_tensile", broken[2]), w.dataset(g, "broken_joint_shear", broken[3]);
     }
@@ -303,7 +303,9 @@ StoredRun read_result_h5(const std::filesystem::path& path, bool with_positions)
         rd.dataset<std::int32_t>(g, "broken_rock_tensile"), rd.dataset<std::int32_t>(g, "broken_rock_shear"),
         rd.dataset<std::int32_t>(g, "broken_joint_tensile"), rd.dataset<std::int32_t>(g, "broken_joint_shear")};
     const std::size_t n = step.size();
-    for (const auto* v : {&time, &strain, &st, &sb, &ek, &es})
+    const auto lat = H5Lexists(g, "lateral_strain", H5P_DEFAULT) > 0 ? rd.dataset<double>(g, "lateral_strain")
+                                                                    : std::vector<double>(n, 0.0);
+    for (const auto* v : {&time, &strain, &st, &sb, &ek, &es, &lat})
       if (v->size() != n) fail(path.string(), "reading /history (columns of different lengths)");
     for (const auto& v : broken)
       if (v.size() != n) fail(path.string(), "reading /history (columns of different lengths)");
@@ -311,7 +313,7 @@ StoredRun read_result_h5(const std::filesystem::path& path, bool with_positions)
     for (std::size_t k = 0; k < n; ++k) {
       CurvePoint& p = out.curve[k];
       p.step = step[k], p.time = time[k], p.strain = strain[k], p.stress_top = st[k], p.stress_bottom = sb[k];
-      p.kinetic = ek[k], p.strain_energy = es[k];
+      p.kinetic = ek[k], p.strain_energy = es[k], p.lateral_strain = lat[k];
       for (std::size_t c = 0; c < 4; ++c) p.broken[c] = broken[c][k];
     }
   }

@@ -50,6 +50,20 @@ nlohmann::json run_summary(const Scene& scene, const TestResult& r) {
   j["quasi_static"] = r.quasi_static;
   j["quasi_static_reason"] = r.quasi_static_reason;
   j["energy_ratio_max"] = r.energy_ratio_max;
+  j["confining_pressure_pa"] = r.confining_pressure;
+  j["lateral_strain_at_peak"] = r.lateral_strain_at_peak;
+  if (r.test == "triaxial") {
+    j["deviator_at_peak_pa"] = r.deviator_at_peak;
+    j["axial_strain_at_peak"] = r.strain_at_peak;
+    j["isotropic_strain"] = r.isotropic_strain;
+    j["jacket_edges_lost"] = r.jacket_edges_lost;
+  }
+  if (r.test == "brazilian") {
+    j["tensile_strength_pa"] = r.tensile_strength;
+    j["peak_load_n"] = r.peak_load;
+    j["layer_angle_deg"] = r.layer_angle_deg;
+    j["diameter_m"] = r.diameter;
+  }
   j["completed"] = r.completed;
   j["watchdog"] = r.completed ? nlohmann::json(nullptr)
                               : nlohmann::json{{"cause", r.watchdog_cause},
@@ -58,8 +72,10 @@ nlohmann::json run_summary(const Scene& scene, const TestResult& r) {
   if (!r.completed)  // a broken run has no headline numbers: never a plausible value from it
     for (const char* key : {"peak_stress_pa", "strain_at_peak", "youngs_modulus_pa", "platen_force_mismatch",
                             "platen_force_mismatch_at_peak", "kinetic_to_strain_energy_at_peak",
-                            "kinetic_to_strain_energy_loading", "crack_band_angle_deg", "tensile_fraction"})
-      j[key] = nullptr;
+                            "kinetic_to_strain_energy_loading", "crack_band_angle_deg", "tensile_fraction",
+                            "lateral_strain_at_peak", "deviator_at_peak_pa", "axial_strain_at_peak",
+                            "tensile_strength_pa", "peak_load_n"})
+      if (j.contains(key)) j[key] = nullptr;
   j["scene"] = scene_json(scene);
   return j;
 }
@@ -122,11 +138,11 @@ void write_text_atomic(const std::filesystem::path& file, const std::string& tex
 void write_curve_csv(const std::filesystem::path& file, const std::vector<CurvePoint>& curve) {
   std::string s =
       "step,time_s,strain,stress_top_pa,stress_bottom_pa,kinetic_j,strain_energy_j,"
-      "broken_rock_tensile,broken_rock_shear,broken_joint_tensile,broken_joint_shear\n";
+      "broken_rock_tensile,broken_rock_shear,broken_joint_tensile,broken_joint_shear,lateral_strain\n";
   for (const auto& p : curve)
-    s += fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{},{},{},{}\n", p.step, p.time, p.strain,
+    s += fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{},{},{},{},{:.9g}\n", p.step, p.time, p.strain,
                      p.stress_top, p.stress_bottom, p.kinetic, p.strain_energy, p.broken[0], p.broken[1], p.broken[2],
-                     p.broken[3]);
+                     p.broken[3], p.lateral_strain);
   write_text_atomic(file, s);
 }
 

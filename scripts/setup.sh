@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # rbdem set-up: installs every Debian package the project needs, configures Release, builds, then
-#   scripts/setup.sh run     runs the main job (the default study on the paper specimen)
-#   scripts/setup.sh test    runs the test suite (CTest) and the find_package(rbdem) consumer check
-#   scripts/setup.sh build   only installs and builds
+#   scripts/setup.sh run     builds the rbdem command only and runs the main job (the default study)
+#   scripts/setup.sh test    builds everything (library, command, tests, benchmarks) and runs the test suite
+#                            (CTest) and the find_package(rbdem) consumer check
+#   scripts/setup.sh build   only installs and builds everything
 # clang, libclang-rt-14-dev and libomp-dev are for the fuzz targets (tests/fuzz/run.sh, run by .ci/run).
 # Idempotent: packages already present are not reinstalled; the build is incremental.
 # Works as root or through sudo. Environment: BUILD_DIR (default build), JOBS (default: all cores).
@@ -33,8 +34,15 @@ fi
 
 build=${BUILD_DIR:-build}
 jobs=${JOBS:-$(nproc)}
-cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release
-cmake --build "$build" -j "$jobs"
+# Configure once; a rerun only rebuilds what changed (CMake skips the configure step when nothing it reads changed).
+if [ ! -f "$build/CMakeCache.txt" ]; then
+  cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release
+fi
+if [ "$mode" = run ]; then
+  cmake --build "$build" -j "$jobs" --target rbdem  # the main job needs the command line only
+else
+  cmake --build "$build" -j "$jobs"
+fi
 
 case "$mode" in
   run)

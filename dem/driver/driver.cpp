@@ -96,6 +96,7 @@ class TestRun {
     r.steps = engine_.steps();
     r.dt = rec_.dt, r.dt_critical = rec_.dt_critical, r.dt_block_estimate = rec_.dt_block_estimate;
     r.elastic_start_strain = rec_.elastic_start_strain;
+    r.isotropic_strain = rec_.isotropic_strain;
     r.energy_ratio_max = rec_.energy_ratio_max;
     r.stop_reason = stop_reason_;
     if (completed) completed_result(r);
@@ -173,6 +174,8 @@ class TestRun {
     if (pos == r.curve.end() || pos->step != rec_.at_peak.step) r.curve.insert(pos, rec_.at_peak);
     r.cracks = engine_.cracks();
     summarize(scene_, topo_, rec_, r);
+    r.lateral_strain_at_peak = rec_.at_peak.lateral_strain;
+    protocol_.finish(engine_, rec_, r);
   }
 
   double wall() const {

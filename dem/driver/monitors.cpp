@@ -21,6 +21,7 @@ CurvePoint sample_point(const Engine& engine, const Reading& reading) {
   const Energies e = engine.energies();
   p.kinetic = e.kinetic;
   p.strain_energy = e.strain;
+  p.lateral_strain = reading.lateral_strain;
   const CrackCounts c = count_cracks(engine.cracks());
   p.broken = {c.rock_tensile, c.rock_shear, c.joint_tensile, c.joint_shear};
   return p;
@@ -48,6 +49,7 @@ void PeakTracker::after_step(const StepView& v) const {
   } else {
     r.at_peak.step = v.engine.steps(), r.at_peak.time = v.engine.time(), r.at_peak.strain = v.reading.strain;
     r.at_peak.stress_top = v.reading.stress_top, r.at_peak.stress_bottom = v.reading.stress_bottom;
+    r.at_peak.lateral_strain = v.reading.lateral_strain;
   }
 }
 
@@ -75,7 +77,7 @@ std::string watchdog_check(const Engine& engine, double energy0, const WatchdogC
     }
   }
   const Energies e = engine.energies();
-  const double held = e.kinetic + e.strain, input = energy0 + e.work_platen;
+  const double held = e.kinetic + e.strain, input = energy0 + e.work_platen + e.work_jacket;
   if (!std::isfinite(held)) {
     detail = "the kinetic or strain energy is not finite";
     return "non_finite_state";
@@ -83,8 +85,8 @@ std::string watchdog_check(const Engine& engine, double energy0, const WatchdogC
   ratio = input > 0 ? held / input : 0.0;
   if (held > c.growth * input + c.floor) {
     detail = fmt::format("kinetic + strain energy {:.4g} J exceeds {:.3g} x the energy put in ({:.4g} J at the start "
-                         "+ {:.4g} J of platen work) + {:.3g} J",
-                         held, c.growth, energy0, e.work_platen, c.floor);
+                         "+ {:.4g} J of platen work + {:.4g} J of confining pressure work) + {:.3g} J",
+                         held, c.growth, energy0, e.work_platen, e.work_jacket, c.floor);
     return "energy_growth";
   }
   return {};

@@ -11,8 +11,10 @@
 #include <string>
 
 #include "dem/driver/record.hpp"
+#include "dem/driver/result.hpp"
 #include "dem/engine.hpp"
 #include "dem/scene.hpp"
+#include "dem/topology.hpp"
 
 namespace rbdem {
 
@@ -21,6 +23,24 @@ struct Reading {
   double strain = 0;                         // axial strain = platen displacement / height
   double stress_top = 0, stress_bottom = 0;  // Pa, platen force / (width x thickness), compression positive
   double stress = 0;                         // Pa, their mean (the curve's stress and the peak)
+  double lateral_strain = 0;                 // -, width change / width, compression positive (< 0: it widens)
+};
+
+// The specimen's width from its sides: the mean horizontal displacement of the blocks on the right side minus that
+// on the left, over the blocks that still hold an intact bond (a fragment that broke off does not count). The sides
+// are the boundary edges tagged left and right, or, for a disc, the rim blocks within a tenth of the height of the
+// horizontal diameter.
+class LateralGauge {
+ public:
+  explicit LateralGauge(const Topology& topo);
+  // -(Delta width) / width: positive when the specimen narrows (compression positive), 0 without sides.
+  double strain(const Engine& engine) const;
+  // The same for a displacement field u_x per block (a static solution), over all the side blocks.
+  double strain_of(const std::vector<double>& ux) const;
+
+ private:
+  std::vector<int> left_, right_;
+  double width_ = 0;
 };
 
 class LoadingProtocol {
@@ -40,6 +60,10 @@ class LoadingProtocol {
   // "post_peak_strain").
   virtual bool stop(const Engine& engine, const Reading& reading, const TestRecord& record,
                     std::string& reason) const = 0;
+  // After summarize(): the test's own numbers (and, where it has its own classes, its failure mode).
+  virtual void finish(const Engine& engine, const TestRecord& record, TestResult& result) const {
+    (void)engine, (void)record, (void)result;
+  }
 };
 
 }  // namespace rbdem

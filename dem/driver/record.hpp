@@ -14,6 +14,7 @@ struct CurvePoint {
   double time = 0, strain = 0;              // s, axial strain = platen displacement / height
   double stress_top = 0, stress_bottom = 0;  // Pa, compression positive, platen force / (width x thickness)
   double kinetic = 0, strain_energy = 0;    // J
+  double lateral_strain = 0;                // -, width change / width (compression positive: < 0 when it widens)
   std::array<int, 4> broken{};              // rock tensile, rock shear, joint tensile, joint shear
   double stress() const { return 0.5 * (stress_top + stress_bottom); }
 };
@@ -35,6 +36,7 @@ struct TestRecord {
   double dt = 0, dt_critical = 0;     // s: the step used, the exact stability limit of the bonded lattice
   double dt_block_estimate = 0;       // s: the block-wise estimate, for comparison
   double elastic_start_strain = 0;    // strain skipped by the static elastic start (0 if none)
+  double isotropic_strain = 0;        // axial strain of the static isotropic stage of a confined test (0 if none)
   // sampling
   long sample_every = 1;              // explicit steps between curve samples
   double next_frame = 0;              // axial strain of the next regular frame
@@ -66,6 +68,7 @@ struct TestRecord {
     f("dt_critical", r.dt_critical);
     f("dt_block_estimate", r.dt_block_estimate);
     f("elastic_start_strain", r.elastic_start_strain);
+    f("isotropic_strain", r.isotropic_strain);
     f("sample_every", r.sample_every);
     f("next_frame", r.next_frame);
     f("peak", r.peak);

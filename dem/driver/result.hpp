@@ -17,8 +17,8 @@ struct CrackCounts {
 };
 
 struct TestResult {
-  std::string test = "ucs";     // the protocol: "ucs"
-  double peak_stress = 0;       // Pa (mean of the two platens)
+  std::string test = "ucs";     // the protocol: "ucs", "triaxial" or "brazilian"
+  double peak_stress = 0;       // Pa: sigma_1 at the peak (compression tests), 2 P / (pi D t) (the Brazilian test)
   double strain_at_peak = 0;
   double youngs_modulus = 0;    // Pa, secant at 50 % of the peak
   double platen_force_mismatch = 0;  // max |F_top - F_bottom| / mean while loading (20 to 95 % of the peak)
@@ -38,6 +38,17 @@ struct TestResult {
   double mass_scaling = 1.0;
   double wall_seconds = 0;
   double elastic_start_strain = 0;  // strain skipped by the static elastic start (0 if none)
+  double lateral_strain_at_peak = 0;  // -, compression positive (< 0: the specimen widened)
+  // Confined compression (triaxial)
+  double confining_pressure = 0;    // Pa, sigma_3
+  double deviator_at_peak = 0;      // Pa, sigma_1 - sigma_3 at the peak
+  double isotropic_strain = 0;      // axial strain when sigma_1 = sigma_3 was reached (static isotropic stage)
+  int jacket_edges_lost = 0;        // the most jacket edges that carried no pressure at once (dem/stages/jacket.cpp)
+  // The Brazilian test
+  double peak_load = 0;             // N, the largest platen force P
+  double tensile_strength = 0;      // Pa, 2 P / (pi D t) (ISRM)
+  double layer_angle_deg = 0;       // deg, between the layers and the loading direction (90 - dip)
+  double diameter = 0;              // m
   std::size_t blocks = 0, bonds = 0, rock_bonds = 0, joint_bonds = 0;
   int threads = 1;                  // the OpenMP threads the engine ran on (at most)
   // The watchdog (docs/reliability.md): false when the run was stopped because its state became non-finite or

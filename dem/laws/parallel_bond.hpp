@@ -97,6 +97,43 @@ struct BondLoad {
   }
 };
 
+// The smallest lambda >= 0 at which a bond under the forces F0 + lambda F1 (an affine load path, e.g. axial loading
+// from a confined state; fn compression positive) reaches its strength by BondLoad's test; +inf when it never does.
+// Both failure loads are piecewise linear in lambda (|M|, |F_s| and the cap of the normal stress at sigma_c each
+// bend them once), so every piece is solved exactly. With F0 = 0 it is BondStrength::first_break_factor.
+inline double affine_break_factor(double sigma_c_A, double cohesion_A, double tan_phi, double beta_m, double inv_L,
+                                  double fn0, double fs0, double m0, double fn1, double fs1, double m1) {
+  auto margin = [&](double lam, double& tension, double& shear) {
+    const BondLoad q =
+        BondLoad::of(sigma_c_A, cohesion_A, tan_phi, beta_m, fn0 + lam * fn1, fs0 + lam * fs1, m0 + lam * m1, inv_L);
+    tension = q.tension - q.tension_limit, shear = q.shear - q.shear_limit;
+  };
+  double points[4] = {0.0, 0.0, 0.0, 0.0};
+  int n = 1;
+  auto add = [&](double num, double den) {
+    if (den != 0.0 && num / den > 0.0 && std::isfinite(num / den)) points[n++] = num / den;
+  };
+  add(-m0, m1), add(-fs0, fs1), add(-sigma_c_A - fn0, fn1);
+  for (int i = 1; i < n; ++i)  // sort the (at most four) points
+    for (int j = i; j > 0 && points[j - 1] > points[j]; --j) std::swap(points[j - 1], points[j]);
+  double best = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < n && !(best < std::numeric_limits<double>::infinity()); ++k) {
+    const double a = points[k];
+    const bool tail = k + 1 == n;
+    const double b = tail ? a + std::max(1.0, a) : points[k + 1];  // on the tail the margins are linear
+    double ta = 0, sa = 0, tb = 0, sb = 0;
+    margin(a, ta, sa);
+    if (ta >= 0.0 || sa >= 0.0) return a;
+    margin(b, tb, sb);
+    for (const auto& [ga, gb] : {std::pair{ta, tb}, std::pair{sa, sb}})
+      if (gb > ga && (tail || gb >= 0.0)) {
+        const double root = a + (b - a) * (-ga) / (gb - ga);
+        if (root >= a && (tail || root <= b)) best = std::min(best, root);
+      }
+  }
+  return best;
+}
+
 // The parallel bond of one bond kind (rock or joint): stiffness ratio, inertia factor, strength and softening.
 // Per-bond values (K, L) come from the bond frame.
 struct ParallelBond {

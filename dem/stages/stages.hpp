@@ -5,7 +5,7 @@
 //   bond events  softening and breakage in bond order, the crack log         (bonds.cpp)
 //   detection    the broad phase: candidate pairs among free-face blocks     (contacts.cpp)
 //   contacts     narrow phase and the linear contact law per pair            (contacts.cpp)
-//   boundaries   the platens (and other boundary conditions)                 (platens.cpp)
+//   boundaries   the platens (platens.cpp) and the confining pressure on the jacket (jacket.cpp)
 //   integrator   per-block gather in a fixed order, local damping, central difference (integrator.cpp)
 // Every stage reads the constant Model, reads or writes the ModelState and the engine's Workspace, and runs on at
 // most `threads` OpenMP threads. Each bond and each contact pair writes into its own slot; the per-block gather
@@ -45,6 +45,7 @@ struct Workspace {
   };
   std::vector<PairForce> pair_force;                  // per contact pair
   std::vector<double> ext_fx, ext_fy, ext_m;          // per block: constant external loads (tests)
+  std::vector<std::uint8_t> touching;                 // per block: in a contact that carries force (the jacket)
 };
 
 struct StepContext {
@@ -81,6 +82,8 @@ void contact_forces(const Model& m, ModelState& s, Workspace& w, const StepConte
 // The two platens: half-plane contacts of the candidate blocks, added to w.cfx, w.cfy, w.cm.
 void platen_forces(const Model& m, ModelState& s, Workspace& w, double platen_friction, bool platens,
                    const StepContext& c);
+// The confining pressure on the jacket edges (follower forces), added to w.cfx, w.cfy, w.cm; after contact_forces.
+void jacket_forces(const Model& m, ModelState& s, Workspace& w, const StepContext& c);
 // Gather in fixed CSR order, Cundall local damping alpha, central difference. Throws InstabilityError when a
 // position becomes non-finite.
 void integrate(const Model& m, ModelState& s, Workspace& w, double damping, int threads);

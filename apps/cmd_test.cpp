@@ -1,8 +1,10 @@
-// rbdem ucs: one uniaxial compression test.
+// rbdem ucs, rbdem triaxial, rbdem brazilian: one test of one specimen (dem/driver/ucs.hpp).
 //
 //   rbdem ucs --beta 60 --out runs/b60                  # the paper specimen at beta = 60 deg
 //   rbdem ucs my.toml --set mesh.size=0.002 --out runs/x
 //   rbdem ucs my.toml --set mesh.size=0.002 --out runs/x --resume   # continue after Ctrl-C, a kill or a crash
+//   rbdem triaxial --beta 60 --confining 10e6 --out runs/t60        # confined at sigma_3 = 10 MPa
+//   rbdem brazilian --beta 30 --out runs/bz30           # a 50 mm disc (specimen.shape = "disc" is implied)
 // Writes summary.json, curve.csv, cracks.csv, scene.toml, result.h5 and result.xdmf into --out, each atomically.
 // Runs the elastic gate first (cached per scene, docs/elastic.md) and refuses with exit status 3 when it fails;
 // --skip-elastic-gate runs anyway. While running it writes checkpoint.h5 (numerics.checkpoint_every_steps,
@@ -15,6 +17,7 @@
 #include <chrono>
 #include <csignal>
 #include <filesystem>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -31,9 +34,20 @@ namespace rbdem::cli {
 
 namespace {
 
-struct UcsCommandOptions {
+// The scene the elastic gate checks for a test: the gate meshes rectangles at every dip, so a disc's materials are
+// checked on the rectangular specimen of the scene's other keys.
+Scene gate_scene(const Scene& scene) {
+  Scene s = scene;
+  s.specimen.shape = "rectangle";
+  s.loading.confining_pressure = 0.0;
+  return s;
+}
+
+struct TestCommandOptions {
+  std::string test;  // ucs | triaxial | brazilian
   SceneOptions scene;
-  std::string out = "runs/ucs";
+  std::optional<double> confining;  // triaxial: --confining PA
+  std::string out;
   bool skip_elastic_gate = false;
   bool resume = false;
   long interrupt_at_step = -1;  // tests: act as if SIGINT arrived at this step
@@ -47,9 +61,13 @@ extern "C" void on_signal(int sig) {
   interrupted.store(true);
 }
 
-int run_ucs_command(const UcsCommandOptions& opt) {
+int run_test_command(const TestCommandOptions& opt) {
   namespace fs = std::filesystem;
-  const Scene scene = resolve_scene(opt.scene);
+  SceneOptions so = opt.scene;
+  if (opt.confining) so.sets.insert(so.sets.begin(), fmt::format("loading.confining_pressure={:.17g}", *opt.confining));
+  if (opt.test == "brazilian") so.sets.insert(so.sets.begin(), "specimen.shape=disc");
+  const Scene scene = resolve_scene(so);
+  check_test_scene(opt.test, scene);
   print_scene(scene, opt.scene);
   const fs::path out(opt.out);
   const fs::path ckpt_file = out / "checkpoint.h5";
@@ -63,16 +81,19 @@ int run_ucs_command(const UcsCommandOptions& opt) {
                                               ckpt_file.string(),
                                               fs::exists(out / "summary.json") ? " (the run there is complete)" : ""));
     resume_from = io::read_checkpoint(ckpt_file);
-    if (resume_from.scene_toml != to_toml(scene))
+    if (resume_from.scene_toml != to_toml(scene) || resume_from.test != opt.test)
       throw SceneError(fmt::format("--resume: {} was written for another scene; resume with the same scene file, "
                                    "--set options and mesh as the interrupted run, or start afresh without --resume",
                                    ckpt_file.string()));
   }
-  if (!opt.resume && !opt.skip_elastic_gate && !compare::require_elastic_gate(scene)) return check_failed;
+  // The gate checks the scene's materials; a disc is checked as the rectangular specimen of the same materials.
+  if (!opt.resume && !opt.skip_elastic_gate && !compare::require_elastic_gate(gate_scene(scene))) return check_failed;
   const TriMesh mesh = make_mesh(scene);
   const Topology topo = build_topology(mesh, scene.specimen.thickness, scene.rock.density);
-  fmt::print("ucs: {} blocks, {} bonds ({} joint), beta = {} deg\n", topo.blocks.size(), topo.bonds.size(),
-             topo.count(BondKind::joint), scene.joint_set.dip_deg);
+  fmt::print("{}: {} blocks, {} bonds ({} joint), beta = {} deg{}\n", opt.test, topo.blocks.size(), topo.bonds.size(),
+             topo.count(BondKind::joint), scene.joint_set.dip_deg,
+             opt.test == "triaxial" ? fmt::format(", sigma_3 = {:.4g} MPa", scene.loading.confining_pressure / 1e6)
+                                    : std::string());
   RunOptions uo;
   const bool tty = isatty(fileno(stderr));
   if (tty && !opt.scene.quiet)
@@ -86,7 +107,7 @@ int run_ucs_command(const UcsCommandOptions& opt) {
   uo.allow_supercritical_dt = opt.allow_supercritical_dt;
   if (opt.resume) {
     uo.resume = &resume_from;
-    fmt::print("ucs: resuming from {} at step {} (strain {:.4e})\n", ckpt_file.string(), resume_from.engine.steps,
+    fmt::print("{}: resuming from {} at step {} (strain {:.4e})\n", opt.test, ckpt_file.string(), resume_from.engine.steps,
                resume_from.record.curve.empty() ? 0.0 : resume_from.record.curve.back().strain);
   }
   interrupted.store(false);
@@ -94,7 +115,7 @@ int run_ucs_command(const UcsCommandOptions& opt) {
   auto old_term = std::signal(SIGTERM, on_signal);
   TestResult r;
   try {
-    r = run_ucs(scene, topo, uo);
+    r = run_test(opt.test, scene, topo, uo);
   } catch (const RunCancelled& c) {
     std::signal(SIGINT, old_int), std::signal(SIGTERM, old_term);
     if (tty && !opt.scene.quiet) fmt::print(stderr, "\n");
@@ -119,25 +140,48 @@ int run_ucs_command(const UcsCommandOptions& opt) {
   }
   std::error_code ec;
   fs::remove(ckpt_file, ec);  // the run is complete: its results supersede the checkpoint
-  fmt::print("ucs: peak {:.2f} MPa at strain {:.3e}, E50 {:.2f} GPa, {} cracks (rock t/s {}/{}, joint t/s {}/{}), "
-             "{}, {} steps of {:.3g} s, {:.1f} s wall\n",
-             r.peak_stress / 1e6, r.strain_at_peak, r.youngs_modulus / 1e9, r.crack_counts.total(),
-             r.crack_counts.rock_tensile, r.crack_counts.rock_shear, r.crack_counts.joint_tensile,
-             r.crack_counts.joint_shear, r.failure_mode, r.steps, r.dt, r.wall_seconds);
-  if (!r.quasi_static) fmt::print("ucs: warning: the test was not quasi-static: {}\n", r.quasi_static_reason);
-  fmt::print("ucs: wrote {}/summary.json, curve.csv, cracks.csv\n", opt.out);
+  if (r.test == "brazilian")
+    fmt::print("brazilian: tensile strength {:.3f} MPa (peak load {:.4g} N, layers at {:g} deg to the load), ",
+               r.tensile_strength / 1e6, r.peak_load, r.layer_angle_deg);
+  else if (r.test == "triaxial")
+    fmt::print("triaxial: sigma_1 {:.2f} MPa, deviator {:.2f} MPa at sigma_3 {:.2f} MPa, axial strain {:.3e}, lateral "
+               "{:.3e}, ",
+               r.peak_stress / 1e6, r.deviator_at_peak / 1e6, r.confining_pressure / 1e6, r.strain_at_peak,
+               r.lateral_strain_at_peak);
+  else
+    fmt::print("ucs: peak {:.2f} MPa at strain {:.3e}, E50 {:.2f} GPa, ", r.peak_stress / 1e6, r.strain_at_peak,
+               r.youngs_modulus / 1e9);
+  fmt::print("{} cracks (rock t/s {}/{}, joint t/s {}/{}), {}, {} steps of {:.3g} s, {:.1f} s wall\n",
+             r.crack_counts.total(), r.crack_counts.rock_tensile, r.crack_counts.rock_shear,
+             r.crack_counts.joint_tensile, r.crack_counts.joint_shear, r.failure_mode, r.steps, r.dt, r.wall_seconds);
+  if (r.jacket_edges_lost > 0)
+    fmt::print("{}: note: up to {} jacket edges carried no pressure (their blocks broke off the specimen)\n", opt.test,
+               r.jacket_edges_lost);
+  if (!r.quasi_static)
+    fmt::print("{}: warning: the test was not quasi-static: {}\n", opt.test, r.quasi_static_reason);
+  fmt::print("{}: wrote {}/summary.json, curve.csv, cracks.csv, scene.toml, result.h5, result.xdmf\n", opt.test,
+             opt.out);
   return ok;
 }
 
 }  // namespace
 
-Runner add_ucs_command(CLI::App& app) {
-  auto opt = std::make_shared<UcsCommandOptions>();
-  CLI::App* cmd = app.add_subcommand("ucs", "one uniaxial compression test: summary.json, curve.csv, cracks.csv");
+Runner add_test_command(CLI::App& app, const std::string& test) {
+  auto opt = std::make_shared<TestCommandOptions>();
+  opt->test = test;
+  opt->out = "runs/" + test;
+  const char* what = test == "ucs"        ? "one uniaxial compression test"
+                     : test == "triaxial" ? "one confined (triaxial) compression test: --confining sets sigma_3"
+                                          : "one Brazilian (diametral compression) test of a disc";
+  CLI::App* cmd = app.add_subcommand(test, fmt::format("{}: summary.json, curve.csv, cracks.csv, result.h5", what));
   add_scene_options(*cmd, opt->scene);
+  if (test == "triaxial")
+    cmd->add_option("--confining", opt->confining,
+                    "confining pressure sigma_3 [Pa] (loading.confining_pressure), e.g. --confining 10e6");
   cmd->add_option("--out,-o", opt->out, "output folder")->capture_default_str();
   cmd->add_flag("--skip-elastic-gate", opt->skip_elastic_gate,
-                "run even when the elastic gate fails (DEM vs Amadei moduli, rbdem elastic; cached per scene)");
+                "run even when the elastic gate fails (DEM vs the FE twin and Amadei moduli, rbdem elastic; cached "
+                "per scene)");
   cmd->add_flag("--resume", opt->resume,
                 "continue the interrupted run in --out from its checkpoint.h5 (same scene and options)");
   cmd->add_option("--interrupt-at-step", opt->interrupt_at_step,
@@ -146,7 +190,7 @@ Runner add_ucs_command(CLI::App& app) {
   cmd->add_flag("--allow-supercritical-dt", opt->allow_supercritical_dt,
                 "testing: accept numerics.dt above the critical step (the watchdog then stops the run)")
       ->group("");  // hidden
-  return [opt]() { return run_ucs_command(*opt); };
+  return [opt]() { return run_test_command(*opt); };
 }
 
 }  // namespace rbdem::cli
