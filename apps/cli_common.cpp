@@ -47,6 +47,13 @@ Scene resolve_scene(const SceneOptions& opt) {
   return scene;
 }
 
+Scene gate_scene(const Scene& scene) {
+  Scene s = scene;
+  s.specimen.shape = "rectangle";
+  s.loading.confining_pressure = 0.0;
+  return s;
+}
+
 void print_scene(const Scene& scene, const SceneOptions& opt) {
   if (opt.quiet) return;
   fmt::print("# resolved scene{}\n{}\n", opt.scene_file.empty() ? " (built-in defaults)" : " from " + opt.scene_file,

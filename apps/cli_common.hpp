@@ -33,5 +33,9 @@ Scene resolve_scene(const SceneOptions& opt);
 // The --force flag, shared by every command that reads a scene.
 void add_force_flag(CLI::App& cmd, bool& force);
 void print_scene(const Scene& scene, const SceneOptions& opt);
+// The scene the elastic gate checks for a test: the gate meshes rectangles at every dip, so a disc's materials are
+// checked on the rectangular specimen of the scene's other keys, without confinement (which does not change the
+// elastic moduli of the linear model).
+Scene gate_scene(const Scene& scene);
 
 }  // namespace rbdem::cli

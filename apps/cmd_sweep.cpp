@@ -86,8 +86,8 @@ int run_study(study::StudySpec spec, const std::filesystem::path& out, int worke
   if (!skip_gate) {
     std::set<std::string> seen;
     for (const auto& c : cases) {
-      if (!seen.insert(c.group).second) continue;
-      const compare::GateCheck g = compare::check_elastic_gate(c.scene);
+      if (!seen.insert(to_toml(gate_scene(c.scene))).second) continue;  // once per elastic scene (not per sigma_3)
+      const compare::GateCheck g = compare::check_elastic_gate(gate_scene(c.scene));
       if (g.status == compare::GateCheck::Status::failed) {
         if (mpi.rank == 0)
           fmt::print(stderr, "{}\nsweep: the elastic gate failed for {} ({}); the DEM does not behave as the "
@@ -139,26 +139,46 @@ int run_study(study::StudySpec spec, const std::filesystem::path& out, int worke
   const auto groups = study::write_tables(results, out);
   study::write_timing(results, out);
   study::ReportExtras extras;
+  if (spec.test == "triaxial") extras.envelopes = study::write_envelopes(results, out);
   extras.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   extras.workers = ro.workers > 0 ? ro.workers : int(std::thread::hardware_concurrency());
   extras.paper_check = paper_check;
   extras.elastic_gate_markdown = gate_markdown;
   const auto report = study::write_report(spec, results, groups, out, extras);
 
-  fmt::print("\n{:<34} {:>6} {:>10} {:>10} {:>10}  {}\n", "case", "beta", "peak MPa", "Jaeger MPa", "E50 GPa",
-             "failure mode");
   std::map<std::string, double> s90;
   for (const auto& g : groups) s90[g.group] = g.strength_90_pa;
-  for (const auto& r : results) {
-    const auto& s = r.summary;
-    fmt::print("{:<34} {:>6g} {:>10.2f} {:>10.2f} {:>10.1f}  {}\n", r.c.group.empty() ? "-" : r.c.group, r.c.beta,
-               s["peak_stress_pa"].get<double>() / 1e6, study::jaeger_for(r.c.scene, r.c.beta, s90[r.c.group]) / 1e6,
-               s["youngs_modulus_pa"].get<double>() / 1e9, s["failure_mode"].get<std::string>());
+  if (spec.test == "brazilian") {
+    fmt::print("\n{:<34} {:>6} {:>12} {:>12} {:>12}  {}\n", "case", "beta", "layers/load", "tensile MPa", "load kN",
+               "failure mode");
+    for (const auto& r : results) {
+      const auto& s = r.summary;
+      fmt::print("{:<34} {:>6g} {:>12g} {:>12.3f} {:>12.2f}  {}\n", r.c.group.empty() ? "-" : r.c.group, r.c.beta,
+                 s.value("layer_angle_deg", 0.0), s.value("tensile_strength_pa", 0.0) / 1e6,
+                 s.value("peak_load_n", 0.0) / 1e3, s["failure_mode"].get<std::string>());
+    }
+  } else {
+    fmt::print("\n{:<34} {:>6} {:>10} {:>10} {:>10}  {}\n", "case", "beta", "peak MPa", "Jaeger MPa", "E50 GPa",
+               "failure mode");
+    for (const auto& r : results) {
+      const auto& s = r.summary;
+      fmt::print("{:<34} {:>6g} {:>10.2f} {:>10.2f} {:>10.1f}  {}\n", r.c.group.empty() ? "-" : r.c.group, r.c.beta,
+                 s["peak_stress_pa"].get<double>() / 1e6,
+                 study::jaeger_for(r.c.scene, r.c.beta, s90[r.c.group]) / 1e6,
+                 s["youngs_modulus_pa"].get<double>() / 1e9, s["failure_mode"].get<std::string>());
+    }
+    for (const auto& g : groups)
+      fmt::print("group {}: minimum {:.2f} MPa at {:g} deg (Jaeger {:.2f} MPa at {:.0f} deg), anisotropy ratio "
+                 "{:.2f}\n",
+                 g.group.empty() ? "-" : g.group, g.min_strength_pa / 1e6, g.min_beta_deg, g.jaeger_min_pa / 1e6,
+                 g.jaeger_min_beta_deg, g.anisotropy_ratio);
+    for (const auto& e : extras.envelopes)
+      fmt::print("envelope at {:g} deg: sigma_1 = {:.2f} MPa + {:.3f} sigma_3 (phi {:.1f} deg, c {:.2f} MPa){}\n",
+                 e.beta_deg, e.intercept_pa / 1e6, e.slope, e.friction_deg, e.cohesion_pa / 1e6,
+                 e.slip_range ? fmt::format("; Jaeger's slope for sliding {:.3f}, measured 0-10 MPa {:.3f}",
+                                            e.jaeger_slope, e.slope_0_10)
+                              : std::string());
   }
-  for (const auto& g : groups)
-    fmt::print("group {}: minimum {:.2f} MPa at {:g} deg (Jaeger {:.2f} MPa at {:.0f} deg), anisotropy ratio {:.2f}\n",
-               g.group.empty() ? "-" : g.group, g.min_strength_pa / 1e6, g.min_beta_deg, g.jaeger_min_pa / 1e6,
-               g.jaeger_min_beta_deg, g.anisotropy_ratio);
   fmt::print("sweep: {:.1f} s wall; table {}, report {}\n", extras.wall_seconds, (out / "table.csv").string(),
              report.string());
   return ok;

@@ -34,14 +34,6 @@ namespace rbdem::cli {
 
 namespace {
 
-// The scene the elastic gate checks for a test: the gate meshes rectangles at every dip, so a disc's materials are
-// checked on the rectangular specimen of the scene's other keys.
-Scene gate_scene(const Scene& scene) {
-  Scene s = scene;
-  s.specimen.shape = "rectangle";
-  s.loading.confining_pressure = 0.0;
-  return s;
-}
 
 struct TestCommandOptions {
   std::string test;  // ucs | triaxial | brazilian

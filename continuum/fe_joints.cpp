@@ -464,6 +464,28 @@ JointedFeResult solve_elastic_jointed(const TriMesh& mesh, const std::vector<the
                                       double bedding_deg, const std::vector<InterfaceEdge>& interfaces,
                                       double thickness, const JointedFeOptions& o) {
   constexpr const char* function = "solve_elastic_jointed";
+  if (o.refinement != 0) {
+    if (o.refinement < 0 || o.refinement > 4)
+      fail(function, "JointedFeOptions::refinement = " + std::to_string(o.refinement) +
+                         "; give 0 to 4 uniform refinement levels");
+    check_mesh(function, mesh);
+    {
+      EdgeMap edges = edge_map(function, mesh);  // the given interfaces are checked on the given mesh
+      mark_interfaces(function, mesh, interfaces, edges);
+    }
+    Stopwatch total;
+    const RefinedJointedMesh fine = refine_jointed_mesh(mesh, interfaces, o.refinement);
+    JointedFeOptions once = o;
+    once.refinement = 0;
+    JointedFeResult r = solve_elastic_jointed(fine.mesh, layer_constants, bedding_deg, fine.interfaces, thickness, once);
+    r.interface_edges = interfaces.size();
+    r.glued_edges = 0;
+    for (const auto& e : interfaces) r.glued_edges += std::isinf(e.k_n) ? 1 : 0;
+    if (o.fields)
+      for (auto* v : {&r.ux, &r.uy, &r.sxx, &r.syy, &r.sxy}) *v = parent_means(*v, fine.children);
+    r.seconds = total.lap();
+    return r;
+  }
   Stopwatch total, clock;
   JointedFeResult r;
 

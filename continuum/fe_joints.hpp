@@ -68,13 +68,19 @@ struct JointedFeOptions {
   // CG stops at |r| <= cg_tolerance |b|. Soft joints (k_n s << E) slow CG down: the AMG near null space holds
   // the rigid modes of the whole specimen, not of each block.
   double cg_tolerance = 1e-8;
+  // Uniform refinement levels before the solve (refine_jointed_mesh): each triangle split into 4^refinement, each
+  // interface edge into 2^refinement with the same k_n, k_s; fields are returned per triangle of the given mesh
+  // (the mean over its children, i.e. the mean displacement and stress of the triangle). Constant strain triangles
+  // are too stiff in bending: a layer bent between soft joints, 10 triangles thick, is 0.5 % too stiff unrefined and
+  // 0.1 % with one level (docs/continuum.md, "The model with the joints").
+  int refinement = 0;
 };
 
 struct JointedFeResult {
   double apparent_modulus = 0;             // Pa: (F_top / (W t)) / (platen_displacement / H)
   double top_force = 0, bottom_force = 0;  // N, compression positive, for thickness t
-  std::size_t dofs = 0, cells = 0;
-  std::size_t interface_edges = 0;   // interface elements + glued edges (= interfaces.size())
+  std::size_t dofs = 0, cells = 0;   // of the solved (refined) mesh
+  std::size_t interface_edges = 0;   // interface elements + glued edges (= interfaces.size(), of the given mesh)
   std::size_t glued_edges = 0;       // of which infinitely stiff (constraints)
   std::size_t duplicated_nodes = 0;  // extra vertices the split made: sum over nodes of (copies - 1)
   std::size_t constrained_dofs = 0;  // platen values, the pin, and the ties of glued copies
@@ -101,6 +107,20 @@ JointedFeResult solve_elastic_jointed(const TriMesh& mesh, const std::vector<the
 // The edges of a mesh whose two triangles have different layer ids, each as (smaller node, larger node), sorted:
 // a deterministic order for callers that assign k_n, k_s per edge.
 std::vector<std::pair<int, int>> layer_interface_edges(const TriMesh& mesh);
+
+// Uniform refinement of a jointed mesh (deal.II-free, continuum/fe_joints_mesh.cpp): every triangle t split at its
+// edge midpoints into the children 4t .. 4t+3 (three corners, then the middle one; counter-clockwise, layer of the
+// parent), repeated `levels` times, and every interface edge into its two halves with the same k_n, k_s. New nodes
+// are appended after the given ones. Throws std::invalid_argument for an interface that is not a mesh edge.
+struct RefinedJointedMesh {
+  TriMesh mesh;
+  std::vector<InterfaceEdge> interfaces;
+  std::size_t children = 1;  // triangles per parent: 4^levels, children of parent t are t * children ...
+};
+RefinedJointedMesh refine_jointed_mesh(const TriMesh& mesh, const std::vector<InterfaceEdge>& interfaces, int levels);
+
+// The mean of each consecutive group of `children` values (children of a parent have equal areas).
+std::vector<double> parent_means(const std::vector<double>& child_values, std::size_t children);
 
 // How many copies of each mesh node the split along `interfaces` makes (1 = not split, 0 = used by no triangle).
 // The split solve_elastic_jointed uses; throws as it does for bad interfaces.

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <stdexcept>
 
 #include "common/fault_injection.hpp"
 #include "dem/scene_keys.hpp"
@@ -139,6 +140,8 @@ Model build_model(const Topology& topo, const Scene& scene, double mass_scaling)
     if (topo.boundary.side[e] == Side::top || topo.boundary.side[e] == Side::bottom)
       m.platen_lref[std::size_t(topo.boundary.block[e])] = topo.boundary.length[e];
 
+  if (topo.boundary.ax.size() != topo.boundary.size() || topo.boundary.by.size() != topo.boundary.size())
+    throw std::invalid_argument("build_model: the topology's boundary edges have no end points (ax, ay, bx, by)");
   for (std::size_t e = 0; e < topo.boundary.size(); ++e) {
     const Side side = topo.boundary.side[e];
     if (side == Side::top || side == Side::bottom) continue;

@@ -354,7 +354,8 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
 }
 
 void apply_static_state(Engine& e, const StaticResult& st, double factor, double velocity) {
-  const double rate = velocity / st.platen_displacement;  // displacement per second per unit of the static field
+  // Displacement per second per unit of the static field; a state not driven by the platens is put at rest.
+  const double rate = st.platen_displacement > 0.0 ? velocity / st.platen_displacement : 0.0;
   const Model& M = e.model();
   e.edit([&](ModelState& s) {
     for (std::size_t b = 0; b < M.num_blocks(); ++b) {
@@ -370,7 +371,7 @@ void apply_static_state(Engine& e, const StaticResult& st, double factor, double
       if (st.platen_fs[b] != 0.0) (s.y[b] > mid ? s.top_fs : s.bottom_fs)[b] = factor * st.platen_fs[b];
     const double d = factor * st.platen_displacement;
     s.top_y = M.ymax - d;
-    s.time = d / velocity;
+    s.time = d > 0.0 ? d / velocity : 0.0;
   });
 }
 

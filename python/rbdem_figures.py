@@ -7,6 +7,7 @@ Run with Debian's /usr/bin/python3 (python3-matplotlib, python3-h5py, python3-nu
     rbdem_figures.py strength OUT.png TABLE.csv [--group COLUMN]
     rbdem_figures.py cracks OUT.png RUN_DIR [--at peak|final|both] [--magnify M]
     rbdem_figures.py crack-grid OUT.png RUN_DIR [RUN_DIR ...] [--labels L ...] [--magnify M]
+    rbdem_figures.py elastic-fields OUT.png ELASTIC.json [--beta B]
 
 Examples:
 
@@ -268,6 +269,85 @@ def plot_strength(out, table, group=None):
     plt.close(fig)
 
 
+def _require(rows, path, cols):
+    if not rows:
+        raise SystemExit(f"{path}: no rows")
+    for col in cols:
+        if col not in rows[0]:
+            raise SystemExit(f"{path}: no column {col} (columns: {', '.join(rows[0])})")
+
+
+def plot_tensile(out, table):
+    """Brazilian tensile strength 2P/(pi D t) against the angle between the layers and the load, one marker per
+    failure mode (rbdem sweep of a brazilian study)."""
+    rows = _read_csv(table)
+    _require(rows, table, ("layer_angle_deg", "tensile_strength_pa", "failure_mode"))
+    angle = np.array([_float(r["layer_angle_deg"]) for r in rows])
+    ts = np.array([_float(r["tensile_strength_pa"]) for r in rows]) / 1e6
+    modes = [r["failure_mode"] for r in rows]
+    order = np.argsort(angle)
+    fig, ax = plt.subplots(figsize=(6.4, 4.4), constrained_layout=True)
+    ax.plot(angle[order], ts[order], color="0.3", lw=1.2, zorder=1)
+    markers = {"central_fracture": "o", "non_central_fracture": "s", "layer_activation": "^", "mixed": "D"}
+    for mode in dict.fromkeys(modes):
+        k = [i for i, m in enumerate(modes) if m == mode]
+        ax.plot(angle[k], ts[k], ls="none", marker=markers.get(mode, "x"), ms=8, label=_mode_text(mode), zorder=2)
+    ax.set_xlabel("angle between the layers and the load (deg; 0 = load along the layers)")
+    ax.set_ylabel("tensile strength 2P/(πDt) (MPa)")
+    ax.set_xticks(np.arange(0, 91, 15))
+    ax.set_xlim(-3, 93)
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    ax.set_title("Brazilian tensile strength versus layer angle", fontsize=10)
+    ax.legend(fontsize=8, loc="lower right")
+    fig.savefig(out, dpi=150)
+    plt.close(fig)
+
+
+def plot_envelope(out, table, envelope):
+    """sigma_1 at peak against sigma_3, one colour per dip: the DEM's points (solid), its least-squares line
+    (dotted) and Jaeger's (dashed; the sliding line where the dip is in the slip range, else the intact line fitted
+    at 90 deg is not drawn: the table's jaeger_pa column is used as it is)."""
+    rows = _read_csv(table)
+    _require(rows, table, ("beta_deg", "confining_pressure_pa", "peak_stress_pa", "jaeger_pa"))
+    env = {(_float(r["beta_deg"])): r for r in _read_csv(envelope)}
+    by_beta = {}
+    for r in rows:
+        by_beta.setdefault(_float(r["beta_deg"]), []).append(r)
+    fig, ax = plt.subplots(figsize=(6.8, 5.0), constrained_layout=True)
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for n, beta in enumerate(sorted(by_beta)):
+        rs = by_beta[beta]
+        c = colors[n % len(colors)]
+        s3 = np.array([_float(r["confining_pressure_pa"]) for r in rs]) / 1e6
+        s1 = np.array([_float(r["peak_stress_pa"]) for r in rs]) / 1e6
+        jae = np.array([_float(r["jaeger_pa"]) for r in rs]) / 1e6
+        o = np.argsort(s3)
+        s3, s1, jae = s3[o], s1[o], jae[o]
+        label = f"β = {beta:g}°"
+        e = env.get(beta)
+        if e is not None and np.isfinite(_float(e.get("slope", "nan"))):
+            label += f": k {_float(e['slope']):.2f}, φ {_float(e['friction_deg']):.1f}°, c {_float(e['cohesion_pa']) / 1e6:.1f} MPa"
+        ax.plot(s3, s1, marker="o", color=c, lw=1.4, label=label)
+        if e is not None and np.isfinite(_float(e.get("slope", "nan"))):
+            xs = np.array([0.0, s3.max()])
+            ax.plot(xs, _float(e["intercept_pa"]) / 1e6 + _float(e["slope"]) * xs, ls=":", color=c, lw=1.0)
+        if np.isfinite(jae).any():
+            ax.plot(s3, jae, ls="--", color=c, lw=1.0, alpha=0.8)
+    handles, _ = ax.get_legend_handles_labels()
+    handles.append(Line2D([0], [0], color="0.4", ls="--", lw=1.0, label="Jaeger (dashed)"))
+    handles.append(Line2D([0], [0], color="0.4", ls=":", lw=1.0, label="DEM least-squares line (dotted)"))
+    ax.set_xlabel("confining pressure σ3 (MPa)")
+    ax.set_ylabel("σ1 at peak (MPa)")
+    ax.set_xlim(left=-0.5)
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    ax.set_title("Confined strength per joint dip (k: slope dσ1/dσ3)", fontsize=10)
+    ax.legend(handles=handles, fontsize=7, loc="upper left")
+    fig.savefig(out, dpi=150)
+    plt.close(fig)
+
+
 def _draw_crack_map(ax, data, k, magnify=1.0, fill=True):
     """Deformed blocks (light fill by layer) and the cracks up to frame k on one axes; returns counts per class."""
     verts = data.vertices(k, magnify)
@@ -356,6 +436,37 @@ def plot_crack_grid(out, run_dirs, labels=None, magnify=1.0):
     plt.close(fig)
 
 
+def plot_elastic_fields(out, elastic_json, beta=None):
+    """DEM and the FE model with the joints side by side: block-centroid |u| (um, rigid x translation removed) at one
+    dip of `rbdem elastic --fields` (elastic.json), by default the dip where the two fields differ most."""
+    with open(elastic_json) as f:
+        angles = [a for a in json.load(f)["angles"] if "fields" in a and "fe_joints_ux" in a["fields"]]
+    if not angles:
+        raise SystemExit(f"{elastic_json}: no fields of the FE model with the joints; run rbdem elastic --fields")
+    if beta is None:
+        a = max(angles, key=lambda r: r.get("field_l2_joints") or 0.0)
+    else:
+        a = min(angles, key=lambda r: abs(r["beta_deg"] - beta))
+    F = a["fields"]
+    x, y = np.array(F["x"]) * 1e3, np.array(F["y"]) * 1e3
+    du = [np.hypot(F["dem_ux"], F["dem_uy"]) * 1e6, np.hypot(F["fe_joints_ux"], F["fe_joints_uy"]) * 1e6]
+    vmax = max(du[0].max(), du[1].max())
+    fig, axes = plt.subplots(1, 2, figsize=(7.5, 5.6), constrained_layout=True)
+    names = [f"DEM (static), E_gauge {a['dem_gauge_pa'] / 1e9:.3g} GPa",
+             f"FE with the joints, E_gauge {a['fe_joints_pa'] / 1e9:.3g} GPa"]
+    for ax, data, name in zip(axes, du, names):
+        sc = ax.scatter(x, y, c=data, s=5, cmap="viridis", vmin=0, vmax=vmax, linewidths=0)
+        ax.set_title(name, fontsize=9)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x (mm)")
+    axes[0].set_ylabel("y (mm)")
+    fig.colorbar(sc, ax=axes, shrink=0.8, label="|u| (um)")
+    fig.suptitle(f"beta = {a['beta_deg']:g} deg: relative L2 difference {100 * (a.get('field_l2_joints') or 0):.2f} %, "
+                 f"moduli {100 * a['dem_gauge_vs_fe_joints']:+.2f} %", fontsize=10)
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+
+
 # ------------------------------------------------------------------------------------------------ command line
 
 
@@ -420,6 +531,18 @@ def main(argv=None):
     s.add_argument("csv", metavar="FIELDS.csv")
     s.add_argument("--title")
 
+    s = sub.add_parser("tensile", help="Brazilian tensile strength versus layer angle from a sweep table")
+    s.add_argument("out")
+    s.add_argument("table", metavar="TABLE.csv")
+    s = sub.add_parser("envelope", help="sigma_1 against sigma_3 per dip from a confined sweep, Jaeger dashed")
+    s.add_argument("out")
+    s.add_argument("table", metavar="TABLE.csv")
+    s.add_argument("envelope", metavar="ENVELOPE.csv")
+    s = sub.add_parser("elastic-fields", help="DEM and the FE model with the joints side by side (rbdem elastic --fields)")
+    s.add_argument("out")
+    s.add_argument("elastic_json", metavar="ELASTIC.json")
+    s.add_argument("--beta", type=float, help="dip to show (default: where the two fields differ most)")
+
     a = p.parse_args(argv)
     t0 = time.perf_counter()
     out_dir = os.path.dirname(os.path.abspath(a.out))
@@ -432,6 +555,12 @@ def main(argv=None):
         plot_cracks(a.out, a.run, a.at, a.magnify)
     elif a.figure == "fields":
         plot_fields(a.out, a.csv, a.title)
+    elif a.figure == "tensile":
+        plot_tensile(a.out, a.table)
+    elif a.figure == "envelope":
+        plot_envelope(a.out, a.table, a.envelope)
+    elif a.figure == "elastic-fields":
+        plot_elastic_fields(a.out, a.elastic_json, a.beta)
     else:
         plot_crack_grid(a.out, a.runs, a.labels, a.magnify)
     print(f"wrote {a.out} ({time.perf_counter() - t0:.2f} s)")

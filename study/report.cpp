@@ -2,6 +2,7 @@
 #include "study/report.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <ctime>
 #include <map>
@@ -55,10 +56,19 @@ std::vector<std::filesystem::path> make_figures(const StudySpec& spec, const std
     return made;
   }
   const std::string cmd = python + " " + quote(script);
-  // Strength versus dip with Jaeger, one curve per group.
-  const auto strength = out / "strength.png";
-  if (run(cmd + " strength " + quote(strength) + " " + quote(out / "table.csv") + " --group group"))
-    made.push_back(strength);
+  if (spec.test == "brazilian") {  // tensile strength versus the layers' angle to the load
+    const auto tensile = out / "tensile_strength.png";
+    if (run(cmd + " tensile " + quote(tensile) + " " + quote(out / "table.csv"))) made.push_back(tensile);
+  } else {  // strength versus dip with Jaeger, one curve per group
+    const auto strength = out / "strength.png";
+    if (run(cmd + " strength " + quote(strength) + " " + quote(out / "table.csv") + " --group group"))
+      made.push_back(strength);
+  }
+  if (spec.test == "triaxial") {  // sigma_1 against sigma_3 per dip, with Jaeger's lines
+    const auto envelope = out / "envelope.png";
+    if (run(cmd + " envelope " + quote(envelope) + " " + quote(out / "table.csv") + " " + quote(out / "envelope.csv")))
+      made.push_back(envelope);
+  }
   // Stress-strain curves and crack maps per group.
   std::map<std::string, std::vector<const CaseResult*>> groups;
   std::vector<std::string> order;
@@ -85,6 +95,12 @@ std::vector<std::filesystem::path> make_figures(const StudySpec& spec, const std
   return made;
 }
 
+namespace {
+std::string compression_section(const std::vector<CaseResult>& results, const std::vector<GroupSummary>& groups,
+                                const ReportExtras& extras);
+std::string brazilian_section(const std::vector<CaseResult>& results);
+}  // namespace
+
 std::filesystem::path write_report(const StudySpec& spec, const std::vector<CaseResult>& results,
                                    const std::vector<GroupSummary>& groups, const std::filesystem::path& out,
                                    const ReportExtras& extras) {
@@ -110,7 +126,45 @@ std::filesystem::path write_report(const StudySpec& spec, const std::vector<Case
                     b.joint.cohesion / 1e6, b.joint.friction_deg, b.joint.contact_friction,
                     b.loading.platen_velocity, b.numerics.damping);
   if (!extras.elastic_gate_markdown.empty()) md += "## Elastic gate\n\n" + extras.elastic_gate_markdown + "\n\n";
+  if (spec.test == "brazilian") {
+    md += brazilian_section(results);
+  } else {
+    md += compression_section(results, groups, extras);
+  }
+  md += "\n## Figures\n\n";
+  if (figures.empty()) md += note + "\n";
+  for (const auto& f : figures) md += fmt::format("![{}]({})\n\n", f.stem().string(), f.filename().string());
+  md += "How to read them: docs/outputs.md. Each case folder holds summary.json, curve.csv, cracks.csv, scene.toml "
+        "and result.h5 with result.xdmf for ParaView.\n";
+  const auto path = out / "report.md";
+  io::write_text_atomic(path, md);
+  return path;
+}
 
+namespace {
+
+std::string brazilian_section(const std::vector<CaseResult>& results) {
+  std::string md = "## Brazilian tensile strength versus the layers' angle to the load\n\n";
+  md += "The tensile strength is ISRM's 2 P / (pi D t) of the peak platen load P (docs/theory.md, section 9); the "
+        "layer angle is measured between the layers and the loading direction (90 deg minus the dip).\n\n";
+  md += "| case | dip (deg) | layers to load (deg) | tensile strength (MPa) | peak load (kN) | failure mode | cracks "
+        "rock t/s | cracks joint t/s | steps | wall (s) |\n|---|---:|---:|---:|---:|---|---:|---:|---:|---:|\n";
+  for (const auto& r : results) {
+    const auto& s = r.summary;
+    const auto& c = s["cracks"];
+    md += fmt::format("| {} | {:g} | {:g} | {:.3f} | {:.2f} | {} | {}/{} | {}/{} | {} | {:.1f} |\n",
+                      r.c.group.empty() ? "-" : r.c.group, r.c.beta, s.value("layer_angle_deg", 0.0),
+                      s.value("tensile_strength_pa", 0.0) / 1e6, s.value("peak_load_n", 0.0) / 1e3,
+                      s["failure_mode"].get<std::string>(), c["rock_tensile"].get<int>(), c["rock_shear"].get<int>(),
+                      c["joint_tensile"].get<int>(), c["joint_shear"].get<int>(), s["steps"].get<long>(),
+                      s.value("wall_seconds", 0.0));
+  }
+  return md;
+}
+
+std::string compression_section(const std::vector<CaseResult>& results, const std::vector<GroupSummary>& groups,
+                                const ReportExtras& extras) {
+  std::string md;
   md += "## Peak strength versus joint dip\n\n";
   md += "Jaeger: sliding on a joint whose envelope is the bonded interface's (docs/model.md: in compression the "
         "linear part shares the traction with the parallel bond, so a sticking interface has twice the bond's "
@@ -151,14 +205,26 @@ std::filesystem::path write_report(const StudySpec& spec, const std::vector<Case
     md += fmt::format("| anisotropy ratio | 2.5 | {:.2f} | {} (2 to 3.5) |\n", g.anisotropy_ratio,
                       (g.anisotropy_ratio >= 2 && g.anisotropy_ratio <= 3.5) ? "yes" : "NO");
   }
-  md += "\n## Figures\n\n";
-  if (figures.empty()) md += note + "\n";
-  for (const auto& f : figures) md += fmt::format("![{}]({})\n\n", f.stem().string(), f.filename().string());
-  md += "How to read them: docs/outputs.md. Each case folder holds summary.json, curve.csv, cracks.csv, scene.toml "
-        "and result.h5 with result.xdmf for ParaView.\n";
-  const auto path = out / "report.md";
-  io::write_text_atomic(path, md);
-  return path;
+  if (!extras.envelopes.empty()) {
+    md += "\n### Strength envelopes (sigma_1 against sigma_3)\n\n";
+    md += "Per dip, the least-squares line sigma_1 = sigma_c + k sigma_3 through the confinements run, the friction "
+          "angle and cohesion it implies (phi = asin((k - 1)/(k + 1)), c = sigma_c (1 - sin phi)/(2 cos phi)), and, "
+          "where sliding on the joints governs, Jaeger's slope 1 + 2 mu / ((1 - mu cot beta) sin 2 beta) beside the "
+          "measured slope between sigma_3 = 0 and 10 MPa (envelope.csv).\n\n";
+    md += "| dip (deg) | points | sigma_c (MPa) | slope k | phi (deg) | c (MPa) | slope 0-10 MPa | Jaeger slope | "
+          "difference |\n|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const auto& e : extras.envelopes)
+      md += fmt::format("| {:g} | {} | {:.2f} | {:.3f} | {:.1f} | {:.2f} | {} | {} | {} |\n", e.beta_deg, e.points,
+                        e.intercept_pa / 1e6, e.slope, e.friction_deg, e.cohesion_pa / 1e6,
+                        std::isfinite(e.slope_0_10) ? fmt::format("{:.3f}", e.slope_0_10) : "-",
+                        e.slip_range ? fmt::format("{:.3f}", e.jaeger_slope) : "(intact)",
+                        e.slip_range && std::isfinite(e.slope_0_10)
+                            ? fmt::format("{:+.1f} %", 100.0 * (e.slope_0_10 / e.jaeger_slope - 1.0))
+                            : "-");
+  }
+  return md;
 }
+
+}  // namespace
 
 }  // namespace rbdem::study

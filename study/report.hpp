@@ -14,6 +14,7 @@ struct ReportExtras {
   double wall_seconds = 0;            // the whole study
   int workers = 1;
   bool paper_check = false;           // compare with the seed paper's headline numbers (default dip study)
+  std::vector<Envelope> envelopes;    // a confined study's strength envelopes (write_envelopes)
 };
 
 // Runs the figure script (python/rbdem_figures.py with Debian's /usr/bin/python3) for the study: stress-strain

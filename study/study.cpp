@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <numbers>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -64,7 +65,13 @@ StudySpec load_study(const std::filesystem::path& path) {
   spec.source = path;
   const toml::table* st = root["study"].as_table();
   if (!st) throw SceneError(where + ": missing [study] table (name, base, dips, set)");
-  check_keys(*st, {"name", "description", "base", "dips", "set"}, where + " [study]");
+  check_keys(*st, {"name", "description", "test", "base", "dips", "set"}, where + " [study]");
+  if (auto t = st->get_as<std::string>("test")) {
+    spec.test = t->get();
+    if (spec.test != "ucs" && spec.test != "triaxial" && spec.test != "brazilian")
+      throw SceneError(fmt::format("{}: study.test = '{}': expected \"ucs\", \"triaxial\" or \"brazilian\"", where,
+                                   spec.test));
+  }
   spec.name = st->get_as<std::string>("name") ? st->get_as<std::string>("name")->get() : path.stem().string();
   if (auto d = st->get_as<std::string>("description")) spec.description = d->get();
   if (auto b = st->get_as<std::string>("base"); b && !b->get().empty()) {
@@ -81,6 +88,7 @@ StudySpec load_study(const std::filesystem::path& path) {
     }
     if (spec.dips.empty()) throw SceneError(where + ": study.dips is empty: list at least one dip");
   }
+  if (spec.test == "brazilian" && spec.base.mesh.file.empty()) spec.base.specimen.shape = "disc";
   if (auto set = st->get_as<toml::table>("set"))
     for (const auto& [k, v] : *set)
       set_parameter(spec.base, k.str(), toml_value_text(v, where + " study.set." + std::string(k.str())));
@@ -135,6 +143,7 @@ StudySpec load_study(const std::filesystem::path& path) {
 std::vector<Case> expand(const StudySpec& spec) {
   std::vector<Case> partial(1);
   partial[0].scene = spec.base;
+  partial[0].test = spec.test;
   for (const auto& axis : spec.axes) {
     std::vector<Case> next;
     for (const auto& c : partial)
@@ -154,6 +163,7 @@ std::vector<Case> expand(const StudySpec& spec) {
       d.beta = beta;
       set_parameter(d.scene, "joint_set.dip_deg", fmt::format("{}", beta));
       validate(d.scene);
+      check_test_scene(d.test, d.scene);
       d.id = (d.group.empty() ? "" : d.group + "/") + beta_label(beta);
       cases.push_back(std::move(d));
     }
@@ -188,7 +198,7 @@ CaseResult run_one(const Case& c, const std::filesystem::path& dir, const std::a
   rbdem::RunOptions uo;
   uo.cancel = cancel;
   uo.thread_budget = threads;
-  const TestResult r = run_ucs(scene, topo, uo);
+  const TestResult r = run_test(c.test, scene, topo, uo);
   io::write_run(dir, c.scene, mesh, topo, r);
   if (!r.completed) throw std::runtime_error(r.watchdog_message);  // its summary says so; the case is not done
   CaseResult cr;
@@ -306,7 +316,7 @@ double jaeger_for(const Scene& scene, double beta, double strength_90, bool bond
       bond_values ? MohrCoulomb{j.cohesion, tan_phi} : interface_envelope(j.cohesion, tan_phi, j.contact_friction,
                                                                           j.slip_when_bonded);
   const double phi_deg = std::atan(env.tan_phi) * 180.0 / 3.14159265358979323846;
-  return theory::jaeger_strength({env.cohesion, phi_deg, strength_90, 0.0}, beta);
+  return theory::jaeger_strength({env.cohesion, phi_deg, strength_90, scene.loading.confining_pressure}, beta);
 }
 
 std::vector<GroupSummary> write_tables(const std::vector<CaseResult>& results, const std::filesystem::path& out) {
@@ -335,20 +345,27 @@ std::vector<GroupSummary> write_tables(const std::vector<CaseResult>& results, c
   for (const auto& a : axis_names) t += "," + a;
   t += ",beta_deg,peak_stress_pa,strain_at_peak,youngs_modulus_pa,failure_mode,crack_band_angle_deg,"
        "tensile_fraction,cracks_rock_tensile,cracks_rock_shear,cracks_joint_tensile,cracks_joint_shear,steps,"
-       "stop_reason,platen_force_mismatch,jaeger_pa,jaeger_bond_pa\n";
+       "stop_reason,platen_force_mismatch,jaeger_pa,jaeger_bond_pa,test,confining_pressure_pa,deviator_at_peak_pa,"
+       "lateral_strain_at_peak,tensile_strength_pa,peak_load_n,layer_angle_deg\n";
   for (const auto& r : results) {
     const auto& s = r.summary;
     t += r.c.id + "," + r.c.group;
     for (const auto& [a, l] : r.c.labels) t += "," + l;
     const auto& c = s["cracks"];
-    t += fmt::format(",{:g},{:.9g},{:.9g},{:.9g},{},{:.4g},{:.4g},{},{},{},{},{},{},{:.4g},{:.9g},{:.9g}\n", r.c.beta,
+    const bool brazilian = r.c.test == "brazilian";
+    t += fmt::format(",{:g},{:.9g},{:.9g},{:.9g},{},{:.4g},{:.4g},{},{},{},{},{},{},{:.4g},{:.9g},{:.9g}", r.c.beta,
                      s["peak_stress_pa"].get<double>(), s["strain_at_peak"].get<double>(),
                      s["youngs_modulus_pa"].get<double>(), s["failure_mode"].get<std::string>(),
                      s.value("crack_band_angle_deg", 0.0), s.value("tensile_fraction", 0.0),
                      c["rock_tensile"].get<int>(), c["rock_shear"].get<int>(), c["joint_tensile"].get<int>(),
                      c["joint_shear"].get<int>(), s["steps"].get<long>(), s.value("stop_reason", std::string()),
-                     s.value("platen_force_mismatch", 0.0), jaeger_for(r.c.scene, r.c.beta, s90[r.c.group]),
-                     jaeger_for(r.c.scene, r.c.beta, s90[r.c.group], true));
+                     s.value("platen_force_mismatch", 0.0),
+                     brazilian ? std::nan("") : jaeger_for(r.c.scene, r.c.beta, s90[r.c.group]),
+                     brazilian ? std::nan("") : jaeger_for(r.c.scene, r.c.beta, s90[r.c.group], true));
+    t += fmt::format(",{},{:.9g},{:.9g},{:.6g},{:.9g},{:.9g},{:g}\n", r.c.test, s.value("confining_pressure_pa", 0.0),
+                     s.value("deviator_at_peak_pa", std::nan("")), s.value("lateral_strain_at_peak", 0.0),
+                     s.value("tensile_strength_pa", std::nan("")), s.value("peak_load_n", std::nan("")),
+                     s.value("layer_angle_deg", std::nan("")));
   }
   io::write_text_atomic(out / "table.csv", t);
 
@@ -373,7 +390,10 @@ std::vector<GroupSummary> write_tables(const std::vector<CaseResult>& results, c
                                                  j.contact_friction, j.slip_when_bonded);
       const double phi = std::atan(env.tan_phi) * 180.0 / 3.14159265358979323846;
       gs.jaeger_min_beta_deg = theory::jaeger_min_angle_deg(phi);
-      gs.jaeger_min_pa = std::min(theory::jaeger_min_uniaxial_strength(env.cohesion, phi), gs.strength_90_pa);
+      // At the angle of the minimum, sliding under the group's confinement (uniaxially 2 c cos phi / (1 - sin phi)).
+      const double sliding = theory::jaeger_sliding_strength(
+          {env.cohesion, phi, gs.strength_90_pa, scene->loading.confining_pressure}, gs.jaeger_min_beta_deg);
+      gs.jaeger_min_pa = std::min(sliding, gs.strength_90_pa);
     }
     g += fmt::format("{},{:g},{:.9g},{:g},{:.9g},{:.9g},{:.4g}\n", name, gs.min_beta_deg, gs.min_strength_pa,
                      gs.jaeger_min_beta_deg, gs.jaeger_min_pa, gs.strength_90_pa, gs.anisotropy_ratio);
@@ -389,6 +409,55 @@ void write_timing(const std::vector<CaseResult>& results, const std::filesystem:
     t += fmt::format("{},{},{:.3f},{:.3f},{}\n", r.c.id, r.reused ? 1 : 0, r.wall_seconds,
                      r.summary.value("wall_seconds", 0.0), r.summary["steps"].get<long>());
   io::write_text_atomic(out / "timing.csv", t);
+}
+
+std::vector<Envelope> write_envelopes(const std::vector<CaseResult>& results, const std::filesystem::path& out) {
+  std::map<double, std::vector<std::pair<double, double>>> by_dip;  // beta -> (sigma_3, sigma_1)
+  std::map<double, const Scene*> scene_of;
+  for (const auto& r : results) {
+    by_dip[r.c.beta].push_back({r.summary.value("confining_pressure_pa", 0.0), r.summary["peak_stress_pa"].get<double>()});
+    scene_of[r.c.beta] = &r.c.scene;
+  }
+  std::vector<Envelope> envelopes;
+  std::string t = "beta_deg,points,slope,intercept_pa,friction_deg,cohesion_pa,slope_0_10mpa,jaeger_slope,"
+                  "jaeger_slip_range\n";
+  for (auto& [beta, pts] : by_dip) {
+    std::sort(pts.begin(), pts.end());
+    Envelope e;
+    e.beta_deg = beta;
+    e.points = int(pts.size());
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    for (const auto& [x, y] : pts) sx += x, sy += y, sxx += x * x, sxy += x * y;
+    const double n = double(pts.size()), den = n * sxx - sx * sx;
+    if (pts.size() >= 2 && den > 0) {
+      e.slope = (n * sxy - sx * sy) / den;
+      e.intercept_pa = (sy - e.slope * sx) / n;
+      const double sin_phi = (e.slope - 1.0) / (e.slope + 1.0);
+      e.friction_deg = std::asin(std::clamp(sin_phi, -1.0, 1.0)) * 180.0 / std::numbers::pi;
+      e.cohesion_pa = e.intercept_pa * (1.0 - sin_phi) / (2.0 * std::sqrt(std::max(0.0, 1.0 - sin_phi * sin_phi)));
+    }
+    e.slope_0_10 = std::nan("");
+    double at0 = std::nan(""), at10 = std::nan("");
+    for (const auto& [x, y] : pts) {
+      if (std::abs(x) < 1.0) at0 = y;
+      if (std::abs(x - 10e6) < 1.0) at10 = y;
+    }
+    if (std::isfinite(at0) && std::isfinite(at10)) e.slope_0_10 = (at10 - at0) / 10e6;
+    const Scene& s = *scene_of[beta];
+    const MaterialParams& j = s.joint;
+    const MohrCoulomb env = interface_envelope(j.cohesion, std::tan(j.friction_deg * std::numbers::pi / 180.0),
+                                               j.contact_friction, j.slip_when_bonded);
+    const double b = beta * std::numbers::pi / 180.0, phi = std::atan(env.tan_phi);
+    const double denom = (1.0 - env.tan_phi / std::tan(b)) * std::sin(2.0 * b);
+    e.slip_range = s.joint_set.enabled && b > phi && beta < 90.0 && denom > 0;
+    e.jaeger_slope = e.slip_range ? 1.0 + 2.0 * env.tan_phi / denom : std::numeric_limits<double>::infinity();
+    t += fmt::format("{:g},{},{:.6g},{:.9g},{:.4g},{:.9g},{:.6g},{:.6g},{}\n", beta, e.points, e.slope,
+                     e.intercept_pa, e.friction_deg, e.cohesion_pa, e.slope_0_10, e.jaeger_slope,
+                     e.slip_range ? 1 : 0);
+    envelopes.push_back(e);
+  }
+  io::write_text_atomic(out / "envelope.csv", t);
+  return envelopes;
 }
 
 }  // namespace rbdem::study

@@ -1,11 +1,13 @@
-// Parameter studies: many UCS cases (dips x parameter variations), run on all cores or over MPI ranks, resumable,
-// summarised in one table with Jaeger's plane-of-weakness strength beside the measured one.
+// Parameter studies: many cases of one test (uniaxial, confined or Brazilian; dips x parameter variations), run on all
+// cores or over MPI ranks, resumable, summarised in one table with Jaeger's plane-of-weakness strength beside the
+// measured one (and, for confined studies, the strength envelope of each dip: envelope.csv).
 //
 // A study file (TOML) names a base scene, fixed overrides, the dips, and axes of variation; each axis gives one
 // label per case and, per varied key, either the values or factors of another key of the base scene:
 //
 //   [study]
 //   name = "joint_strength"
+//   test = "ucs"                              # ucs (default) | triaxial | brazilian
 //   base = "paper.toml"                       # relative to the study file; empty = built-in defaults
 //   dips = [0, 15, 30, 45, 60, 75, 90]
 //   [study.set]                               # overrides for every case
@@ -44,6 +46,7 @@ struct Axis {
 
 struct StudySpec {
   std::string name = "study";
+  std::string test = "ucs";  // ucs | triaxial | brazilian
   std::string description;
   Scene base;
   std::vector<double> dips{0, 15, 30, 45, 60, 75, 90};
@@ -52,6 +55,7 @@ struct StudySpec {
 };
 
 struct Case {
+  std::string test = "ucs";       // the test each case runs
   std::string id;                 // folder name, e.g. "strength_ratio=0.5/beta=60"
   std::string group;              // the case without its dip, e.g. "strength_ratio=0.5" ("" without axes)
   std::vector<std::pair<std::string, std::string>> labels;  // axis name -> label
@@ -109,5 +113,21 @@ struct GroupSummary {
 std::vector<GroupSummary> write_tables(const std::vector<CaseResult>& results, const std::filesystem::path& out);
 // Writes timing.csv (wall seconds, steps per case).
 void write_timing(const std::vector<CaseResult>& results, const std::filesystem::path& out);
+
+// The strength envelope of each dip of a confined study: the least-squares line sigma_1 = sigma_c + k sigma_3 through
+// the dip's cases, the friction angle phi = asin((k - 1)/(k + 1)) and cohesion c = sigma_c (1 - sin phi)/(2 cos phi)
+// it implies, the slope between sigma_3 = 0 and 10 MPa where both were run, and Jaeger's slope for sliding on the
+// joints, 1 + 2 mu / ((1 - mu cot beta) sin 2 beta) (infinite where sliding cannot govern).
+struct Envelope {
+  double beta_deg = 0;
+  int points = 0;
+  double slope = 0, intercept_pa = 0, friction_deg = 0, cohesion_pa = 0;
+  double slope_0_10 = 0;           // NaN when sigma_3 = 0 or 10 MPa is missing
+  double jaeger_slope = 0;         // of sliding on the joints; +inf outside the slip range
+  bool slip_range = false;         // Jaeger: sliding governs at this dip at sigma_3 = 0
+};
+// Writes envelope.csv and returns the envelopes (one per dip), for a study whose cases carry different
+// loading.confining_pressure values.
+std::vector<Envelope> write_envelopes(const std::vector<CaseResult>& results, const std::filesystem::path& out);
 
 }  // namespace rbdem::study

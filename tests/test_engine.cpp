@@ -229,6 +229,55 @@ TEST(BondKernel, VectorisedKernelEqualsTheScalarBondEvaluationBitForBit) {
   RecordProperty("flagged", std::to_string(flagged));
 }
 
+// The jacket pushes on every outer edge with p t L along its inward normal; a block that lost every bond and every
+// contact (a fragment that broke off) gets no pressure and is counted (the rule in dem/stages/jacket.cpp).
+TEST(Jacket, PressurePushesConnectedEdgesAndLeavesALooseFragmentAlone) {
+  Scene scene;
+  scene.mesh.size = 0.004;
+  scene.numerics.damping = 0.0;
+  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  EngineOptions o = EngineOptions::from_scene(scene);
+  o.platens = false;
+  o.threads = 1;
+  Engine e(topo, scene, o);
+  const double p = 5e6;
+  e.set_confining_pressure(p);
+  e.set_breakage(false);
+  // One block on the left side: every bond broken and moved 10 mm out, so it touches nothing.
+  const auto& J = e.model().jacket;
+  int loose = -1;
+  for (std::size_t k = 0; k < J.size() && loose < 0; ++k)
+    if (topo.blocks.cx[std::size_t(J.block[k])] < 0.5 * topo.width()) loose = J.block[k];
+  ASSERT_GE(loose, 0);
+  for (int o2 = topo.bond_offset[std::size_t(loose)]; o2 < topo.bond_offset[std::size_t(loose) + 1]; ++o2)
+    e.break_bond(topo.bond_of[std::size_t(o2)]);
+  e.edit([&](ModelState& s) { s.x[std::size_t(loose)] -= 0.01; });
+  int loose_edges = 0;
+  for (std::size_t k = 0; k < J.size(); ++k) loose_edges += J.block[k] == loose;
+  e.set_dt(1e-9);
+  e.step();
+  EXPECT_EQ(e.state().jacket_lost, loose_edges);
+  EXPECT_EQ(e.state().fx[std::size_t(loose)], 0.0);  // no bond, no contact, no pressure
+  EXPECT_EQ(e.state().fy[std::size_t(loose)], 0.0);
+  // The jacket's net force on a connected block with one edge on the right side: p t L inward (-x).
+  for (std::size_t k = 0; k < J.size(); ++k) {
+    const int b = J.block[k];
+    int edges = 0;
+    for (std::size_t q = 0; q < J.size(); ++q) edges += J.block[q] == b;
+    if (edges != 1 || topo.blocks.cx[std::size_t(b)] < 0.5 * topo.width()) continue;
+    std::vector<double> fx, fy, m;
+    e.set_confining_pressure(0.0);
+    e.evaluate_forces(fx, fy, m);
+    const double without = fx[std::size_t(b)];
+    e.set_confining_pressure(p);
+    e.evaluate_forces(fx, fy, m);
+    const double L = std::hypot(J.bx[k] - J.ax[k], J.by[k] - J.ay[k]);
+    EXPECT_NEAR(fx[std::size_t(b)] - without, -p * L * scene.specimen.thickness, 1e-9 * p * L);
+    break;
+  }
+  EXPECT_GT(e.state().e_work_jacket, -1.0);  // booked (the loose block did no work)
+}
+
 TEST(Ucs, SmallSpecimenSmokeRunBreaksAndWritesACurve) {
   Scene scene;
   scene.mesh.size = 0.004;

@@ -136,6 +136,35 @@ TEST(ParallelBond, FirstBreakFactorIsWhereTheFailureTestFlips) {
   EXPECT_EQ(st.first_break_factor(1e4, 1e3, 0, A, I, R), std::numeric_limits<double>::infinity());
 }
 
+// Along an affine path F0 + lambda F1 (axial loading from a confined state) the first break is found exactly on the
+// piecewise-linear failure loads: from rest it is the proportional factor, and from a preloaded state it is where a
+// fine scan of the very test finds it.
+TEST(ParallelBond, AffineBreakFactorMatchesTheProportionalOneAndAScan) {
+  const BondStrength st = strength();
+  const double sA = st.sigma_c * A, cA = st.cohesion * A;
+  auto affine = [&](double fn0, double fs0, double m0, double fn1, double fs1, double m1) {
+    return affine_break_factor(sA, cA, st.tan_phi, st.beta_m, 1.0 / L, fn0, fs0, m0, fn1, fs1, m1);
+  };
+  const double proportional[][3] = {{-1e3, 0, 0}, {0, 0, 0.2}, {2e3, 4e3, 0}, {-500, 1e3, 0.05}, {-1e3, 2e3, 0}};
+  for (const auto& c : proportional)
+    EXPECT_NEAR(affine(0, 0, 0, c[0], c[1], c[2]) / st.first_break_factor(c[0], c[1], c[2], A, I, R), 1.0, 1e-12);
+  // Preloaded: a compression (confinement) that raises the shear limit, then shear and bending grow.
+  const double paths[][6] = {{5e3, 500, 0.1, 1e3, 3e3, -0.4}, {2e3, -1e3, 0.0, -1e3, 2e3, 0.3}, {1e3, 0, 0, -2e3, 0, 0}};
+  for (const auto& p : paths) {
+    const double lam = affine(p[0], p[1], p[2], p[3], p[4], p[5]);
+    ASSERT_TRUE(std::isfinite(lam));
+    auto fails = [&](double l) {
+      return BondLoad::of(st, p[0] + l * p[3], p[1] + l * p[4], p[2] + l * p[5], 1.0 / L, A).failure() !=
+             BreakMode::none;
+    };
+    EXPECT_FALSE(fails(lam * (1 - 1e-9)));
+    EXPECT_TRUE(fails(lam * (1 + 1e-9)));
+    for (int k = 0; k < 1000; ++k) EXPECT_FALSE(fails(lam * k / 1000.0 * (1 - 1e-9))) << "an earlier break at " << k;
+  }
+  EXPECT_EQ(affine(-2e4, 0, 0, 1.0, 0, 0), 0.0);  // already past the strength
+  EXPECT_EQ(affine(1e3, 0, 0, 1e3, 0, 0), std::numeric_limits<double>::infinity());  // only more compression
+}
+
 TEST(LinearContact, SlidesExactlyAtMuFn) {
   // k_n = k_s = 1e14 Pa/m over a chord of L_ref = 1 mm, t = 1 m: K_s = 1e11 N/m; the increment is K_s ds.
   const LinearContact law = LinearContact::per_area(1e14, 1e14, 0.5, 1e-3, 1.0);

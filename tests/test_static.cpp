@@ -96,6 +96,9 @@ Topology block_grid(int nx, int ny, double a, double b, double thickness) {
     auto& E = t.boundary;
     E.block.push_back(blk), E.node_a.push_back(-1), E.node_b.push_back(-1);
     E.mx.push_back(mx), E.my.push_back(my), E.length.push_back(L), E.side.push_back(side);
+    const bool horizontal = side == Side::top || side == Side::bottom;
+    E.ax.push_back(horizontal ? mx - 0.5 * L : mx), E.ay.push_back(horizontal ? my : my - 0.5 * L);
+    E.bx.push_back(horizontal ? mx + 0.5 * L : mx), E.by.push_back(horizontal ? my : my + 0.5 * L);
   };
   for (int i = 0; i < nx; ++i) {
     edge(id(i, 0), (i + 0.5) * a, 0.0, a, Side::bottom);
@@ -127,7 +130,9 @@ GridMeasurement measure_grid(double a, double b) {
   const Scene scene = unbreakable_scene();
   const Topology topo = block_grid(nx, ny, a, b, 0.5);
   const Engine engine(topo, scene, EngineOptions::from_scene(scene));
-  const StaticResult r = solve_static(engine, {1e-7, false, 30});
+  StaticOptions o;
+  o.platen_displacement = 1e-7;
+  const StaticResult r = solve_static(engine, o);
   auto row_mean = [&](int j, const std::vector<double>& u) {
     double s = 0;
     for (int i = 0; i < nx; ++i) s += u[std::size_t(j * nx + i)];

@@ -59,13 +59,14 @@ Scene elastic_test_scene(const Scene& scene) {
 }
 
 VirtualTest virtual_test(const Topology& topo, const Scene& scene, double beta_deg, double end_fraction,
-                         StaticResult* state) {
+                         StaticResult* state, bool linear_parts_closed) {
   const Scene s = elastic_test_scene(scene);
   EngineOptions eo = EngineOptions::from_scene(s);
   eo.threads = 1;  // the static solve does not use the engine's threads; angles run in parallel instead
   const Engine engine(topo, s, eo);
   StaticOptions so;
   so.platen_displacement = 1e-5 * topo.height();
+  so.linear_parts_always_closed = linear_parts_closed;
   StaticResult r = solve_static(engine, so);
   VirtualTest t;
   t.beta_deg = beta_deg;
@@ -95,22 +96,21 @@ ComplianceFit fit_compliance(const std::vector<VirtualTest>& tests, theory::Plan
   const long m = long(3 * tests.size());
   Eigen::MatrixXd A(m, 4);
   Eigen::VectorXd b(m);
-  double s22 = 0;
-  for (const auto& t : tests) s22 += t.S22 * t.S22;
-  const double scale = std::sqrt(s22 / double(tests.size()));
   for (std::size_t k = 0; k < tests.size(); ++k) {
+    // Each test relative to its own |S22|: the stiff directions weigh as much as the soft ones.
+    const double w = std::abs(tests[k].S22) > 0 ? 1.0 / std::abs(tests[k].S22) : 1.0;
     // The rotated compliance is linear in (a11, a22, a12, a66): its columns are the images of the unit vectors.
     for (int c = 0; c < 4; ++c) {
       theory::ReducedCompliance unit;
       (c == 0 ? unit.a11 : c == 1 ? unit.a22 : c == 2 ? unit.a12 : unit.a66) = 1.0;
       const auto S = theory::rotated_compliance(unit, tests[k].beta_deg);
-      A(long(3 * k), c) = S[0][1];
-      A(long(3 * k + 1), c) = S[1][1];
-      A(long(3 * k + 2), c) = S[1][2];
+      A(long(3 * k), c) = w * S[0][1];
+      A(long(3 * k + 1), c) = w * S[1][1];
+      A(long(3 * k + 2), c) = w * S[1][2];
     }
-    b[long(3 * k)] = tests[k].S12 / scale;
-    b[long(3 * k + 1)] = tests[k].S22 / scale;
-    b[long(3 * k + 2)] = tests[k].S26 / scale;
+    b[long(3 * k)] = w * tests[k].S12;
+    b[long(3 * k + 1)] = w * tests[k].S22;
+    b[long(3 * k + 2)] = w * tests[k].S26;
   }
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
   if (qr.rank() < 4)
@@ -119,10 +119,18 @@ ComplianceFit fit_compliance(const std::vector<VirtualTest>& tests, theory::Plan
   const Eigen::Vector4d x = qr.solve(b);
   const Eigen::VectorXd res = A * x - b;
   ComplianceFit f;
-  f.a = {x[0] * scale, x[1] * scale, x[2] * scale, x[3] * scale};
+  f.a = {x[0], x[1], x[2], x[3]};
   f.constants = theory::constants_from_compliance(f.a, plane);
   f.residual = std::sqrt(res.squaredNorm() / double(m));
   f.max_residual = res.cwiseAbs().maxCoeff();
+  f.tests = tests.size();
+  // Each unknown scaled by its own size: the condition number then bounds relative errors of the constants.
+  Eigen::Vector4d scale(std::abs(x[0]), std::abs(x[1]), std::sqrt(std::abs(x[0] * x[1])), std::abs(x[3]));
+  for (int c = 0; c < 4; ++c)
+    if (!(scale[c] > 0)) scale[c] = 1.0;
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A * scale.asDiagonal());
+  const auto& sv = svd.singularValues();
+  f.condition = sv[sv.size() - 1] > 0 ? sv[0] / sv[sv.size() - 1] : std::numeric_limits<double>::infinity();
   f.admissible = f.constants.admissible();
   return f;
 }
@@ -147,17 +155,63 @@ GoodmanEstimate goodman_estimate(const Scene& scene, const theory::TIConstants& 
   g.spacing = scene.joint_set.spacing;
   g.d_mean = d_mean;
   const double inf = std::numeric_limits<double>::infinity();
-  const auto& r = scene.rock;
-  const auto& j = scene.joint;
   // Extra compliance per area of a joint bond over the rock bond it replaces (2 E*/d per area in compression).
-  const double cn = d_mean * (1.0 / (2.0 * j.effective_modulus) - 1.0 / (2.0 * r.effective_modulus));
-  const double cs = d_mean * (j.stiffness_ratio / (2.0 * j.effective_modulus) -
-                              r.stiffness_ratio / (2.0 * r.effective_modulus));
+  const JointCompliance c = joint_compliance(scene);
+  const double cn = d_mean * c.c_n, cs = d_mean * c.c_s;
   const bool joints = scene.joint_set.enabled && d_mean > 0;
   g.k_n = joints && cn != 0.0 ? 1.0 / cn : inf;
   g.k_s = joints && cs != 0.0 ? 1.0 / cs : inf;
   g.constants = theory::goodman(g.E_r, g.nu_r, g.k_n, g.k_s, g.spacing);
   return g;
+}
+
+}  // namespace rbdem::compare
+
+namespace rbdem::compare {
+
+JointCompliance joint_compliance(const Scene& scene) {
+  const auto& r = scene.rock;
+  const auto& j = scene.joint;
+  return {1.0 / (2.0 * j.effective_modulus) - 1.0 / (2.0 * r.effective_modulus),
+          j.stiffness_ratio / (2.0 * j.effective_modulus) - r.stiffness_ratio / (2.0 * r.effective_modulus)};
+}
+
+void JointInterfaces::merge(const JointInterfaces& o) {
+  edges.insert(edges.end(), o.edges.begin(), o.edges.end());
+  glued += o.glued, stiffened += o.stiffened, sum_length += o.sum_length;
+  sum_length_compliance_n += o.sum_length_compliance_n, sum_length_compliance_s += o.sum_length_compliance_s;
+}
+
+double JointInterfaces::mean_k_n() const {
+  return sum_length_compliance_n > 0 ? sum_length / sum_length_compliance_n : std::numeric_limits<double>::infinity();
+}
+
+double JointInterfaces::mean_k_s() const {
+  return sum_length_compliance_s > 0 ? sum_length / sum_length_compliance_s : std::numeric_limits<double>::infinity();
+}
+
+JointInterfaces joint_interfaces(const Topology& topo, const Scene& scene, double intact_E) {
+  const JointCompliance c = joint_compliance(scene);
+  const double inf = std::numeric_limits<double>::infinity();
+  JointInterfaces out;
+  const auto& B = topo.bonds;
+  for (std::size_t b = 0; b < B.size(); ++b) {
+    if (B.kind[b] != BondKind::joint) continue;
+    JointInterface e;
+    e.node_a = B.node_a[b], e.node_b = B.node_b[b], e.d = B.d[b], e.length = B.length[b];
+    const bool rigid_n = !(c.c_n > 0), rigid_s = !(c.c_s > 0);
+    const double penalty = 1e4 * intact_E / e.d;
+    e.glued = rigid_n && rigid_s;
+    e.k_n = e.glued ? inf : rigid_n ? penalty : 1.0 / (e.d * c.c_n);
+    e.k_s = e.glued ? inf : rigid_s ? penalty : 1.0 / (e.d * c.c_s);
+    out.glued += e.glued ? 1 : 0;
+    out.stiffened += !e.glued && (rigid_n || rigid_s) ? 1 : 0;
+    out.sum_length += e.length;
+    if (!rigid_n) out.sum_length_compliance_n += e.length / e.k_n;
+    if (!rigid_s) out.sum_length_compliance_s += e.length / e.k_s;
+    out.edges.push_back(e);
+  }
+  return out;
 }
 
 }  // namespace rbdem::compare

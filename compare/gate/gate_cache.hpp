@@ -6,7 +6,8 @@
 // moment_factor, fracture_energy), rock.density (statics see no mass), loading.* (the gate uses frictionless
 // platens; the rest are stop criteria and speed), numerics.* (time integration) and output.*. Keys added to the scene later are in the
 // key until listed here, so a stale verdict is never reused. A user mesh (mesh.file) enters with its contents.
-// The key also holds a gate version string (gate_cache.cpp), bumped when the measurement changes; a change of
+// The key also holds a gate version string (gate_cache.cpp; 2 since the FE model with the joints decides), bumped
+// when the measurement or the verdict changes meaning; a change of
 // the DEM code itself does not invalidate old verdicts: clear the cache folder after one.
 // Cache folder: $RBDEM_CACHE_DIR, else $XDG_CACHE_HOME/rbdem, else $HOME/.cache/rbdem; one JSON file per key,
 // written atomically. A cache that cannot be read or written is not an error: the gate just runs.
@@ -45,8 +46,9 @@ GateCheck check_elastic_gate(const Scene& scene, const ElasticGateOptions& optio
 // Returns the file, or an empty path when the cache cannot be written (not an error).
 std::filesystem::path store_elastic_gate(const Scene& scene, const ElasticReport& report);
 
-// For the command line: checks the gate and prints one line when it passes, or the table, the reason and the
-// --skip-elastic-gate hint when it fails. Returns false when the run must be refused.
+// For the command line: checks the gate and prints its message (which comparison decided and why) when it passes,
+// or the table, the reason and the --skip-elastic-gate hint when it fails. Returns false when the run must be
+// refused.
 bool require_elastic_gate(const Scene& scene, bool quiet = false);
 
 }  // namespace rbdem::compare
