@@ -197,7 +197,7 @@ Runner add_sweep_command(CLI::App& app) {
   cmd->add_option("--workers,-j", opt->workers, "cases run at once in this process (default: all cores)");
   cmd->add_flag("--quiet,-q", opt->quiet, "no progress lines");
   cmd->add_flag("--skip-elastic-gate", opt->skip_elastic_gate,
-                "run even if the DEM's elastic moduli depart from Amadei's theory beyond elastic.tolerance");
+                "run even when the elastic gate fails (DEM vs the FE model with the joints, and Amadei where the layers homogenize; rbdem elastic)");
   return [opt]() {
     study::StudySpec spec = study::load_study(opt->study);
     for (const auto& s : opt->sets) apply_override(spec.base, s);

@@ -172,8 +172,8 @@ Runner add_test_command(CLI::App& app, const std::string& test) {
                     "confining pressure sigma_3 [Pa] (loading.confining_pressure), e.g. --confining 10e6");
   cmd->add_option("--out,-o", opt->out, "output folder")->capture_default_str();
   cmd->add_flag("--skip-elastic-gate", opt->skip_elastic_gate,
-                "run even when the elastic gate fails (DEM vs the FE twin and Amadei moduli, rbdem elastic; cached "
-                "per scene)");
+                "run even when the elastic gate fails (DEM vs the FE model with the joints, and Amadei where the "
+                "layers homogenize; rbdem elastic; cached per scene)");
   cmd->add_flag("--resume", opt->resume,
                 "continue the interrupted run in --out from its checkpoint.h5 (same scene and options)");
   cmd->add_option("--interrupt-at-step", opt->interrupt_at_step,

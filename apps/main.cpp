@@ -1,4 +1,5 @@
-// rbdem: rigid block DEM of layered rock under uniaxial compression, with its elastic and strength checks.
+// rbdem: rigid block DEM of layered rock under uniaxial and confined compression and the Brazilian test, with its
+// elastic and strength checks.
 //
 // Usage:
 //   rbdem                                   the default study (paper specimen), table and report
@@ -7,7 +8,7 @@
 //   rbdem brazilian --beta 30 --out runs/bz30                  one Brazilian test of a disc
 //   rbdem sweep study.toml --out runs/s     a parameter study (resumable; mpirun spreads the cases)
 //   rbdem mesh --beta 30 --out s.msh        the specimen mesh, for inspection in gmsh
-//   rbdem elastic --out runs/el             DEM vs FE vs Amadei elastic moduli and the elastic gate
+//   rbdem elastic --out runs/el             DEM vs the FE model with the joints vs Amadei: the elastic gate
 //   rbdem verify --quick --out runs/v       every check against theory: verify.json and verify.md
 //   rbdem --help-scene                      every scene key with unit, range and default
 //   rbdem <command> --help                  the options of one command
@@ -22,14 +23,16 @@
 #include "apps/cli_common.hpp"
 #include "apps/commands.hpp"
 #include "dem/engine.hpp"
+#include "dem/version.hpp"
 
 int main(int argc, char** argv) {
   using namespace rbdem::cli;
-  CLI::App app{"rbdem: rigid block DEM of transversely isotropic rock under uniaxial compression.\n"
+  CLI::App app{"rbdem: rigid block DEM of transversely isotropic rock: uniaxial and confined compression, Brazilian test.\n"
                "With no command, runs the default study on the paper's specimen.\n"
                "Units are SI (m, Pa, s, kg); angles in degrees. Exit status: 0 done, 1 run failed, 2 bad input,\n"
                "3 a physical check failed."};
   app.require_subcommand(0, 1);
+  app.set_version_flag("--version", "rbdem " + rbdem::version_text(), "print the version (and the git commit of the build) and exit");
   bool help_scene = false;
   app.add_flag("--help-scene", help_scene, "list every scene key with unit, allowed range, default and meaning");
   bool print_defaults = false;

@@ -2,6 +2,7 @@
 #include "io/results.hpp"
 
 #include "io/result_h5.hpp"
+#include "dem/version.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -17,6 +18,7 @@ namespace rbdem::io {
 
 nlohmann::json run_summary(const Scene& scene, const TestResult& r) {
   nlohmann::json j;
+  j["version"] = version_text();
   j["test"] = r.test;
   j["beta_deg"] = scene.joint_set.dip_deg;
   j["spacing_m"] = scene.joint_set.spacing;

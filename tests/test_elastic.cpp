@@ -15,9 +15,10 @@
 #include "compare/gate/dem_constants.hpp"
 #include "compare/gate/elastic_gate.hpp"
 #include "compare/gate/gate_cache.hpp"
-#include "dem/specimen_mesh.hpp"
 #include "dem/driver/ucs.hpp"
+#include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
+#include "dem/version.hpp"
 #include "io/results.hpp"
 
 namespace rbdem {
@@ -266,6 +267,7 @@ TEST(Elastic, JsonHasTheContractKeys) {
   EXPECT_TRUE(j["gate"]["message"].is_string());
   EXPECT_TRUE(j["timing"]["fe_joints_seconds"].is_number());
   EXPECT_EQ(j["scene"]["mesh"]["size"], 0.004);
+  EXPECT_EQ(j["version"], version_text());
 }
 
 // The cache key covers what changes the elastic response and nothing else; a verdict is computed once.
@@ -282,6 +284,8 @@ TEST(Elastic, GateVerdictIsCachedUnderAKeyOfTheElasticScene) {
     apply_override(c, change);
     EXPECT_NE(compare::elastic_gate_key(a), compare::elastic_gate_key(c)) << change;
   }
+  // another build of rbdem never reuses a verdict
+  EXPECT_NE(compare::elastic_gate_key_text(a).find("rbdem=" + version_text() + "\n"), std::string::npos);
   const auto dir = std::filesystem::temp_directory_path() / ("rbdem-gate-cache-test-" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   ::setenv("RBDEM_CACHE_DIR", dir.c_str(), 1);

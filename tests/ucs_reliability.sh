@@ -4,6 +4,7 @@
 # an unstable step makes the watchdog stop the run with exit 1 and "completed": false; an output folder that cannot
 # be written is refused with exit 2 before the run; a full disk (a tiny tmpfs, where mounting is allowed) is
 # reported and leaves no summary.json.
+# Also: --version and the version recorded in summary.json.
 # Usage: ucs_reliability.sh RBDEM
 set -euo pipefail
 rbdem=$1
@@ -23,6 +24,13 @@ PY
 [ ! -e "$work/full/checkpoint.h5" ] || { echo "FAIL: a complete run leaves its checkpoint behind"; exit 1; }
 steps=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['steps'])" "$work/full/summary.json")
 echo "uninterrupted: $steps steps"
+
+# 0. The version: printed by --version and recorded in the summary.
+version=$("$rbdem" --version)
+[[ "$version" =~ ^rbdem\ [0-9]+\.[0-9]+\.[0-9]+ ]] || { echo "FAIL: --version printed '$version'"; exit 1; }
+python3 -c "import json,sys; v=json.load(open(sys.argv[1]))['version']; assert sys.argv[2] == 'rbdem ' + v, v" \
+  "$work/full/summary.json" "$version" || { echo "FAIL: summary.json's version is not --version's"; exit 1; }
+echo "OK: $version, recorded in summary.json"
 
 # 1. Interrupted (as by SIGINT) half-way, then resumed.
 set +e; "$rbdem" "${args[@]}" --out "$work/cut" --interrupt-at-step $((steps / 2)) > "$work/cut.log" 2>&1; rc=$?; set -e

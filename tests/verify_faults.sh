@@ -19,7 +19,7 @@ expect() {  # expect DIR CASE VERDICT
 set +e; "$rbdem" verify --quick --out "$work/clean" > "$work/clean.log" 2>&1; rc=$?; set -e
 cat "$work/clean.log"
 [ "$rc" -eq 0 ] || { echo "FAIL: verify --quick exit $rc on the clean build"; exit 1; }
-python3 -c "import json,sys; d=json.load(open(sys.argv[1])); assert d['all_passed'] and d['failed']==0 and len(d['cases'])>=8" "$work/clean/verify.json"
+python3 -c "import json,sys; d=json.load(open(sys.argv[1])); assert d['all_passed'] and d['failed']==0 and len(d['cases'])>=8 and d['version']" "$work/clean/verify.json"
 
 set +e; RBDEM_FAULT=compliance_sign "$rbdem" verify --quick --only 'theory\.|fe\.|dem\.objectivity' --out "$work/cs" > "$work/cs.log" 2>&1; rc=$?; set -e
 [ "$rc" -eq 3 ] || { cat "$work/cs.log"; echo "FAIL: compliance_sign fault: exit $rc, expected 3"; exit 1; }

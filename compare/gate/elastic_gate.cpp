@@ -16,6 +16,7 @@
 
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
+#include "dem/version.hpp"
 #include "mesh/trimesh.hpp"
 
 #ifdef RBDEM_HAVE_CONTINUUM
@@ -558,6 +559,7 @@ ElasticReport run_elastic_gate(const Scene& scene_in, const ElasticGateOptions& 
 
 nlohmann::json elastic_json(const ElasticReport& r, const Scene& scene) {
   nlohmann::json j;
+  j["version"] = version_text();
   auto dem = constants_json(r.dem.constants);
   dem["a11"] = r.dem.a.a11, dem["a22"] = r.dem.a.a22, dem["a12"] = r.dem.a.a12, dem["a66"] = r.dem.a.a66;
   dem["fit_residual"] = r.dem.residual;

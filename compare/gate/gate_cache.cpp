@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "io/results.hpp"
+#include "dem/version.hpp"
 
 namespace rbdem::compare {
 
@@ -56,7 +57,8 @@ std::string summary_line(const GateVerdict& g, bool cached) {
 }  // namespace
 
 std::string elastic_gate_key_text(const Scene& scene) {
-  std::string text = std::string(gate_version) + "\n";
+  // The code's version and commit too: another build may measure differently, so it never reuses a verdict.
+  std::string text = std::string(gate_version) + "\n" + "rbdem=" + version_text() + "\n";
   for (const auto& p : scene_parameters())
     if (!elastically_irrelevant(p.key)) text += p.key + "=" + parameter_text(scene, p.key) + "\n";
   if (!scene.mesh.file.empty())

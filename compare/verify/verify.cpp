@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include "dem/version.hpp"
+
 namespace rbdem::verify {
 
 const char* verdict_name(Verdict v) {
@@ -107,6 +109,7 @@ std::string table_md(const nlohmann::json& rows) {
 
 nlohmann::json verify_json(const std::vector<CaseResult>& results, const Context& ctx, double seconds) {
   nlohmann::json j;
+  j["version"] = version_text();
   j["mode"] = ctx.quick ? "quick" : "full";
   j["date"] = utc_now();
   j["hardware_threads"] = std::thread::hardware_concurrency();
