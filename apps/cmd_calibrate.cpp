@@ -1,7 +1,11 @@
 // rbdem calibrate: find micro parameters (bond strengths, moduli) that reproduce macro targets.
 //
 //   rbdem calibrate scenes/calibrate_paper.toml --out runs/cal      # writes calibrated.toml, calibration.csv
-// Every evaluation's UCS runs are kept under --out/eval_NN/ for inspection.
+// Every evaluation's UCS runs are kept under --out/eval_NN/ for inspection. The base scene and the scene of the
+// parameters' start values are checked for likely unit mistakes before anything runs (--force skips that).
+#include <algorithm>
+#include <thread>
+
 #include <fmt/format.h>
 
 #include "apps/cli_common.hpp"
@@ -20,11 +24,33 @@ struct CalibrateOptions {
   bool force = false;
 };
 
+// The scene the calibration starts from: the base with every parameter at its start value (as study/calibrate.cpp
+// sets them: key = value x ratio). A start of 200e9 for rock.cohesion is as much a unit mistake as a base value.
+Scene start_scene(const study::CalibrationSpec& spec) {
+  Scene s = spec.base;
+  for (const auto& p : spec.parameters)
+    for (std::size_t k = 0; k < p.keys.size(); ++k)
+      set_parameter(s, p.keys[k], fmt::format("{}", p.start * p.ratios[k]));
+  return s;
+}
+
 int run_calibrate(const CalibrateOptions& opt) {
-  study::CalibrationSpec spec = study::load_calibration(opt.targets);
+  study::CalibrationSpec spec =
+      load_input(opt.targets, InputKind::calibration, [](const auto& f) { return study::load_calibration(f); });
   for (const auto& s : opt.sets) apply_override(spec.base, s);
   validate(spec.base);
-  if (!opt.force) check_plausible(spec.base);
+  if (!opt.force) {
+    check_plausible(spec.base);
+    try {
+      check_plausible(start_scene(spec));
+    } catch (const SceneError& e) {
+      throw SceneError(fmt::format("{}: the start values of [[parameter]]: {}", opt.targets, e.what()));
+    }
+  }
+  // Each evaluation runs its dips side by side, one case per worker.
+  const int workers = opt.workers > 0 ? opt.workers : int(std::max(1u, std::thread::hardware_concurrency()));
+  if (spec.base.mesh.file.empty())
+    check_cost(spec.base, "calibrate", std::min(workers, int(spec.dips.size())), opt.force, false);
   fmt::print("calibrate: {} parameters, {} targets, tolerance {:.1f} %, at most {} iterations\n",
              spec.parameters.size(), spec.targets.size(), 100 * spec.tolerance, spec.max_iterations);
   std::filesystem::create_directories(opt.out);
@@ -45,7 +71,8 @@ int run_calibrate(const CalibrateOptions& opt) {
 Runner add_calibrate_command(CLI::App& app) {
   auto opt = std::make_shared<CalibrateOptions>();
   CLI::App* cmd = app.add_subcommand("calibrate", "fit micro parameters to macro targets; writes a ready scene");
-  cmd->add_option("targets", opt->targets, "targets file (TOML; see scenes/calibrate_paper.toml)")->required();
+  cmd->add_option("targets", opt->targets, "targets file (TOML with a [calibrate] table; see scenes/calibrate_paper.toml)")
+      ->required();
   cmd->add_option("--out,-o", opt->out, "output folder")->capture_default_str();
   cmd->add_option("--set", opt->sets, "override a key of the base scene")->type_name("KEY=VALUE")->allow_extra_args(false);
   cmd->add_option("--workers,-j", opt->workers, "cases run at once (default: all cores)");

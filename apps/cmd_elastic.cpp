@@ -46,7 +46,7 @@ int run_elastic_command(const ElasticCommandOptions& opt) {
     // skipped without matplotlib).
     const auto script = study::figure_script();
     const auto png = std::filesystem::path(opt.out) / "elastic_fields.png";
-    const std::string cmd = fmt::format("/usr/bin/python3 '{}' elastic-fields '{}' '{}' > /dev/null 2>&1",
+    const std::string cmd = fmt::format("'{}' '{}' elastic-fields '{}' '{}' > /dev/null 2>&1", study::figure_python(),
                                         script.string(), png.string(),
                                         (std::filesystem::path(opt.out) / "elastic.json").string());
     if (!script.empty() && std::system(cmd.c_str()) == 0) fmt::print("elastic: wrote {}\n", png.string());

@@ -4,7 +4,9 @@
 //   mpirun -np 4 rbdem sweep scenes/study_spacing.toml --out runs/spacing # cases spread over the ranks
 //   rbdem                                                                 # the paper's dip study, report
 // Each case gets its own folder; table.csv, groups.csv, timing.csv and report.md summarise the study. A sweep
-// stopped with Ctrl-C (or killed) resumes where it stopped when rerun with the same command.
+// stopped with Ctrl-C (or killed) resumes where it stopped when rerun with the same command. Before any case runs,
+// every case's scene is checked as `rbdem ucs` checks one (a strength at or above its modulus is refused unless
+// --force) and its cost estimated (refused when the cases run at once exceed the available memory).
 #include <mpi.h>
 #include <unistd.h>
 
@@ -44,6 +46,7 @@ struct SweepOptions {
   int workers = 0;
   bool quiet = false;
   bool skip_elastic_gate = false;
+  bool force = false;
 };
 
 // MPI only when launched by mpirun (OpenMPI, MPICH/PMI): a plain run needs no MPI at all.
@@ -75,12 +78,37 @@ struct MpiSession {
   bool owner = false;
 };
 
+// Every case's scene, before any runs: the likely unit mistakes of check_plausible (unless --force), named by case,
+// and the memory of the cases that run at once in this process.
+void check_cases(const std::vector<study::Case>& cases, int concurrent, bool force, bool quiet) {
+  const study::Case* costliest = nullptr;
+  for (const auto& c : cases) {
+    try {
+      if (!force) check_plausible(c.scene);
+    } catch (const SceneError& e) {
+      throw SceneError(fmt::format("case {}: {}", c.id, e.what()));
+    }
+    if (c.scene.mesh.file.empty() &&
+        (!costliest || estimate_cost(c.scene).bytes > estimate_cost(costliest->scene).bytes))
+      costliest = &c;
+  }
+  if (!costliest) return;
+  try {
+    check_cost(costliest->scene, "sweep", std::min<int>(concurrent, int(cases.size())), force, quiet);
+  } catch (const SceneError& e) {
+    throw SceneError(fmt::format("case {}: {}", costliest->id, e.what()));
+  }
+}
+
 int run_study(study::StudySpec spec, const std::filesystem::path& out, int workers, bool quiet, bool paper_check,
-              bool skip_gate) {
+              bool skip_gate, bool force) {
   io::require_writable_dir(out);  // before the gate and any case: a clear error naming the folder, exit 2
   MpiSession mpi;
   const auto t0 = std::chrono::steady_clock::now();
   const auto cases = study::expand(spec);
+  // Each case runs on one thread and gets more as others finish (study::run_cases): `workers` at once.
+  const int concurrent = workers > 0 ? workers : (mpi.size > 1 ? 1 : int(std::max(1u, std::thread::hardware_concurrency())));
+  check_cases(cases, concurrent, force, quiet || mpi.rank != 0);
   // The elastic gate, once per distinct elastic scene (groups varying e.g. kn/ks differ; verdicts are cached).
   std::string gate_markdown;
   if (!skip_gate) {
@@ -110,6 +138,19 @@ int run_study(study::StudySpec spec, const std::filesystem::path& out, int worke
   ro.workers = workers > 0 ? workers : (mpi.size > 1 ? 1 : 0);
   ro.progress = tty;
   ro.cancel = &interrupted;
+  // Not on a terminal (a log, a batch job): a plain line on stdout as each case finishes, on every rank.
+  std::size_t finished = 0;
+  const std::string of_total =
+      mpi.size > 1 ? fmt::format(" on rank {}", mpi.rank)
+                   : fmt::format(" of {} to run", cases.size() - study::collect(cases, out).size());
+  if (!isatty(fileno(stdout)) && !quiet)
+    ro.on_done = [&](const study::CaseResult& r) {
+      ++finished;
+      fmt::print("sweep: case {} done ({}{}): peak {:.2f} MPa, {}, {}\n", r.c.id, finished, of_total,
+                 r.summary.value("peak_stress_pa", 0.0) / 1e6, r.summary.value("failure_mode", std::string("?")),
+                 duration_text(r.wall_seconds));
+      std::fflush(stdout);
+    };
   auto previous = std::signal(SIGINT, on_sigint);
   auto previous_term = std::signal(SIGTERM, on_sigint);
   std::vector<study::CaseResult> ran;
@@ -189,7 +230,7 @@ int run_study(study::StudySpec spec, const std::filesystem::path& out, int worke
 Runner add_sweep_command(CLI::App& app) {
   auto opt = std::make_shared<SweepOptions>();
   CLI::App* cmd = app.add_subcommand("sweep", "a parameter study: one folder per case, table.csv, report.md");
-  cmd->add_option("study", opt->study, "study file (TOML; see scenes/study_*.toml)")->required();
+  cmd->add_option("study", opt->study, "study file (TOML with a [study] table; see scenes/study_*.toml)")->required();
   cmd->add_option("--out,-o", opt->out, "output folder (rerun to resume)")->capture_default_str();
   cmd->add_option("--set", opt->sets, "override a key of the study's base scene, e.g. --set mesh.size=0.002")
       ->type_name("KEY=VALUE")
@@ -198,11 +239,13 @@ Runner add_sweep_command(CLI::App& app) {
   cmd->add_flag("--quiet,-q", opt->quiet, "no progress lines");
   cmd->add_flag("--skip-elastic-gate", opt->skip_elastic_gate,
                 "run even when the elastic gate fails (DEM vs the FE model with the joints, and Amadei where the layers homogenize; rbdem elastic)");
+  add_force_flag(*cmd, opt->force);
   return [opt]() {
-    study::StudySpec spec = study::load_study(opt->study);
+    study::StudySpec spec =
+        load_input(opt->study, InputKind::study, [](const auto& f) { return study::load_study(f); });
     for (const auto& s : opt->sets) apply_override(spec.base, s);
     validate(spec.base);
-    return run_study(spec, opt->out, opt->workers, opt->quiet, false, opt->skip_elastic_gate);
+    return run_study(spec, opt->out, opt->workers, opt->quiet, false, opt->skip_elastic_gate, opt->force);
   };
 }
 
@@ -210,8 +253,9 @@ int run_default_job() {
   const Scene scene;
   study::StudySpec spec = study::dip_study(scene, "paper_dips");
   spec.description = "The seed paper's uniaxial compression study: the 100 x 50 mm specimen with joints every 10 mm "
-                     "at dips 0 to 90 deg (scenes/paper.toml).";
-  return run_study(spec, "runs/default", 0, false, true, false);
+                     "at dips 0 to 90 deg (the built-in paper scene, the same values as scenes/paper.toml).";
+  fmt::print("rbdem: the default study on {} (rbdem --help lists the commands)\n", builtin_scene);
+  return run_study(spec, "runs/default", 0, false, true, false, false);
 }
 
 }  // namespace rbdem::cli

@@ -5,7 +5,10 @@
 //   rbdem ucs my.toml --set mesh.size=0.002 --out runs/x --resume   # continue after Ctrl-C, a kill or a crash
 //   rbdem triaxial --beta 60 --confining 10e6 --out runs/t60        # confined at sigma_3 = 10 MPa
 //   rbdem brazilian --beta 30 --out runs/bz30           # a 50 mm disc (specimen.shape = "disc" is implied)
-// Writes summary.json, curve.csv, cracks.csv, scene.toml, result.h5 and result.xdmf into --out, each atomically.
+// Writes summary.json, curve.csv, cracks.csv, scene.toml, result.h5 and result.xdmf into --out, each atomically,
+// and lists what it wrote. Before meshing it estimates the run's cost (cli_common.hpp: printed when large, refused
+// when the memory exceeds what the machine has available). Progress: on a terminal one line updated in place;
+// otherwise (a log file, a pipe, a batch job) a plain line every 10 s with the time left.
 // Runs the elastic gate first (cached per scene, docs/elastic.md) and refuses with exit status 3 when it fails;
 // --skip-elastic-gate runs anyway. While running it writes checkpoint.h5 (numerics.checkpoint_every_steps,
 // numerics.checkpoint_every_seconds) and on SIGINT / SIGTERM, then exits with 130 / 143; --resume continues from it.
@@ -13,13 +16,17 @@
 // with "completed": false and exits with status 1 (docs/reliability.md).
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
+#include <cstdio>
 #include <filesystem>
 #include <optional>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "apps/cli_common.hpp"
 #include "apps/commands.hpp"
@@ -34,7 +41,6 @@ namespace rbdem::cli {
 
 namespace {
 
-
 struct TestCommandOptions {
   std::string test;  // ucs | triaxial | brazilian
   SceneOptions scene;
@@ -44,7 +50,75 @@ struct TestCommandOptions {
   bool resume = false;
   long interrupt_at_step = -1;  // tests: act as if SIGINT arrived at this step
   bool allow_supercritical_dt = false;  // tests: let numerics.dt exceed the critical step (provokes the watchdog)
+  double progress_seconds = 10.0;       // wall time between the plain progress lines (not on a terminal)
 };
+
+// The progress of a run, called by the driver every 1000 steps (RunOptions::progress). On a terminal (stdout and
+// stderr both) one line on stderr rewritten in place; otherwise a plain line on stdout every `every` seconds of
+// wall time, flushed, so a log shows how far the run is. The time left is the strain still to go at the strain
+// rate so far: after the peak, to the post-peak stop ((1 + loading.post_peak_strain) x the strain at the peak, or
+// earlier when the stress drops to loading.stop_fraction of the peak); before it the stop is unknown ("?", with
+// the bound loading.max_strain).
+class ProgressPrinter {
+ public:
+  ProgressPrinter(const Scene& scene, bool in_place, double every)
+      : scene_(scene), in_place_(in_place), every_(every), start_(Clock::now()) {}
+
+  void operator()(const RunProgress& p) {
+    const double now = std::chrono::duration<double>(Clock::now() - start_).count();
+    if (p.peak > peak_) peak_ = p.peak, strain_at_peak_ = p.strain;
+    if (!have_origin_) have_origin_ = true, t0_ = now, e0_ = p.strain;
+    if (in_place_) {
+      fmt::print(stderr, "\r  step {:>8}  strain {:.3e}  stress {:7.2f} MPa  peak {:7.2f} MPa  cracks {:>6}  left {:<8}",
+                 p.step, p.strain, p.stress / 1e6, p.peak / 1e6, p.cracks, time_left(p, now, false));
+      printed_ = true;
+      return;
+    }
+    if (now - last_ < every_) return;
+    last_ = now;
+    fmt::print("  step {}, strain {:.3e}, stress {:.2f} MPa (peak {:.2f} MPa), {} cracks, {} elapsed, left {}\n",
+               p.step, p.strain, p.stress / 1e6, p.peak / 1e6, p.cracks, duration_text(now), time_left(p, now, true));
+    std::fflush(stdout);
+  }
+  // Ends the line rewritten in place.
+  void finish() {
+    if (printed_) fmt::print(stderr, "\n");
+    printed_ = false;
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+
+  std::string time_left(const RunProgress& p, double now, bool with_bound) const {
+    const double rate = now - t0_ > 0.5 && p.strain > e0_ ? (p.strain - e0_) / (now - t0_) : 0.0;  // strain / s
+    if (!(rate > 0)) return "?";
+    const double max_strain = scene_.loading.max_strain;
+    const bool past_peak = p.cracks > 0 && p.stress < p.peak && strain_at_peak_ > 0;
+    if (past_peak) {
+      const double stop = std::min(max_strain, (1.0 + scene_.loading.post_peak_strain) * strain_at_peak_);
+      return "<= " + duration_text(std::max(0.0, stop - p.strain) / rate);
+    }
+    if (!with_bound) return "?";
+    return fmt::format("? (at most {} to loading.max_strain)", duration_text(std::max(0.0, max_strain - p.strain) / rate));
+  }
+
+  const Scene& scene_;
+  bool in_place_;
+  double every_;
+  Clock::time_point start_;
+  double last_ = 0, t0_ = 0, e0_ = 0, peak_ = 0, strain_at_peak_ = 0;
+  bool have_origin_ = false, printed_ = false;
+};
+
+// The files of `dir` written since `since`, by name.
+std::vector<std::string> files_written(const std::filesystem::path& dir, std::filesystem::file_time_type since) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec))
+    if (entry.is_regular_file(ec) && entry.last_write_time(ec) >= since) names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
 
 std::atomic<bool> interrupted{false};
 volatile std::sig_atomic_t last_signal = 0;
@@ -55,6 +129,8 @@ extern "C" void on_signal(int sig) {
 
 int run_test_command(const TestCommandOptions& opt) {
   namespace fs = std::filesystem;
+  // A second of slack for file systems with coarse time stamps: files older than the command are not listed.
+  const auto started = fs::file_time_type::clock::now() - std::chrono::seconds(1);
   SceneOptions so = opt.scene;
   if (opt.confining) so.sets.insert(so.sets.begin(), fmt::format("loading.confining_pressure={:.17g}", *opt.confining));
   if (opt.test == "brazilian") so.sets.insert(so.sets.begin(), "specimen.shape=disc");
@@ -79,6 +155,7 @@ int run_test_command(const TestCommandOptions& opt) {
                                    ckpt_file.string()));
   }
   // The gate checks the scene's materials; a disc is checked as the rectangular specimen of the same materials.
+  if (scene.mesh.file.empty()) check_cost(scene, opt.test, 1, opt.scene.force, opt.scene.quiet);
   if (!opt.resume && !opt.skip_elastic_gate && !compare::require_elastic_gate(gate_scene(scene))) return check_failed;
   const TriMesh mesh = make_mesh(scene);
   const Topology topo = build_topology(mesh, scene.specimen.thickness, scene.rock.density);
@@ -86,13 +163,10 @@ int run_test_command(const TestCommandOptions& opt) {
              topo.count(BondKind::joint), scene.joint_set.dip_deg,
              opt.test == "triaxial" ? fmt::format(", sigma_3 = {:.4g} MPa", scene.loading.confining_pressure / 1e6)
                                     : std::string());
+  std::fflush(stdout);
   RunOptions uo;
-  const bool tty = isatty(fileno(stderr));
-  if (tty && !opt.scene.quiet)
-    uo.progress = [](const RunProgress& p) {
-      fmt::print(stderr, "\r  step {:>8}  strain {:.3e}  stress {:7.2f} MPa  peak {:7.2f} MPa  cracks {:>6}", p.step,
-                 p.strain, p.stress / 1e6, p.peak / 1e6, p.cracks);
-    };
+  ProgressPrinter progress(scene, isatty(fileno(stdout)) && isatty(fileno(stderr)), opt.progress_seconds);
+  if (!opt.scene.quiet) uo.progress = [&progress](const RunProgress& p) { progress(p); };
   uo.checkpoint = [&](const TestCheckpoint& c) { io::write_checkpoint(ckpt_file, c); };
   uo.cancel = &interrupted;
   uo.interrupt_at_step = opt.interrupt_at_step;
@@ -110,7 +184,7 @@ int run_test_command(const TestCommandOptions& opt) {
     r = run_test(opt.test, scene, topo, uo);
   } catch (const RunCancelled& c) {
     std::signal(SIGINT, old_int), std::signal(SIGTERM, old_term);
-    if (tty && !opt.scene.quiet) fmt::print(stderr, "\n");
+    progress.finish();
     const int sig = last_signal != 0 ? int(last_signal) : SIGINT;
     fmt::print(stderr,
                "rbdem: interrupted ({}) at step {}: wrote the checkpoint {}. To continue, run the same command with "
@@ -119,10 +193,11 @@ int run_test_command(const TestCommandOptions& opt) {
     return 128 + sig;
   } catch (...) {
     std::signal(SIGINT, old_int), std::signal(SIGTERM, old_term);
+    progress.finish();
     throw;
   }
   std::signal(SIGINT, old_int), std::signal(SIGTERM, old_term);
-  if (tty && !opt.scene.quiet) fmt::print(stderr, "\n");
+  progress.finish();
   io::write_run(out, scene, mesh, topo, r);
   if (!r.completed) {
     fmt::print(stderr, "rbdem: run failed: {}\n", r.watchdog_message);
@@ -151,8 +226,7 @@ int run_test_command(const TestCommandOptions& opt) {
                r.jacket_edges_lost);
   if (!r.quasi_static)
     fmt::print("{}: warning: the test was not quasi-static: {}\n", opt.test, r.quasi_static_reason);
-  fmt::print("{}: wrote {}/summary.json, curve.csv, cracks.csv, scene.toml, result.h5, result.xdmf\n", opt.test,
-             opt.out);
+  fmt::print("{}: wrote into {}: {}\n", opt.test, opt.out, fmt::join(files_written(out, started), ", "));
   return ok;
 }
 
@@ -181,6 +255,9 @@ Runner add_test_command(CLI::App& app, const std::string& test) {
       ->group("");  // hidden
   cmd->add_flag("--allow-supercritical-dt", opt->allow_supercritical_dt,
                 "testing: accept numerics.dt above the critical step (the watchdog then stops the run)")
+      ->group("");  // hidden
+  cmd->add_option("--progress-seconds", opt->progress_seconds,
+                  "testing: wall time between the plain progress lines written when not on a terminal")
       ->group("");  // hidden
   return [opt]() { return run_test_command(*opt); };
 }

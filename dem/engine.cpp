@@ -239,10 +239,11 @@ void declare_numerics(Keys& k) {
                 "which adds corner contacts inside intact rock; docs/performance.md)",
                 [](Scene& s) -> bool& { return s.numerics.search_free_faces_only; }));
   k.add(integer("numerics.checkpoint_every_steps", "-", 0, 2000000000,
-                "rbdem ucs writes checkpoint.h5 every this many explicit steps (0 = off); --resume continues",
+                "rbdem ucs, triaxial and brazilian write checkpoint.h5 every this many explicit steps (0 = off); "
+                "--resume continues",
                 [](Scene& s) -> int& { return s.numerics.checkpoint_every_steps; }));
   k.add(real("numerics.checkpoint_every_seconds", "s", 0.0, 1e7,
-             "rbdem ucs writes checkpoint.h5 every this much wall-clock time (0 = off)",
+             "rbdem ucs, triaxial and brazilian write checkpoint.h5 every this much wall-clock time (0 = off)",
              [](Scene& s) -> double& { return s.numerics.checkpoint_every_seconds; }));
 }
 

@@ -28,13 +28,30 @@ import os
 import sys
 import time
 
-import matplotlib
+INSTALL_HINT = "apt-get install python3-matplotlib python3-h5py python3-numpy"
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
-from matplotlib.lines import Line2D  # noqa: E402
+
+def _missing_module(error):
+    """One line instead of a traceback when run as a script without matplotlib, numpy or h5py: exit status 2."""
+    name = getattr(error, "name", None) or str(error)
+    print(f"rbdem_figures.py: {sys.executable} cannot import {name}: {INSTALL_HINT} "
+          "(or run the script with a Python that has matplotlib, h5py and numpy: rbdem uses $RBDEM_PYTHON)",
+          file=sys.stderr)
+    sys.exit(2)
+
+
+try:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt  # noqa: E402
+    import numpy as np  # noqa: E402
+    from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
+    from matplotlib.lines import Line2D  # noqa: E402
+except ImportError as e:
+    if __name__ != "__main__":
+        raise  # imported as a module: the importer sees the ImportError
+    _missing_module(e)
 
 # Crack classes: (kind, mode) -> (legend label, colour). kind 0 rock, 1 joint; mode 1 tensile, 2 shear.
 CRACK_STYLES = {
@@ -568,4 +585,7 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    try:
+        sys.exit(main())
+    except ImportError as e:  # h5py is imported where a figure needs result.h5
+        _missing_module(e)

@@ -33,6 +33,16 @@ bool run(const std::string& command) { return std::system((command + " > /dev/nu
 
 }  // namespace
 
+std::string figure_python() {
+  // Looked up once: each probe starts a Python that imports matplotlib (a second or so).
+  static const std::string python = [] {
+    if (const char* env = std::getenv("RBDEM_PYTHON"); env && *env) return std::string(env);
+    if (run("python3 -c 'import matplotlib, h5py, numpy'")) return std::string("python3");
+    return std::string("/usr/bin/python3");
+  }();
+  return python;
+}
+
 std::filesystem::path figure_script() {
   std::vector<std::filesystem::path> candidates;
   if (const char* env = std::getenv("RBDEM_PYTHON_DIR")) candidates.push_back(std::filesystem::path(env));
@@ -47,12 +57,14 @@ std::vector<std::filesystem::path> make_figures(const StudySpec& spec, const std
                                                 const std::filesystem::path& out, std::string* note) {
   std::vector<std::filesystem::path> made;
   const auto script = figure_script();
-  const std::string python = "/usr/bin/python3";
+  const std::string python = quote(figure_python());
   if (script.empty() || !run(python + " -c 'import matplotlib, h5py, numpy'")) {
     if (note)
-      *note = "figures skipped: " + std::string(script.empty() ? "python/rbdem_figures.py not found"
-                                                               : "/usr/bin/python3 lacks matplotlib, h5py or numpy "
-                                                                 "(apt-get install python3-matplotlib python3-h5py)");
+      *note = "figures skipped: " +
+              (script.empty() ? std::string("python/rbdem_figures.py not found")
+                              : figure_python() + " lacks matplotlib, h5py or numpy (apt-get install python3-matplotlib "
+                                                  "python3-h5py python3-numpy, or set RBDEM_PYTHON to a Python that "
+                                                  "has them)");
     return made;
   }
   const std::string cmd = python + " " + quote(script);

@@ -17,7 +17,7 @@ struct ReportExtras {
   std::vector<Envelope> envelopes;    // a confined study's strength envelopes (write_envelopes)
 };
 
-// Runs the figure script (python/rbdem_figures.py with Debian's /usr/bin/python3) for the study: stress-strain
+// Runs the figure script (python/rbdem_figures.py with figure_python()) for the study: stress-strain
 // curves per group, strength versus dip with Jaeger's curve, crack maps. Returns the figure paths made (empty when
 // Python or matplotlib is missing: the report then says so).
 std::vector<std::filesystem::path> make_figures(const StudySpec& spec, const std::vector<CaseResult>& results,
@@ -30,5 +30,8 @@ std::filesystem::path write_report(const StudySpec& spec, const std::vector<Case
 
 // The figure script, searched in $RBDEM_PYTHON_DIR, the install prefix and the source tree.
 std::filesystem::path figure_script();
+// The Python that runs it: $RBDEM_PYTHON when set, else the python3 on PATH when it imports matplotlib, h5py and
+// numpy, else Debian's /usr/bin/python3. Unquoted.
+std::string figure_python();
 
 }  // namespace rbdem::study

@@ -47,9 +47,11 @@ std::string classify_failure(const std::vector<Crack>& cracks, const Topology& t
     else (shear ? rock_s : rock_t) += N.length[b];
   }
   // A joint broken along most of its length failed as a plane. It slid if it was broken in shear and the load
-  // resolves a large shear stress on it: tau / sigma = sin(2 beta) / 2 > 1/4, i.e. 15 < beta < 75 deg. At steeper
-  // and flatter dips a broken joint has opened: splitting along the layers (the paper's cleavage at 75-90 deg).
-  const bool shear_loaded = dip_deg > 15.0 && dip_deg < 75.0;
+  // resolves a large shear stress on it: tau / sigma = sin(2 beta) / 2 >= 1/4, i.e. 15 <= beta <= 75 deg (at 75 deg
+  // the paper scene's joints break in shear over their whole length, as Jaeger's slip range 30 < beta < 90 has
+  // it). At steeper and flatter dips a broken joint has opened: splitting along the layers (the paper's cleavage
+  // at 90 deg).
+  const bool shear_loaded = dip_deg >= 15.0 && dip_deg <= 75.0;
   bool slipped = false, opened = false;
   for (const auto& [id, len] : joints) {
     if (len[1] + len[2] < 0.5 * len[0]) continue;
