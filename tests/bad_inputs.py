@@ -139,6 +139,9 @@ def main():
     ap.add_argument("--rbdem", required=True)
     ap.add_argument("--work", required=True)
     ap.add_argument("--docs", default=os.path.join(SOURCE, "docs", "bad_inputs.md"))
+    # The page documents the full build; a build without deal.II (no `elastic` command, e.g. the sanitizer build)
+    # lists other commands in its messages, so it checks the refusals only.
+    ap.add_argument("--no-docs", action="store_true", help="check the refusals, not the page")
     args = ap.parse_args()
     rbdem = os.path.abspath(args.rbdem)
     work = os.path.abspath(args.work)
@@ -194,7 +197,7 @@ def main():
             current = f.read()
     except OSError:
         current = ""
-    if current != page:
+    if current != page and not args.no_docs:
         diff = "".join(difflib.unified_diff(current.splitlines(True), page.splitlines(True), args.docs, generated))
         failures.append(f"{args.docs} differs from the generated table ({generated}):\n{diff}\n"
                         "refresh it: RBDEM_UPDATE_DOCS=1 ctest --test-dir build -R BadInputs")
