@@ -96,13 +96,6 @@ Scene resolve_scene(const SceneOptions& opt) {
   return scene;
 }
 
-Scene gate_scene(const Scene& scene) {
-  Scene s = scene;
-  s.specimen.shape = "rectangle";
-  s.loading.confining_pressure = 0.0;
-  return s;
-}
-
 void print_scene(const Scene& scene, const SceneOptions& opt) {
   if (opt.quiet) return;
   const std::string file = scene_path(opt);

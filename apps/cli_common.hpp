@@ -11,6 +11,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "compare/gate/gate_cache.hpp"
 #include "dem/scene.hpp"
 
 namespace rbdem::cli {
@@ -43,10 +44,8 @@ std::string scene_path(const SceneOptions& opt);
 Scene resolve_scene(const SceneOptions& opt);
 // Prints the resolved scene (TOML) under a heading, unless quiet.
 void print_scene(const Scene& scene, const SceneOptions& opt);
-// The scene the elastic gate checks for a test: the gate meshes rectangles at every dip, so a disc's materials are
-// checked on the rectangular specimen of the scene's other keys, without confinement (which does not change the
-// elastic moduli of the linear model).
-Scene gate_scene(const Scene& scene);
+// The scene the elastic gate checks for a test (compare/gate/gate_cache.hpp; the Python module uses it too).
+using compare::gate_scene;
 
 // What a TOML file named on the command line holds, judged by its table headers ([study], [calibrate], scene
 // sections), so that a study given where a scene belongs (or the converse) is refused with the command to use.

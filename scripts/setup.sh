@@ -4,7 +4,8 @@
 #   scripts/setup.sh test    builds everything (library, command, tests, benchmarks) and runs the test suite
 #                            (CTest) and the find_package(rbdem) consumer check
 #   scripts/setup.sh build   only installs and builds everything
-# clang, libclang-rt-14-dev and libomp-dev are for the fuzz targets (tests/fuzz/run.sh, run by .ci/run).
+# clang, libclang-rt-14-dev and libomp-dev are for the fuzz targets (tests/fuzz/run.sh, run by .ci/run);
+# pybind11-dev and python3-pytest for the Python module and its tests (docs/python.md).
 # Idempotent: packages already present are not reinstalled; the build is incremental.
 # Works as root or through sudo. Environment: BUILD_DIR (default build), JOBS (default: all cores).
 set -euo pipefail
@@ -18,6 +19,7 @@ packages=(
   libtomlplusplus-dev libcli11-dev libfmt-dev nlohmann-json3-dev
   libgtest-dev libbenchmark-dev
   python3 python3-matplotlib python3-h5py python3-numpy
+  pybind11-dev python3-pytest
   openmpi-bin
   clang libclang-rt-14-dev libomp-dev
 )

@@ -19,7 +19,10 @@ exclude=${EXCLUDE:-'^Sweep\.|^Static\.ExplicitInitialSlope|^Io\.FigureScript'}
 # -Wno-maybe-uninitialized: gcc 12 warns falsely inside libstdc++ <regex> once ASan instruments it.
 flags="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer -g -O1 -Wno-maybe-uninitialized"
 mkdir -p "$build"
+# No Python module: an ASan-instrumented extension cannot load into an uninstrumented python3 (the ASan runtime
+# must come first in the process).
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRBDEM_WITH_DEALII=OFF -DRBDEM_BUILD_BENCHMARKS=OFF \
+  -DRBDEM_WITH_PYTHON=OFF \
   -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" >"$build/configure.log" 2>&1 \
   || { cat "$build/configure.log"; exit 1; }
 cmake --build "$build" -j "$jobs"

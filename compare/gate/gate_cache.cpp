@@ -141,6 +141,13 @@ GateCheck check_elastic_gate(const Scene& scene, const ElasticGateOptions& optio
   return c;
 }
 
+Scene gate_scene(const Scene& scene) {
+  Scene s = scene;
+  s.specimen.shape = "rectangle";
+  s.loading.confining_pressure = 0.0;
+  return s;
+}
+
 bool require_elastic_gate(const Scene& scene, bool quiet) {
   const GateCheck c = check_elastic_gate(scene);
   if (!c.note.empty() && !quiet) fmt::print("{}\n", c.note);

@@ -46,6 +46,11 @@ GateCheck check_elastic_gate(const Scene& scene, const ElasticGateOptions& optio
 // Returns the file, or an empty path when the cache cannot be written (not an error).
 std::filesystem::path store_elastic_gate(const Scene& scene, const ElasticReport& report);
 
+// The scene the elastic gate checks for a test: the gate meshes rectangles at every dip, so a disc's materials are
+// checked on the rectangular specimen of the scene's other keys, without confinement (which does not change the
+// elastic moduli of the linear model).
+Scene gate_scene(const Scene& scene);
+
 // For the command line: checks the gate and prints its message (which comparison decided and why) when it passes,
 // or the table, the reason and the --skip-elastic-gate hint when it fails. Returns false when the run must be
 // refused.
