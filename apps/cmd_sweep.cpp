@@ -47,6 +47,7 @@ struct SweepOptions {
   bool quiet = false;
   bool skip_elastic_gate = false;
   bool force = false;
+  int realizations = 0;  // 0: the study's own
 };
 
 // MPI only when launched by mpirun (OpenMPI, MPICH/PMI): a plain run needs no MPI at all.
@@ -114,6 +115,7 @@ int run_study(study::StudySpec spec, const std::filesystem::path& out, int worke
   if (!skip_gate) {
     std::set<std::string> seen;
     for (const auto& c : cases) {
+      if (c.realization > 0) continue;  // the first mesh of a case stands for its realizations
       if (!seen.insert(to_toml(gate_scene(c.scene))).second) continue;  // once per elastic scene (not per sigma_3)
       const compare::GateCheck g = compare::check_elastic_gate(gate_scene(c.scene));
       if (g.status == compare::GateCheck::Status::failed) {
@@ -131,8 +133,10 @@ int run_study(study::StudySpec spec, const std::filesystem::path& out, int worke
   }
   const bool tty = isatty(fileno(stderr)) && !quiet;
   if (mpi.rank == 0)
-    fmt::print("sweep {}: {} cases ({} dips{}) into {}{}\n", spec.name, cases.size(), spec.dips.size(),
-               spec.axes.empty() ? "" : fmt::format(" x {} variations", cases.size() / spec.dips.size()), out.string(),
+    fmt::print("sweep {}: {} cases ({} dips{}{}) into {}{}\n", spec.name, cases.size(), spec.dips.size(),
+               spec.axes.empty() ? ""
+                                 : fmt::format(" x {} variations", cases.size() / spec.dips.size() / spec.realizations),
+               spec.realizations > 1 ? fmt::format(" x {} realizations", spec.realizations) : "", out.string(),
                mpi.size > 1 ? fmt::format(" over {} MPI ranks", mpi.size) : "");
   study::SweepOptions ro;
   ro.workers = workers > 0 ? workers : (mpi.size > 1 ? 1 : 0);
@@ -179,32 +183,42 @@ int run_study(study::StudySpec spec, const std::filesystem::path& out, int worke
                                          cases.size(), out.string()));
   const auto groups = study::write_tables(results, out);
   study::write_timing(results, out);
+  // The report and the printed table show one row per case: the mean over its realizations (the case itself
+  // without realizations).
+  const auto points = study::realization_means(results);
+  std::vector<study::CaseResult> rows;
+  for (const auto& p : points) rows.push_back(p.mean);
   study::ReportExtras extras;
   if (spec.test == "triaxial") extras.envelopes = study::write_envelopes(results, out);
   extras.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   extras.workers = ro.workers > 0 ? ro.workers : int(std::thread::hardware_concurrency());
   extras.paper_check = paper_check;
   extras.elastic_gate_markdown = gate_markdown;
-  const auto report = study::write_report(spec, results, groups, out, extras);
+  if (spec.realizations > 1) extras.points = &points;
+  const auto report = study::write_report(spec, rows, groups, out, extras);
 
   std::map<std::string, double> s90;
   for (const auto& g : groups) s90[g.group] = g.strength_90_pa;
   if (spec.test == "brazilian") {
     fmt::print("\n{:<34} {:>6} {:>12} {:>12} {:>12}  {}\n", "case", "beta", "layers/load", "tensile MPa", "load kN",
                "failure mode");
-    for (const auto& r : results) {
+    for (const auto& r : rows) {
       const auto& s = r.summary;
       fmt::print("{:<34} {:>6g} {:>12g} {:>12.3f} {:>12.2f}  {}\n", r.c.group.empty() ? "-" : r.c.group, r.c.beta,
                  s.value("layer_angle_deg", 0.0), s.value("tensile_strength_pa", 0.0) / 1e6,
                  s.value("peak_load_n", 0.0) / 1e3, s["failure_mode"].get<std::string>());
     }
   } else {
-    fmt::print("\n{:<34} {:>6} {:>10} {:>10} {:>10}  {}\n", "case", "beta", "peak MPa", "Jaeger MPa", "E50 GPa",
+    const bool spread = spec.realizations > 1;
+    fmt::print("\n{:<34} {:>6} {:>10}{} {:>10} {:>10}  {}\n", "case", "beta", spread ? "mean MPa" : "peak MPa",
+               spread ? fmt::format(" {:>8} {:>10}", "sd MPa", "95 % +-") : "", "Jaeger MPa", "E50 GPa",
                "failure mode");
-    for (const auto& r : results) {
+    for (const auto& p : points) {
+      const auto& r = p.mean;
       const auto& s = r.summary;
-      fmt::print("{:<34} {:>6g} {:>10.2f} {:>10.2f} {:>10.1f}  {}\n", r.c.group.empty() ? "-" : r.c.group, r.c.beta,
+      fmt::print("{:<34} {:>6g} {:>10.2f}{} {:>10.2f} {:>10.1f}  {}\n", r.c.group.empty() ? "-" : r.c.group, r.c.beta,
                  s["peak_stress_pa"].get<double>() / 1e6,
+                 spread ? fmt::format(" {:>8.2f} {:>10.2f}", p.peak.sd / 1e6, p.peak.ci95 / 1e6) : "",
                  study::jaeger_for(r.c.scene, r.c.beta, s90[r.c.group]) / 1e6,
                  s["youngs_modulus_pa"].get<double>() / 1e9, s["failure_mode"].get<std::string>());
     }
@@ -239,23 +253,34 @@ Runner add_sweep_command(CLI::App& app) {
   cmd->add_flag("--quiet,-q", opt->quiet, "no progress lines");
   cmd->add_flag("--skip-elastic-gate", opt->skip_elastic_gate,
                 "run even when the elastic gate fails (DEM vs the FE model with the joints, and Amadei where the layers homogenize; rbdem elastic)");
+  cmd->add_option("--realizations", opt->realizations,
+                  "meshes per case (mesh.seed = base seed + 0 .. N-1), instead of the study's realizations")
+      ->type_name("N");
   add_force_flag(*cmd, opt->force);
-  return [opt]() {
+  return [opt, cmd]() {
     study::StudySpec spec =
         load_input(opt->study, InputKind::study, [](const auto& f) { return study::load_study(f); });
     for (const auto& s : opt->sets) apply_override(spec.base, s);
     validate(spec.base);
+    if (cmd->count("--realizations")) spec.realizations = opt->realizations;
+    study::check_realizations(spec.realizations, spec.base);
     return run_study(spec, opt->out, opt->workers, opt->quiet, false, opt->skip_elastic_gate, opt->force);
   };
 }
 
-int run_default_job() {
+int run_default_job(int realizations) {
   const Scene scene;
+  study::check_realizations(realizations, scene);
   study::StudySpec spec = study::dip_study(scene, "paper_dips");
   spec.description = "The seed paper's uniaxial compression study: the 100 x 50 mm specimen with joints every 10 mm "
                      "at dips 0 to 90 deg (the built-in paper scene, the same values as scenes/paper.toml).";
+  spec.realizations = realizations;
+  if (realizations > 1)
+    spec.description += fmt::format(" {} meshes per dip (mesh.seed 0 to {}): the mean peak with its 95 % interval.",
+                                    realizations, realizations - 1);
   fmt::print("rbdem: the default study on {} (rbdem --help lists the commands)\n", builtin_scene);
-  return run_study(spec, "runs/default", 0, false, true, false, false);
+  return run_study(spec, realizations > 1 ? "runs/default_realizations" : "runs/default", 0, false, true, false,
+                   false);
 }
 
 }  // namespace rbdem::cli

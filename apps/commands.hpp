@@ -18,6 +18,8 @@ Runner add_calibrate_command(CLI::App& app);
 Runner add_verify_command(CLI::App& app);
 Runner add_elastic_command(CLI::App& app);  // only in the deal.II build (RBDEM_HAVE_CONTINUUM)
 // The main job with no arguments.
-int run_default_job();
+// The default dip study; with realizations > 1, that many meshes per dip (mesh.seed 0 .. realizations - 1) into
+// runs/default_realizations, with the mean, sd and 95 % interval of each dip's peak.
+int run_default_job(int realizations = 1);
 
 }  // namespace rbdem::cli

@@ -4,6 +4,7 @@
 // Usage:
 //   rbdem                                   the default study on the built-in paper scene (the same values as
 //                                           scenes/paper.toml): table and report
+//   rbdem --realizations 5                  the same with five meshes per dip: mean, sd, 95 % interval
 //   rbdem ucs --beta 60 --out runs/b60      one uniaxial compression test
 //   rbdem triaxial --beta 60 --confining 10e6 --out runs/t60   one confined compression test
 //   rbdem brazilian --beta 30 --out runs/bz30                  one Brazilian test of a disc
@@ -97,6 +98,11 @@ int main(int argc, char** argv) {
   app.add_flag("--help-scene", help_scene, "list every scene key with unit, allowed range, default and meaning");
   bool print_defaults = false;
   app.add_flag("--print-scene", print_defaults, fmt::format("print {} as TOML", builtin_scene));
+  int realizations = 1;
+  app.add_option("--realizations", realizations,
+                 "with no command: meshes per dip of the default study (mesh.seed 0 .. N-1; mean, sd and 95 % "
+                 "interval per dip, into runs/default_realizations)")
+      ->type_name("N");
 
   std::map<CLI::App*, Runner> runners;
   runners[nullptr] = nullptr;
@@ -112,9 +118,11 @@ int main(int argc, char** argv) {
   add(add_elastic_command(app));
 #endif
 
-  // The first word that is not an option names the command (rbdem's own options take no values).
+  // The first word that is not an option names the command (rbdem's own options take no values but
+  // --realizations).
   for (int i = 1; i < argc; ++i) {
     const std::string word = argv[i];
+    if (word == "--realizations") ++i;
     if (word.starts_with("-")) continue;
     const auto names = command_names(app);
     if (std::find(names.begin(), names.end(), word) == names.end()) return refuse_unknown_command(app, word);
@@ -139,8 +147,15 @@ int main(int argc, char** argv) {
       return ok;
     }
     for (auto& [cmd, run] : runners)
-      if (cmd && cmd->parsed()) return run();
-    return run_default_job();
+      if (cmd && cmd->parsed()) {
+        if (app.count("--realizations"))
+          throw std::invalid_argument(fmt::format("--realizations goes with the default study (no command): for "
+                                                  "`rbdem {0}` give realizations = N in the study's [study] table or "
+                                                  "`rbdem sweep STUDY.toml --realizations N`",
+                                                  cmd->get_name()));
+        return run();
+      }
+    return run_default_job(realizations);
   } catch (const rbdem::SceneError& e) {
     fmt::print(stderr, "rbdem: error: {}\n", e.what());
     return bad_input;

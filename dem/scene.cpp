@@ -347,6 +347,10 @@ void validate(const Scene& scene) {
                                  "at least two elements across; use mesh.size <= {} m or a wider spacing",
                                  fmt_real(scene.joint_set.spacing), fmt_real(scene.mesh.size),
                                  fmt_real(0.5 * scene.joint_set.spacing)));
+  if (scene.mesh.seed != 0 && !scene.mesh.file.empty())
+    throw SceneError(fmt::format("mesh.seed = {} has no effect on a user mesh (mesh.file = \"{}\"): realizations "
+                                 "re-mesh the specimen; use mesh.seed = 0 with a user mesh, or no mesh.file",
+                                 scene.mesh.seed, scene.mesh.file));
 }
 
 void check_plausible(const Scene& scene) {

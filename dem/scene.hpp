@@ -36,6 +36,7 @@ struct JointSetParams {
 struct MeshParams {
   double size = 0.001;    // m, target triangle edge length
   std::string file;       // optional user mesh (.msh, physical surfaces = layers); empty = generate
+  int seed = 0;           // mesh realization; 0 = the unperturbed mesh (dem/specimen_mesh.hpp, mesh_specimen)
 };
 
 // Bond and contact parameters of one contact kind (rock inside a layer, joint across layers).

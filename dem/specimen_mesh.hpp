@@ -23,6 +23,7 @@ struct SpecimenGeometry {
   bool joints = true;
   bool disc = false;                             // the disc inscribed in the width x height box
   double contact_arc_deg = 0.0;                  // a disc's flattened ends subtend 2 alpha (0: a full disc)
+  int mesh_seed = 0;                             // mesh realization (mesh.seed); 0 = the unperturbed mesh
 
   static SpecimenGeometry from_scene(const Scene& scene);
   // Unit vectors along the joints and along their normal; exact at 0 and 90 degrees.
@@ -44,6 +45,13 @@ std::vector<JointSegment> joint_segments(const SpecimenGeometry& g, double min_p
 
 // Meshes the specimen with target edge length h. Throws SceneError when a layer is narrower than about two
 // elements. When `msh_out` is not empty the mesh is also written there (gmsh MSH 4.1).
+//
+// Realizations (g.mesh_seed != 0): gmsh's Delaunay mesher fills the interior deterministically from the nodes on
+// the curves (sides and joints), and Mesh.RandomSeed does not change a jointed specimen's mesh in gmsh 4.8. A
+// nonzero seed therefore grades the nodes of every curve by a seeded geometric progression: each curve keeps the
+// number of segments gmsh gives it at size h, and its spacing varies by at most +-2.5 % about the mean L / n. That
+// moves nearly every node of the curves, and the mesher then lays a different interior of the same size and
+// quality. The same seed gives the same mesh, bit for bit; seed 0 is the mesh without any grading.
 TriMesh mesh_specimen(const SpecimenGeometry& g, double h, const std::filesystem::path& msh_out = {});
 
 // Reads a user mesh: one physical surface group per layer, first-order triangles only, planar (z = 0), no volume

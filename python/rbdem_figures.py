@@ -243,6 +243,7 @@ def plot_strength(out, table, group=None):
     if group and group not in rows[0]:
         raise SystemExit(f"{table}: no column {group} for --group (columns: {', '.join(rows[0])})")
     has_jaeger = "jaeger_pa" in rows[0]
+    has_ci = "peak_stress_ci95_pa" in rows[0]
     groups = {}
     for r in rows:
         groups.setdefault(r[group] if group else "", []).append(r)
@@ -263,7 +264,11 @@ def plot_strength(out, table, group=None):
         if ok.any():
             k = int(np.nanargmin(peak))
             label += f" (min {peak[k]:.1f} MPa at {beta[k]:g}°)"
-        ax.plot(beta, peak, marker="o", color=color, lw=1.5, label=label)
+        if has_ci:  # a study with realizations: the mean with its 95 % interval
+            ci = np.array([_float(r["peak_stress_ci95_pa"]) for r in rs])[order] / 1e6
+            ax.errorbar(beta, peak, yerr=ci, marker="o", color=color, lw=1.5, capsize=3, label=label)
+        else:
+            ax.plot(beta, peak, marker="o", color=color, lw=1.5, label=label)
         if ok.any():
             ax.plot([beta[k]], [peak[k]], marker="v", ms=11, mfc="none", mec=color, mew=1.6, zorder=5)
         if has_jaeger:
@@ -280,7 +285,10 @@ def plot_strength(out, table, group=None):
     ax.set_xlim(-3, 93)
     ax.set_ylim(bottom=0)
     ax.grid(alpha=0.3)
-    ax.set_title("Uniaxial strength versus joint dip (▽: minimum)", fontsize=10)
+    title = "Uniaxial strength versus joint dip (▽: minimum)"
+    if has_ci:
+        title += f"\nmean of {rows[0]['realizations']} meshes, bars: 95 % interval of the mean"
+    ax.set_title(title, fontsize=10)
     ax.legend(handles=handles, fontsize=8, loc="lower left")
     fig.savefig(out, dpi=150)
     plt.close(fig)
@@ -305,6 +313,9 @@ def plot_tensile(out, table):
     order = np.argsort(angle)
     fig, ax = plt.subplots(figsize=(6.4, 4.4), constrained_layout=True)
     ax.plot(angle[order], ts[order], color="0.3", lw=1.2, zorder=1)
+    if "tensile_strength_ci95_pa" in rows[0]:  # a study with realizations: the 95 % interval of each mean
+        ci = np.array([_float(r["tensile_strength_ci95_pa"]) for r in rows]) / 1e6
+        ax.errorbar(angle, ts, yerr=ci, ls="none", color="0.3", capsize=3, zorder=1)
     markers = {"central_fracture": "o", "non_central_fracture": "s", "layer_activation": "^", "mixed": "D"}
     for mode in dict.fromkeys(modes):
         k = [i for i, m in enumerate(modes) if m == mode]

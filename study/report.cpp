@@ -110,7 +110,26 @@ std::vector<std::filesystem::path> make_figures(const StudySpec& spec, const std
 namespace {
 std::string compression_section(const std::vector<CaseResult>& results, const std::vector<GroupSummary>& groups,
                                 const ReportExtras& extras);
-std::string brazilian_section(const std::vector<CaseResult>& results);
+std::string brazilian_section(const std::vector<CaseResult>& results, const std::vector<PointResult>* points);
+
+// A count of a summary (an integer, or the mean of the realizations' counts).
+std::string count(const nlohmann::json& v) { return fmt::format("{:.10g}", v.get<double>()); }
+
+// " +- 1.23 [0.99]" (MPa) after the mean of row k, with realizations; nothing without.
+std::string spread_text(const std::vector<PointResult>* points, std::size_t k, bool tensile) {
+  if (!points) return {};
+  const SampleStats& st = tensile ? (*points)[k].tensile : (*points)[k].peak;
+  return fmt::format(" +- {:.2f} [{:.2f}]", st.ci95 / 1e6, st.sd / 1e6);
+}
+
+std::string realizations_text(const std::vector<PointResult>* points) {
+  if (!points || points->empty()) return {};
+  return fmt::format("Each case ran on {} meshes (mesh.seed; docs/studies.md, \"Realizations\"): the rows give the "
+                     "means over the realizations, the 95 % interval of the mean peak as +- t_0.975,n-1 sd / sqrt(n) "
+                     "and the standard deviation in brackets; Jaeger and the group summaries use the means. Every "
+                     "realization is in realizations.csv.\n\n",
+                     points->front().realizations.size());
+}
 }  // namespace
 
 std::filesystem::path write_report(const StudySpec& spec, const std::vector<CaseResult>& results,
@@ -139,7 +158,7 @@ std::filesystem::path write_report(const StudySpec& spec, const std::vector<Case
                     b.loading.platen_velocity, b.numerics.damping);
   if (!extras.elastic_gate_markdown.empty()) md += "## Elastic gate\n\n" + extras.elastic_gate_markdown + "\n\n";
   if (spec.test == "brazilian") {
-    md += brazilian_section(results);
+    md += brazilian_section(results, extras.points);
   } else {
     md += compression_section(results, groups, extras);
   }
@@ -155,20 +174,22 @@ std::filesystem::path write_report(const StudySpec& spec, const std::vector<Case
 
 namespace {
 
-std::string brazilian_section(const std::vector<CaseResult>& results) {
+std::string brazilian_section(const std::vector<CaseResult>& results, const std::vector<PointResult>* points) {
   std::string md = "## Brazilian tensile strength versus the layers' angle to the load\n\n";
+  md += realizations_text(points);
   md += "The tensile strength is ISRM's 2 P / (pi D t) of the peak platen load P (docs/theory.md, section 9); the "
         "layer angle is measured between the layers and the loading direction (90 deg minus the dip).\n\n";
   md += "| case | dip (deg) | layers to load (deg) | tensile strength (MPa) | peak load (kN) | failure mode | cracks "
         "rock t/s | cracks joint t/s | steps | wall (s) |\n|---|---:|---:|---:|---:|---|---:|---:|---:|---:|\n";
-  for (const auto& r : results) {
+  for (std::size_t k = 0; k < results.size(); ++k) {
+    const auto& r = results[k];
     const auto& s = r.summary;
     const auto& c = s["cracks"];
-    md += fmt::format("| {} | {:g} | {:g} | {:.3f} | {:.2f} | {} | {}/{} | {}/{} | {} | {:.1f} |\n",
+    md += fmt::format("| {} | {:g} | {:g} | {:.3f}{} | {:.2f} | {} | {}/{} | {}/{} | {} | {:.1f} |\n",
                       r.c.group.empty() ? "-" : r.c.group, r.c.beta, s.value("layer_angle_deg", 0.0),
-                      s.value("tensile_strength_pa", 0.0) / 1e6, s.value("peak_load_n", 0.0) / 1e3,
-                      s["failure_mode"].get<std::string>(), c["rock_tensile"].get<int>(), c["rock_shear"].get<int>(),
-                      c["joint_tensile"].get<int>(), c["joint_shear"].get<int>(), s["steps"].get<long>(),
+                      s.value("tensile_strength_pa", 0.0) / 1e6, spread_text(points, k, true),
+                      s.value("peak_load_n", 0.0) / 1e3, s["failure_mode"].get<std::string>(), count(c["rock_tensile"]),
+                      count(c["rock_shear"]), count(c["joint_tensile"]), count(c["joint_shear"]), count(s["steps"]),
                       s.value("wall_seconds", 0.0));
   }
   return md;
@@ -182,19 +203,23 @@ std::string compression_section(const std::vector<CaseResult>& results, const st
         "linear part shares the traction with the parallel bond, so a sticking interface has twice the bond's "
         "cohesion), capped by the group's measured strength at beta = 90 deg (docs/theory.md, section 4). table.csv also gives "
         "Jaeger with the bonds' own cohesion and friction (jaeger_bond_pa).\n\n";
-  md += "| case | beta (deg) | peak (MPa) | Jaeger (MPa) | strain at peak | E50 (GPa) | failure mode | cracks rock t/s "
-        "| cracks joint t/s | steps | wall (s) |\n|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|\n";
+  md += realizations_text(extras.points);
+  md += fmt::format("| case | beta (deg) | {} | Jaeger (MPa) | strain at peak | E50 (GPa) | failure mode | cracks "
+                    "rock t/s | cracks joint t/s | steps | wall (s) |\n|---|---:|---:|---:|---:|---:|---|---:|---:|---:|"
+                    "---:|\n",
+                    extras.points ? "mean peak (MPa) +- 95 % [sd]" : "peak (MPa)");
   std::map<std::string, double> s90;
   for (const auto& g : groups) s90[g.group] = g.strength_90_pa;
-  for (const auto& r : results) {
+  for (std::size_t k = 0; k < results.size(); ++k) {
+    const auto& r = results[k];
     const auto& s = r.summary;
     const auto& c = s["cracks"];
-    md += fmt::format("| {} | {:g} | {:.2f} | {:.2f} | {:.3e} | {:.1f} | {} | {}/{} | {}/{} | {} | {:.1f} |\n",
+    md += fmt::format("| {} | {:g} | {:.2f}{} | {:.2f} | {:.3e} | {:.1f} | {} | {}/{} | {}/{} | {} | {:.1f} |\n",
                       r.c.group.empty() ? "-" : r.c.group, r.c.beta, s["peak_stress_pa"].get<double>() / 1e6,
-                      jaeger_for(r.c.scene, r.c.beta, s90[r.c.group]) / 1e6, s["strain_at_peak"].get<double>(),
-                      s["youngs_modulus_pa"].get<double>() / 1e9, s["failure_mode"].get<std::string>(),
-                      c["rock_tensile"].get<int>(), c["rock_shear"].get<int>(), c["joint_tensile"].get<int>(),
-                      c["joint_shear"].get<int>(), s["steps"].get<long>(), s.value("wall_seconds", 0.0));
+                      spread_text(extras.points, k, false), jaeger_for(r.c.scene, r.c.beta, s90[r.c.group]) / 1e6,
+                      s["strain_at_peak"].get<double>(), s["youngs_modulus_pa"].get<double>() / 1e9,
+                      s["failure_mode"].get<std::string>(), count(c["rock_tensile"]), count(c["rock_shear"]),
+                      count(c["joint_tensile"]), count(c["joint_shear"]), count(s["steps"]), s.value("wall_seconds", 0.0));
   }
   md += "\n| group | min (MPa) at beta | Jaeger min (MPa) at beta | strength at 90 (MPa) | anisotropy ratio |\n"
         "|---|---:|---:|---:|---:|\n";

@@ -15,6 +15,7 @@ struct ReportExtras {
   int workers = 1;
   bool paper_check = false;           // compare with the seed paper's headline numbers (default dip study)
   std::vector<Envelope> envelopes;    // a confined study's strength envelopes (write_envelopes)
+  const std::vector<PointResult>* points = nullptr;  // with realizations: the spread of each case (its mean is a row)
 };
 
 // Runs the figure script (python/rbdem_figures.py with figure_python()) for the study: stress-strain
@@ -23,7 +24,8 @@ struct ReportExtras {
 std::vector<std::filesystem::path> make_figures(const StudySpec& spec, const std::vector<CaseResult>& results,
                                                 const std::filesystem::path& out, std::string* note = nullptr);
 
-// Writes out/report.md and returns its path.
+// Writes out/report.md and returns its path. `results` are one row per case: with realizations, the means
+// (realization_means) and extras.points their spread.
 std::filesystem::path write_report(const StudySpec& spec, const std::vector<CaseResult>& results,
                                    const std::vector<GroupSummary>& groups, const std::filesystem::path& out,
                                    const ReportExtras& extras);

@@ -12,6 +12,7 @@
 #include <numbers>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 #include <thread>
 
 #include <fmt/format.h>
@@ -65,7 +66,7 @@ StudySpec load_study(const std::filesystem::path& path) {
   spec.source = path;
   const toml::table* st = root["study"].as_table();
   if (!st) throw SceneError(where + ": missing [study] table (name, base, dips, set)");
-  check_keys(*st, {"name", "description", "test", "base", "dips", "set"}, where + " [study]");
+  check_keys(*st, {"name", "description", "test", "base", "dips", "realizations", "set"}, where + " [study]");
   if (auto t = st->get_as<std::string>("test")) {
     spec.test = t->get();
     if (spec.test != "ucs" && spec.test != "triaxial" && spec.test != "brazilian")
@@ -87,6 +88,14 @@ StudySpec load_study(const std::filesystem::path& path) {
       spec.dips.push_back(beta);
     }
     if (spec.dips.empty()) throw SceneError(where + ": study.dips is empty: list at least one dip");
+  }
+  if (const toml::node* n = st->get("realizations")) {
+    const auto r = n->as_integer();
+    if (!r || r->get() < 1 || r->get() > max_realizations)
+      throw SceneError(fmt::format("{}: study.realizations = {} is not allowed: give a whole number of meshes per case "
+                                   "in [1, {}] (1 = one mesh, the default; 5 gives a mean and a 95 % interval)",
+                                   where, toml_value_text(*n, where + " study.realizations"), max_realizations));
+    spec.realizations = int(r->get());
   }
   if (spec.test == "brazilian" && spec.base.mesh.file.empty()) spec.base.specimen.shape = "disc";
   if (auto set = st->get_as<toml::table>("set"))
@@ -140,6 +149,21 @@ StudySpec load_study(const std::filesystem::path& path) {
   return spec;
 }
 
+void check_realizations(int realizations, const Scene& base) {
+  if (realizations < 1 || realizations > max_realizations)
+    throw SceneError(fmt::format("realizations = {} is not allowed: give a whole number of meshes per case in "
+                                 "[1, {}] (1 = one mesh; 5 gives a mean and a 95 % interval)",
+                                 realizations, max_realizations));
+  if (realizations > 1 && !base.mesh.file.empty())
+    throw SceneError(fmt::format("realizations = {} needs meshes rbdem makes, but the scene reads the user mesh "
+                                 "mesh.file = \"{}\": drop mesh.file (or --mesh), or run one realization",
+                                 realizations, base.mesh.file));
+  if (realizations > 1 && base.mesh.seed > 1000000 - realizations + 1)
+    throw SceneError(fmt::format("mesh.seed = {} leaves no room for {} realizations (seeds up to 1000000): use a "
+                                 "smaller mesh.seed",
+                                 base.mesh.seed, realizations));
+}
+
 std::vector<Case> expand(const StudySpec& spec) {
   std::vector<Case> partial(1);
   partial[0].scene = spec.base;
@@ -156,17 +180,26 @@ std::vector<Case> expand(const StudySpec& spec) {
       }
     partial = std::move(next);
   }
+  check_realizations(spec.realizations, spec.base);
   std::vector<Case> cases;
   for (const auto& c : partial)
-    for (double beta : spec.dips) {
-      Case d = c;
-      d.beta = beta;
-      set_parameter(d.scene, "joint_set.dip_deg", fmt::format("{}", beta));
-      validate(d.scene);
-      check_test_scene(d.test, d.scene);
-      d.id = (d.group.empty() ? "" : d.group + "/") + beta_label(beta);
-      cases.push_back(std::move(d));
-    }
+    for (double beta : spec.dips)
+      for (int r = 0; r < spec.realizations; ++r) {
+        Case d = c;
+        d.beta = beta;
+        set_parameter(d.scene, "joint_set.dip_deg", fmt::format("{}", beta));
+        d.point = (d.group.empty() ? "" : d.group + "/") + beta_label(beta);
+        d.id = d.point;
+        if (spec.realizations > 1) {
+          // Seeds from the base scene's own, so that a study on mesh.seed = 10 runs the meshes 10, 11, ...
+          d.realization = r;
+          d.scene.mesh.seed = c.scene.mesh.seed + r;
+          d.id += fmt::format("/seed={}", d.scene.mesh.seed);
+        }
+        validate(d.scene);
+        check_test_scene(d.test, d.scene);
+        cases.push_back(std::move(d));
+      }
   return cases;
 }
 
@@ -319,7 +352,131 @@ double jaeger_for(const Scene& scene, double beta, double strength_90, bool bond
   return theory::jaeger_strength({env.cohesion, phi_deg, strength_90, scene.loading.confining_pressure}, beta);
 }
 
-std::vector<GroupSummary> write_tables(const std::vector<CaseResult>& results, const std::filesystem::path& out) {
+double student_t975(int dof) {
+  // t_{0.975, dof} for dof = 1 .. 30 (the regularized incomplete beta function solved to 20 digits).
+  static constexpr double table[30] = {
+      12.706204736, 4.302652730, 3.182446305, 2.776445105, 2.570581836, 2.446911851, 2.364624252, 2.306004135,
+      2.262157163,  2.228138852, 2.200985160, 2.178812830, 2.160368656, 2.144786688, 2.131449546, 2.119905299,
+      2.109815578,  2.100922040, 2.093024054, 2.085963447, 2.079613845, 2.073873068, 2.068657610, 2.063898562,
+      2.059538553,  2.055529439, 2.051830516, 2.048407142, 2.045229642, 2.042272456};
+  if (dof < 1) throw std::invalid_argument(fmt::format("student_t975: {} degrees of freedom (need at least 1)", dof));
+  if (dof <= 30) return table[dof - 1];
+  const double z = 1.959963984540054, v = double(dof), z2 = z * z;
+  return z + z * (z2 + 1) / (4 * v) + z * ((5 * z2 + 16) * z2 + 3) / (96 * v * v) +
+         z * (((3 * z2 + 19) * z2 + 17) * z2 - 15) / (384 * v * v * v) +
+         z * ((((79 * z2 + 776) * z2 + 1482) * z2 - 1920) * z2 - 945) / (92160 * v * v * v * v);
+}
+
+SampleStats sample_stats(const std::vector<double>& values) {
+  SampleStats st;
+  st.n = int(values.size());
+  if (st.n == 0) return st;
+  for (double v : values) st.mean += v;
+  st.mean /= double(st.n);
+  if (st.n == 1) {
+    st.ci95 = std::nan("");
+    return st;
+  }
+  double ss = 0;
+  for (double v : values) ss += (v - st.mean) * (v - st.mean);
+  st.sd = std::sqrt(ss / double(st.n - 1));
+  st.ci95 = student_t975(st.n - 1) * st.sd / std::sqrt(double(st.n));
+  return st;
+}
+
+namespace {
+
+// The mean of every numeric field of the summaries (nested objects such as "cracks" too); text fields take
+// their most frequent value (the first seen on a tie), anything else the first summary's.
+nlohmann::json mean_summary(const std::vector<const nlohmann::json*>& summaries) {
+  nlohmann::json out = *summaries.front();
+  for (auto it = out.begin(); it != out.end(); ++it) {
+    const std::string& key = it.key();
+    if (it->is_number()) {
+      double sum = 0;
+      for (const auto* s : summaries) sum += s->value(key, 0.0);
+      *it = sum / double(summaries.size());
+    } else if (it->is_object()) {
+      std::vector<const nlohmann::json*> inner;
+      for (const auto* s : summaries)
+        if (s->contains(key) && (*s)[key].is_object()) inner.push_back(&(*s)[key]);
+      *it = mean_summary(inner);
+    } else if (it->is_string()) {
+      std::map<std::string, int> count;
+      std::string best = it->get<std::string>();
+      for (const auto* s : summaries)
+        if (const auto v = s->value(key, std::string()); ++count[v] > count[best]) best = v;
+      *it = best;
+    }
+  }
+  return out;
+}
+
+std::string fmt_count(const nlohmann::json& v) { return fmt::format("{:.10g}", v.get<double>()); }
+
+// The columns of one row of table.csv (and realizations.csv) after its id, group and axis labels.
+std::string case_columns(const CaseResult& r, double strength_90) {
+  const auto& s = r.summary;
+  const auto& c = s["cracks"];
+  const bool brazilian = r.c.test == "brazilian";
+  std::string t = fmt::format(",{:g},{:.9g},{:.9g},{:.9g},{},{:.4g},{:.4g},{},{},{},{},{},{},{:.4g},{:.9g},{:.9g}",
+                              r.c.beta, s["peak_stress_pa"].get<double>(), s["strain_at_peak"].get<double>(),
+                              s["youngs_modulus_pa"].get<double>(), s["failure_mode"].get<std::string>(),
+                              s.value("crack_band_angle_deg", 0.0), s.value("tensile_fraction", 0.0),
+                              fmt_count(c["rock_tensile"]), fmt_count(c["rock_shear"]), fmt_count(c["joint_tensile"]),
+                              fmt_count(c["joint_shear"]), fmt_count(s["steps"]), s.value("stop_reason", std::string()),
+                              s.value("platen_force_mismatch", 0.0),
+                              brazilian ? std::nan("") : jaeger_for(r.c.scene, r.c.beta, strength_90),
+                              brazilian ? std::nan("") : jaeger_for(r.c.scene, r.c.beta, strength_90, true));
+  t += fmt::format(",{},{:.9g},{:.9g},{:.6g},{:.9g},{:.9g},{:g}", r.c.test, s.value("confining_pressure_pa", 0.0),
+                   s.value("deviator_at_peak_pa", std::nan("")), s.value("lateral_strain_at_peak", 0.0),
+                   s.value("tensile_strength_pa", std::nan("")), s.value("peak_load_n", std::nan("")),
+                   s.value("layer_angle_deg", std::nan("")));
+  return t;
+}
+
+const char* case_header =
+    "beta_deg,peak_stress_pa,strain_at_peak,youngs_modulus_pa,failure_mode,crack_band_angle_deg,"
+    "tensile_fraction,cracks_rock_tensile,cracks_rock_shear,cracks_joint_tensile,cracks_joint_shear,steps,"
+    "stop_reason,platen_force_mismatch,jaeger_pa,jaeger_bond_pa,test,confining_pressure_pa,deviator_at_peak_pa,"
+    "lateral_strain_at_peak,tensile_strength_pa,peak_load_n,layer_angle_deg";
+
+}  // namespace
+
+std::vector<PointResult> realization_means(const std::vector<CaseResult>& results) {
+  std::vector<PointResult> points;
+  std::map<std::string, std::size_t> index;
+  for (const auto& r : results) {
+    const std::string key = r.c.point.empty() ? r.c.id : r.c.point;
+    auto [it, fresh] = index.try_emplace(key, points.size());
+    if (fresh) points.emplace_back();
+    points[it->second].realizations.push_back(&r);
+  }
+  for (auto& p : points) {
+    std::vector<const nlohmann::json*> summaries;
+    std::vector<double> peaks, tensile;
+    for (const auto* r : p.realizations) {
+      summaries.push_back(&r->summary);
+      peaks.push_back(r->summary["peak_stress_pa"].get<double>());
+      if (r->summary.contains("tensile_strength_pa")) tensile.push_back(r->summary["tensile_strength_pa"].get<double>());
+    }
+    p.mean.c = p.realizations.front()->c;
+    p.mean.summary = mean_summary(summaries);
+    p.mean.reused = p.realizations.front()->reused;
+    for (const auto* r : p.realizations) p.mean.wall_seconds += r->wall_seconds;
+    p.peak = sample_stats(peaks);
+    if (tensile.size() == peaks.size()) p.tensile = sample_stats(tensile);
+  }
+  return points;
+}
+
+std::vector<GroupSummary> write_tables(const std::vector<CaseResult>& all, const std::filesystem::path& out) {
+  const bool realizations =
+      std::any_of(all.begin(), all.end(), [](const CaseResult& r) { return r.c.realization >= 0; });
+  const std::vector<PointResult> points = realization_means(all);
+  std::vector<CaseResult> results;  // one per case: the means over its realizations
+  for (const auto& p : points) results.push_back(p.mean);
+
   // Group strengths at beta = 90 (Jaeger's intact strength) and minima.
   std::map<std::string, std::vector<const CaseResult*>> groups;
   std::vector<std::string> order;
@@ -341,33 +498,37 @@ std::vector<GroupSummary> write_tables(const std::vector<CaseResult>& results, c
   std::vector<std::string> axis_names;
   if (!results.empty())
     for (const auto& [a, l] : results.front().c.labels) axis_names.push_back(a);
-  std::string t = "id,group";
-  for (const auto& a : axis_names) t += "," + a;
-  t += ",beta_deg,peak_stress_pa,strain_at_peak,youngs_modulus_pa,failure_mode,crack_band_angle_deg,"
-       "tensile_fraction,cracks_rock_tensile,cracks_rock_shear,cracks_joint_tensile,cracks_joint_shear,steps,"
-       "stop_reason,platen_force_mismatch,jaeger_pa,jaeger_bond_pa,test,confining_pressure_pa,deviator_at_peak_pa,"
-       "lateral_strain_at_peak,tensile_strength_pa,peak_load_n,layer_angle_deg\n";
-  for (const auto& r : results) {
-    const auto& s = r.summary;
-    t += r.c.id + "," + r.c.group;
+  std::string head = "id,group";
+  for (const auto& a : axis_names) head += "," + a;
+  auto row_start = [](const CaseResult& r, const std::string& id) {
+    std::string t = id + "," + r.c.group;
     for (const auto& [a, l] : r.c.labels) t += "," + l;
-    const auto& c = s["cracks"];
-    const bool brazilian = r.c.test == "brazilian";
-    t += fmt::format(",{:g},{:.9g},{:.9g},{:.9g},{},{:.4g},{:.4g},{},{},{},{},{},{},{:.4g},{:.9g},{:.9g}", r.c.beta,
-                     s["peak_stress_pa"].get<double>(), s["strain_at_peak"].get<double>(),
-                     s["youngs_modulus_pa"].get<double>(), s["failure_mode"].get<std::string>(),
-                     s.value("crack_band_angle_deg", 0.0), s.value("tensile_fraction", 0.0),
-                     c["rock_tensile"].get<int>(), c["rock_shear"].get<int>(), c["joint_tensile"].get<int>(),
-                     c["joint_shear"].get<int>(), s["steps"].get<long>(), s.value("stop_reason", std::string()),
-                     s.value("platen_force_mismatch", 0.0),
-                     brazilian ? std::nan("") : jaeger_for(r.c.scene, r.c.beta, s90[r.c.group]),
-                     brazilian ? std::nan("") : jaeger_for(r.c.scene, r.c.beta, s90[r.c.group], true));
-    t += fmt::format(",{},{:.9g},{:.9g},{:.6g},{:.9g},{:.9g},{:g}\n", r.c.test, s.value("confining_pressure_pa", 0.0),
-                     s.value("deviator_at_peak_pa", std::nan("")), s.value("lateral_strain_at_peak", 0.0),
-                     s.value("tensile_strength_pa", std::nan("")), s.value("peak_load_n", std::nan("")),
-                     s.value("layer_angle_deg", std::nan("")));
+    return t;
+  };
+  std::string t = head + "," + case_header;
+  if (realizations)
+    t += ",realizations,peak_stress_sd_pa,peak_stress_ci95_pa,peak_stress_ci95_low_pa,peak_stress_ci95_high_pa,"
+         "tensile_strength_sd_pa,tensile_strength_ci95_pa";
+  t += "\n";
+  for (const auto& p : points) {
+    const CaseResult& r = p.mean;
+    t += row_start(r, realizations ? r.c.point : r.c.id) + case_columns(r, s90[r.c.group]);
+    if (realizations)
+      t += fmt::format(",{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}", p.peak.n, p.peak.sd, p.peak.ci95,
+                       p.peak.mean - p.peak.ci95, p.peak.mean + p.peak.ci95,
+                       p.tensile.n ? p.tensile.sd : std::nan(""), p.tensile.n ? p.tensile.ci95 : std::nan(""));
+    t += "\n";
   }
   io::write_text_atomic(out / "table.csv", t);
+  if (realizations) {
+    // Every realization as its own row; Jaeger with the case's mean strength at 90 deg, as in table.csv.
+    std::string rt = head + ",point,realization,mesh_seed," + case_header + "\n";
+    for (const auto& p : points)
+      for (const auto* r : p.realizations)
+        rt += row_start(*r, r->c.id) + fmt::format(",{},{},{}", r->c.point, r->c.realization, r->c.scene.mesh.seed) +
+              case_columns(*r, s90[r->c.group]) + "\n";
+    io::write_text_atomic(out / "realizations.csv", rt);
+  }
 
   std::vector<GroupSummary> summaries;
   std::string g = "group,min_beta_deg,min_strength_pa,jaeger_min_beta_deg,jaeger_min_pa,strength_90_pa,"

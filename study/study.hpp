@@ -10,6 +10,7 @@
 //   test = "ucs"                              # ucs (default) | triaxial | brazilian
 //   base = "paper.toml"                       # relative to the study file; empty = built-in defaults
 //   dips = [0, 15, 30, 45, 60, 75, 90]
+//   realizations = 5                          # meshes per case: mesh.seed = base seed + 0, 1, ..., 4 (default 1)
 //   [study.set]                               # overrides for every case
 //   "mesh.size" = 0.001
 //   [[axis]]
@@ -19,7 +20,7 @@
 //   "joint.cohesion" = { of = "rock.cohesion", factors = [0.25, 0.5, 0.75, 1.0] }
 //   "joint.tensile_strength" = [3e6, 6e6, 9e6, 12e6]
 //
-// Cases are the product of the axes and the dips. Each case writes its own folder (summary.json last, so a folder
+// Cases are the product of the axes, the dips and the realizations. Each case writes its own folder (summary.json last, so a folder
 // with a summary.json is complete); a rerun skips complete cases and reruns interrupted ones.
 #pragma once
 
@@ -51,13 +52,19 @@ struct StudySpec {
   Scene base;
   std::vector<double> dips{0, 15, 30, 45, 60, 75, 90};
   std::vector<Axis> axes;
+  int realizations = 1;          // meshes per group and dip (mesh.seed = base seed + 0 .. realizations - 1)
   std::filesystem::path source;  // the study file, for messages
 };
 
+// The largest study.realizations accepted.
+inline constexpr int max_realizations = 1000;
+
 struct Case {
   std::string test = "ucs";       // the test each case runs
-  std::string id;                 // folder name, e.g. "strength_ratio=0.5/beta=60"
+  std::string id;                 // folder name, e.g. "strength_ratio=0.5/beta=60" (".../beta=60/seed=2" with realizations)
   std::string group;              // the case without its dip, e.g. "strength_ratio=0.5" ("" without axes)
+  std::string point;              // the case without its realization, e.g. "strength_ratio=0.5/beta=60"
+  int realization = -1;           // 0 .. realizations - 1 in a study with realizations > 1; -1 otherwise
   std::vector<std::pair<std::string, std::string>> labels;  // axis name -> label
   double beta = 0;
   Scene scene;
@@ -67,7 +74,10 @@ struct Case {
 StudySpec load_study(const std::filesystem::path& path);
 // The study of the main job: the paper's dip study on a scene.
 StudySpec dip_study(const Scene& base, std::string name = "dips");
-// All cases in a fixed order: axes outermost (in file order), dips innermost.
+// Refuses (SceneError naming the value and the fix) a count of realizations out of [1, max_realizations], and
+// realizations of a user mesh, which cannot be re-meshed.
+void check_realizations(int realizations, const Scene& base);
+// All cases in a fixed order: axes outermost (in file order), then dips, realizations innermost.
 std::vector<Case> expand(const StudySpec& spec);
 
 struct CaseResult {
@@ -102,6 +112,33 @@ std::vector<CaseResult> collect(const std::vector<Case>& cases, const std::files
 // own cohesion and friction angle.
 double jaeger_for(const Scene& scene, double beta, double strength_90, bool bond_values = false);
 
+// Student's t quantile t_{0.975, dof}: the half-width of a two-sided 95 % interval of a mean is
+// t_{0.975, n-1} sd / sqrt(n). Exact to 9 digits for dof <= 30 (tabulated), a Cornish-Fisher expansion above
+// (within 1e-7). Throws std::invalid_argument for dof < 1.
+double student_t975(int dof);
+
+// The sample statistics of one quantity over the realizations of a case.
+struct SampleStats {
+  int n = 0;
+  double mean = 0;
+  double sd = 0;           // with n - 1 in the denominator; 0 for n = 1
+  double ci95 = 0;         // half-width t_{0.975, n-1} sd / sqrt(n); NaN for n = 1
+};
+SampleStats sample_stats(const std::vector<double>& values);
+
+// One row per case of a study with realizations: `mean.summary` holds the means of the numeric fields of the
+// realizations' summaries (cracks too) and the most frequent failure mode and stop reason; `mean.c` is the first
+// realization's case. The peak (and, for the Brazilian test, the tensile strength) with its spread.
+struct PointResult {
+  CaseResult mean;
+  SampleStats peak;
+  SampleStats tensile;     // n = 0 unless the cases report tensile_strength_pa
+  std::vector<const CaseResult*> realizations;
+};
+// The means of the realizations of every case, in the order of the cases (results of a study without
+// realizations give one row each, with n = 1).
+std::vector<PointResult> realization_means(const std::vector<CaseResult>& results);
+
 struct GroupSummary {
   std::string group;
   double min_strength_pa = 0, min_beta_deg = 0;          // measured
@@ -109,7 +146,9 @@ struct GroupSummary {
   double strength_90_pa = 0, anisotropy_ratio = 0;       // sigma(90) / sigma_min
 };
 
-// Writes table.csv (deterministic: no timings) and groups.csv, returns the group summaries.
+// Writes table.csv (deterministic: no timings) and groups.csv, returns the group summaries. With realizations
+// (cases with realization >= 0), table.csv holds one row per case with the means and the spread of the peak, the
+// per-realization rows go to realizations.csv, and groups.csv and Jaeger use the means.
 std::vector<GroupSummary> write_tables(const std::vector<CaseResult>& results, const std::filesystem::path& out);
 // Writes timing.csv (wall seconds, steps per case).
 void write_timing(const std::vector<CaseResult>& results, const std::filesystem::path& out);

@@ -49,6 +49,10 @@ SCENES = {
     "modulus_in_gpa.toml": "[rock]\neffective_modulus = 160   # GPa meant; the file is in Pa\n",
     "strength_in_kpa.toml": "[joint]\neffective_modulus = 5e6\ncohesion = 3.36e9\n",
     "bad_model.toml": "[specimen]\nmodel = \"plain_strain\"\n",
+    "negative_seed.toml": "[mesh]\nseed = -1\n",
+    "realizations_zero.toml": "[study]\ndips = [60]\nrealizations = 0\n",
+    "realizations_real.toml": "[study]\ndips = [60]\nrealizations = 2.5\n",
+    "one_dip.toml": "[study]\ndips = [60]\n",
 }
 
 # (input tried, command line after `rbdem`, text the message must contain: the name of the input)
@@ -88,6 +92,15 @@ CASES = [
     ("modulus in GPa (strength above the modulus)", "mesh modulus_in_gpa.toml", "rock.effective_modulus"),
     ("joint cohesion above the joint modulus", "mesh strength_in_kpa.toml", "joint.effective_modulus"),
     ("strength above the modulus by `--set`", "ucs --set rock.cohesion=200e9", "rock.cohesion"),
+    ("negative mesh seed", "mesh negative_seed.toml", "mesh.seed"),
+    ("mesh seed that is not a whole number", "mesh --set mesh.seed=1.5", "mesh.seed"),
+    ("mesh seed with a user mesh", "mesh --mesh good_square.msh --set mesh.seed=3", "mesh.seed"),
+    # --- studies with realizations
+    ("no realizations in a study", "sweep realizations_zero.toml", "study.realizations"),
+    ("realizations not a whole number", "sweep realizations_real.toml", "study.realizations"),
+    ("`sweep --realizations 0`", "sweep one_dip.toml --realizations 0", "realizations = 0"),
+    ("`--realizations 0` of the default study", "--realizations 0", "realizations = 0"),
+    ("`--realizations` with a command", "ucs --realizations 3", "--realizations"),
     # --- command line
     ("`--set` without `=`", "mesh --set rock.cohesion", "rock.cohesion"),
     ("`--set` with an empty value", "mesh --set rock.cohesion=", "rock.cohesion"),
@@ -122,6 +135,7 @@ ACCEPTED = [
     ("strength above the modulus with --force", "mesh -q modulus_in_gpa.toml --force --set mesh.size=0.005"),
     ("clockwise triangles are turned, not refused", "mesh -q --mesh clockwise.msh"),
     ("a good mesh", "mesh -q --mesh good_square.msh"),
+    ("a mesh realization", "mesh -q --set mesh.seed=3 --set mesh.size=0.005"),
 ]
 
 

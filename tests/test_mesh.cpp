@@ -144,6 +144,71 @@ TEST(Mesh, SameInputsGiveTheSameMeshAndLeaveTheThreadDefaultAlone) {
   EXPECT_TRUE(a.layer == b.layer);
 }
 
+// Mesh statistics of a realization: triangles, smallest angle, mean and spread of the edge lengths.
+struct MeshStats {
+  std::size_t triangles = 0;
+  double min_angle_deg = 180, edge_mean = 0, edge_sd = 0;
+};
+
+MeshStats mesh_stats(const TriMesh& m) {
+  MeshStats st;
+  st.triangles = m.triangles.size();
+  double sum = 0, sum2 = 0;
+  std::size_t n = 0;
+  for (const auto& t : m.triangles)
+    for (int v = 0; v < 3; ++v) {
+      const auto& p = m.nodes[t[v]];
+      const auto& a = m.nodes[t[(v + 1) % 3]];
+      const auto& b = m.nodes[t[(v + 2) % 3]];
+      const double ax = a[0] - p[0], ay = a[1] - p[1], bx = b[0] - p[0], by = b[1] - p[1];
+      const double la = std::hypot(ax, ay), lb = std::hypot(bx, by);
+      st.min_angle_deg = std::min(st.min_angle_deg, std::acos((ax * bx + ay * by) / (la * lb)) * 180 / std::numbers::pi);
+      sum += la, sum2 += la * la, ++n;
+    }
+  st.edge_mean = sum / double(n);
+  st.edge_sd = std::sqrt(sum2 / double(n) - st.edge_mean * st.edge_mean);
+  return st;
+}
+
+// Nodes of `b` at the place of a node of `a` (to 1e-12 m).
+std::size_t shared_nodes(const TriMesh& a, const TriMesh& b) {
+  std::set<std::pair<long long, long long>> at;
+  for (const auto& p : a.nodes) at.insert({std::llround(p[0] * 1e12), std::llround(p[1] * 1e12)});
+  std::size_t shared = 0;
+  for (const auto& p : b.nodes) shared += at.count({std::llround(p[0] * 1e12), std::llround(p[1] * 1e12)});
+  return shared;
+}
+
+// mesh.seed: the same seed gives the same mesh bit for bit; seed 0 is the mesh of a scene without the key; other
+// seeds give meshes that share hardly a node with it (corners and joint ends only) but have the same size and
+// quality: triangle count and mean edge within 3 %, the smallest angle within 3 deg.
+TEST(Mesh, SeedsGiveDifferentMeshesOfTheSameSizeAndQuality) {
+  Scene scene = parse_scene("[mesh]\nsize = 0.002\n", "no seed");
+  const TriMesh plain = make_mesh(scene);
+  const TriMesh zero = make_mesh(parse_scene("[mesh]\nsize = 0.002\nseed = 0\n", "seed 0"));
+  EXPECT_TRUE(plain.nodes == zero.nodes);
+  EXPECT_TRUE(plain.triangles == zero.triangles);
+  const MeshStats ref = mesh_stats(plain);
+  std::vector<TriMesh> seeded;
+  for (int seed : {1, 2, 3}) {
+    scene.mesh.seed = seed;
+    seeded.push_back(make_mesh(scene));
+    const TriMesh again = make_mesh(scene);
+    EXPECT_TRUE(seeded.back().nodes == again.nodes) << "seed " << seed;
+    EXPECT_TRUE(seeded.back().triangles == again.triangles) << "seed " << seed;
+    EXPECT_TRUE(seeded.back().layer == again.layer) << "seed " << seed;
+    const MeshStats st = mesh_stats(seeded.back());
+    EXPECT_NEAR(double(st.triangles) / double(ref.triangles), 1.0, 0.03) << "seed " << seed;
+    EXPECT_NEAR(st.edge_mean / ref.edge_mean, 1.0, 0.03) << "seed " << seed;
+    EXPECT_NEAR(st.edge_sd / ref.edge_sd, 1.0, 0.1) << "seed " << seed;
+    EXPECT_NEAR(st.min_angle_deg, ref.min_angle_deg, 3.0) << "seed " << seed;
+    EXPECT_EQ(seeded.back().layer_names, plain.layer_names) << "seed " << seed;
+    EXPECT_LT(shared_nodes(plain, seeded.back()), plain.nodes.size() / 10) << "seed " << seed;
+  }
+  EXPECT_LT(shared_nodes(seeded[0], seeded[1]), seeded[0].nodes.size() / 10);
+  EXPECT_LT(shared_nodes(seeded[1], seeded[2]), seeded[1].nodes.size() / 10);
+}
+
 TEST(Mesh, LayerNarrowerThanTwoElementsIsRejected) {
   try {
     mesh_specimen(geometry(30.0, 0.003), 0.002);

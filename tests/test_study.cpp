@@ -109,6 +109,94 @@ TEST(Study, TableHasJaegerBesideTheMeasuredStrength) {
   std::filesystem::remove_all(dir);
 }
 
+// Student's t at 0.975 against published values (the table) and past it (the expansion; exact value from the
+// regularized incomplete beta function).
+TEST(Study, StudentQuantiles) {
+  EXPECT_DOUBLE_EQ(student_t975(1), 12.706204736);
+  EXPECT_DOUBLE_EQ(student_t975(4), 2.776445105);
+  EXPECT_NEAR(student_t975(31), 2.039513446, 1e-7);
+  EXPECT_NEAR(student_t975(100), 1.983971519, 1e-7);
+  EXPECT_THROW(student_t975(0), std::invalid_argument);
+}
+
+// realizations = 3: three cases per dip with mesh.seed 0, 1, 2, and table.csv with the mean, sd and 95 % interval
+// of each dip's peak, checked against a hand computation; realizations.csv keeps every realization.
+TEST(Study, RealizationsGiveMeanSdAndInterval) {
+  const auto dir = std::filesystem::temp_directory_path() / ("rbdem_test_realizations_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "study.toml") << "[study]\ndips = [60, 90]\nrealizations = 3\n[study.set]\n\"mesh.size\" = 0.004\n";
+  const StudySpec spec = load_study(dir / "study.toml");
+  EXPECT_EQ(spec.realizations, 3);
+  const auto cases = expand(spec);
+  ASSERT_EQ(cases.size(), 6u);
+  EXPECT_EQ(cases[0].id, "beta=60/seed=0");
+  EXPECT_EQ(cases[2].id, "beta=60/seed=2");
+  EXPECT_EQ(cases[3].point, "beta=90");
+  for (int k = 0; k < 6; ++k) {
+    EXPECT_EQ(cases[k].scene.mesh.seed, k % 3);
+    EXPECT_EQ(cases[k].realization, k % 3);
+    EXPECT_EQ(cases[k].group, "");
+  }
+  // Peaks 18, 20, 25 MPa at 60 deg and 50, 50, 53 MPa at 90 deg.
+  const double peaks[6] = {18e6, 20e6, 25e6, 50e6, 50e6, 53e6};
+  std::vector<CaseResult> results;
+  for (int k = 0; k < 6; ++k) {
+    CaseResult r;
+    r.c = cases[k];
+    r.summary = {{"peak_stress_pa", peaks[k]}, {"strain_at_peak", 1e-4}, {"youngs_modulus_pa", 2e11},
+                 {"failure_mode", k == 2 ? "y" : "x"}, {"steps", 10 + k}, {"scene", scene_json(cases[k].scene)},
+                 {"cracks", {{"rock_tensile", k}, {"rock_shear", 0}, {"joint_tensile", 0}, {"joint_shear", 0}}}};
+    results.push_back(r);
+  }
+  const auto groups = write_tables(results, dir);
+  // By hand at 60 deg: mean 21 MPa, sd sqrt((9 + 1 + 16) / 2) = sqrt(13) = 3.605551 MPa,
+  // half-width 4.302653 x 3.605551 / sqrt(3) = 8.956686 MPa.
+  std::ifstream in(dir / "table.csv");
+  std::string header, line;
+  std::getline(in, header);
+  for (const char* col : {",realizations,", ",peak_stress_sd_pa,", ",peak_stress_ci95_pa,", ",peak_stress_ci95_low_pa,"})
+    EXPECT_NE(header.find(col), std::string::npos) << col << " missing in " << header;
+  std::vector<std::string> rows;
+  while (std::getline(in, line)) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].rfind("beta=60,", 0), 0u) << rows[0];
+  EXPECT_NE(rows[0].find(",21000000,"), std::string::npos) << rows[0];
+  EXPECT_NE(rows[0].find(",3,3605551.28,8956685.9,12043314.1,29956685.9,"), std::string::npos) << rows[0];
+  EXPECT_NE(rows[0].find(",x,"), std::string::npos) << rows[0];  // the most frequent failure mode
+  EXPECT_NE(rows[0].find(",1,0,0,0,11,"), std::string::npos) << rows[0];  // mean crack counts and steps
+  // Jaeger and the group use the means: 51 MPa at 90 deg.
+  ASSERT_EQ(groups.size(), 1u);
+  EXPECT_DOUBLE_EQ(groups[0].strength_90_pa, 51e6);
+  EXPECT_DOUBLE_EQ(groups[0].min_strength_pa, 21e6);
+  std::ifstream rin(dir / "realizations.csv");
+  std::getline(rin, header);
+  EXPECT_EQ(header.rfind("id,group,point,realization,mesh_seed,beta_deg,peak_stress_pa,", 0), 0u) << header;
+  rows.clear();
+  while (std::getline(rin, line)) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 6u);
+  EXPECT_EQ(rows[2].rfind("beta=60/seed=2,,beta=60,2,2,60,25000000,", 0), 0u) << rows[2];
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Study, BadRealizationsAreRefused) {
+  const auto dir = std::filesystem::temp_directory_path() / ("rbdem_test_bad_real_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  for (const char* value : {"0", "-2", "2.5", "\"5\"", "1001"}) {
+    std::ofstream(dir / "s.toml") << "[study]\nrealizations = " << value << "\n";
+    try {
+      load_study(dir / "s.toml");
+      FAIL() << "accepted realizations = " << value;
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find("study.realizations"), std::string::npos) << e.what();
+    }
+  }
+  Scene user_mesh;
+  user_mesh.mesh.file = "x.msh";
+  EXPECT_THROW(check_realizations(3, user_mesh), SceneError);
+  EXPECT_NO_THROW(check_realizations(1, user_mesh));
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Calibrate, ShippedTargetsFileLoads) {
   const CalibrationSpec spec = load_calibration(source_dir / "scenes/calibrate_paper.toml");
   EXPECT_EQ(spec.parameters.size(), 2u);
