@@ -21,11 +21,24 @@ import json
 import os
 import tempfile
 from dataclasses import dataclass, field
-from typing import Any, Callable, Mapping, Optional, Union
-
-import numpy as np
+import numbers
+import sys
+from typing import TYPE_CHECKING, Any, Callable, Mapping, Optional, Union
 
 from . import _rbdem
+
+if TYPE_CHECKING:
+    import numpy as np
+
+
+def _numpy():
+    """NumPy, imported where arrays are made, so that `import rbdem` works in a Python without it."""
+    try:
+        import numpy
+    except ImportError as e:
+        raise ImportError(f"rbdem's results are NumPy arrays, and {sys.executable} cannot import numpy ({e}): "
+                          "apt-get install python3-numpy, or run Debian's /usr/bin/python3") from e
+    return numpy
 
 __all__ = [
     "ucs", "triaxial", "brazilian", "resolve_scene", "elastic_gate", "verify", "verify_cases", "sweep",
@@ -69,9 +82,9 @@ def _text(origin: str, key: str, value: Any) -> str:
     """A scene value as the text the scene reader parses: floats in full precision (repr round-trips)."""
     if isinstance(value, bool):
         return "true" if value else "false"
-    if isinstance(value, (int, np.integer)):
+    if isinstance(value, numbers.Integral):
         return str(int(value))
-    if isinstance(value, (float, np.floating)):
+    if isinstance(value, numbers.Real):
         return repr(float(value))
     if isinstance(value, (str, os.PathLike)):
         return os.fspath(value)
@@ -113,7 +126,7 @@ def _scene_args(scene: Scene, overrides: Optional[Mapping[str, Any]]):
 def _beta(beta: Optional[float]) -> Optional[float]:
     if beta is None:
         return None
-    if isinstance(beta, bool) or not isinstance(beta, (int, float, np.integer, np.floating)):
+    if isinstance(beta, bool) or not isinstance(beta, numbers.Real):
         raise SceneError(f"beta={beta!r}: expected the joint dip in degrees (joint_set.dip_deg, 0..90)")
     return float(beta)
 
@@ -188,7 +201,7 @@ class Result:
     def final_positions(self) -> np.ndarray:
         """(blocks, 3) array of the last frame: x [m], y [m], rotation [rad]."""
         f = self.frames[-1]
-        return np.column_stack([f.x_m, f.y_m, f.theta_rad])
+        return _numpy().column_stack([f.x_m, f.y_m, f.theta_rad])
 
     def __repr__(self) -> str:
         s = self.summary
@@ -202,14 +215,15 @@ def _run(test: str, scene: Scene, beta, overrides, out, skip_elastic_gate: bool,
          progress: Optional[Progress]) -> Result:
     if progress is not None and not callable(progress):
         raise TypeError(f"progress={progress!r} is not callable: give f(step, strain, stress, peak, cracks)")
+    _numpy()  # before the run, so a Python without NumPy is told so rather than losing the run's result
     file, keys, sets = _scene_args(scene, overrides)
     folder = "" if out is None else os.fspath(out)
     if out is not None and not folder:
         raise SceneError("out: an empty folder name; give a folder, or out=None to write nothing")
     raw = _rbdem.run(test, file, keys, _beta(beta), sets, force, skip_elastic_gate, folder, progress)
     crack_cols = dict(raw["cracks"])
-    crack_cols["kind"] = np.asarray(crack_cols["kind"], dtype="<U5")
-    crack_cols["mode"] = np.asarray(crack_cols["mode"], dtype="<U7")
+    crack_cols["kind"] = _numpy().asarray(crack_cols["kind"], dtype="<U5")
+    crack_cols["mode"] = _numpy().asarray(crack_cols["mode"], dtype="<U7")
     result = Result(summary=json.loads(raw["summary_json"]), curve=dict(raw["curve"]), cracks=crack_cols,
                     blocks=dict(raw["blocks"]), frames=[Frame(**f) for f in raw["frames"]],
                     scene=raw["scene_toml"], out=folder or None, elastic_gate=raw["elastic_gate"],
