@@ -205,8 +205,8 @@ std::string compression_section(const std::vector<CaseResult>& results, const st
         "Jaeger with the bonds' own cohesion and friction (jaeger_bond_pa).\n\n";
   md += realizations_text(extras.points);
   md += fmt::format("| case | beta (deg) | {} | Jaeger (MPa) | strain at peak | E50 (GPa) | failure mode | cracks "
-                    "rock t/s | cracks joint t/s | steps | wall (s) |\n|---|---:|---:|---:|---:|---:|---|---:|---:|---:|"
-                    "---:|\n",
+                    "rock t/s | cracks joint t/s | steps | wall (s) |\n"
+                    "|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|\n",
                     extras.points ? "mean peak (MPa) +- 95 % [sd]" : "peak (MPa)");
   std::map<std::string, double> s90;
   for (const auto& g : groups) s90[g.group] = g.strength_90_pa;
@@ -219,7 +219,8 @@ std::string compression_section(const std::vector<CaseResult>& results, const st
                       spread_text(extras.points, k, false), jaeger_for(r.c.scene, r.c.beta, s90[r.c.group]) / 1e6,
                       s["strain_at_peak"].get<double>(), s["youngs_modulus_pa"].get<double>() / 1e9,
                       s["failure_mode"].get<std::string>(), count(c["rock_tensile"]), count(c["rock_shear"]),
-                      count(c["joint_tensile"]), count(c["joint_shear"]), count(s["steps"]), s.value("wall_seconds", 0.0));
+                      count(c["joint_tensile"]), count(c["joint_shear"]), count(s["steps"]),
+                      s.value("wall_seconds", 0.0));
   }
   md += "\n| group | min (MPa) at beta | Jaeger min (MPa) at beta | strength at 90 (MPa) | anisotropy ratio |\n"
         "|---|---:|---:|---:|---:|\n";

@@ -458,7 +458,8 @@ std::vector<PointResult> realization_means(const std::vector<CaseResult>& result
     for (const auto* r : p.realizations) {
       summaries.push_back(&r->summary);
       peaks.push_back(r->summary["peak_stress_pa"].get<double>());
-      if (r->summary.contains("tensile_strength_pa")) tensile.push_back(r->summary["tensile_strength_pa"].get<double>());
+      if (r->summary.contains("tensile_strength_pa"))
+        tensile.push_back(r->summary["tensile_strength_pa"].get<double>());
     }
     p.mean.c = p.realizations.front()->c;
     p.mean.summary = mean_summary(summaries);

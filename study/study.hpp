@@ -20,8 +20,8 @@
 //   "joint.cohesion" = { of = "rock.cohesion", factors = [0.25, 0.5, 0.75, 1.0] }
 //   "joint.tensile_strength" = [3e6, 6e6, 9e6, 12e6]
 //
-// Cases are the product of the axes, the dips and the realizations. Each case writes its own folder (summary.json last, so a folder
-// with a summary.json is complete); a rerun skips complete cases and reruns interrupted ones.
+// Cases are the product of the axes, the dips and the realizations. Each case writes its own folder (summary.json
+// last, so a folder with a summary.json is complete); a rerun skips complete cases and reruns interrupted ones.
 #pragma once
 
 #include <atomic>
@@ -61,7 +61,8 @@ inline constexpr int max_realizations = 1000;
 
 struct Case {
   std::string test = "ucs";       // the test each case runs
-  std::string id;                 // folder name, e.g. "strength_ratio=0.5/beta=60" (".../beta=60/seed=2" with realizations)
+  std::string id;                 // folder name, e.g. "strength_ratio=0.5/beta=60" (".../beta=60/seed=2" with
+                                  // realizations)
   std::string group;              // the case without its dip, e.g. "strength_ratio=0.5" ("" without axes)
   std::string point;              // the case without its realization, e.g. "strength_ratio=0.5/beta=60"
   int realization = -1;           // 0 .. realizations - 1 in a study with realizations > 1; -1 otherwise

@@ -162,7 +162,8 @@ MeshStats mesh_stats(const TriMesh& m) {
       const auto& b = m.nodes[t[(v + 2) % 3]];
       const double ax = a[0] - p[0], ay = a[1] - p[1], bx = b[0] - p[0], by = b[1] - p[1];
       const double la = std::hypot(ax, ay), lb = std::hypot(bx, by);
-      st.min_angle_deg = std::min(st.min_angle_deg, std::acos((ax * bx + ay * by) / (la * lb)) * 180 / std::numbers::pi);
+      const double angle = std::acos((ax * bx + ay * by) / (la * lb)) * 180 / std::numbers::pi;
+      st.min_angle_deg = std::min(st.min_angle_deg, angle);
       sum += la, sum2 += la * la, ++n;
     }
   st.edge_mean = sum / double(n);

@@ -124,7 +124,8 @@ TEST(Study, StudentQuantiles) {
 TEST(Study, RealizationsGiveMeanSdAndInterval) {
   const auto dir = std::filesystem::temp_directory_path() / ("rbdem_test_realizations_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  std::ofstream(dir / "study.toml") << "[study]\ndips = [60, 90]\nrealizations = 3\n[study.set]\n\"mesh.size\" = 0.004\n";
+  std::ofstream(dir / "study.toml") << "[study]\ndips = [60, 90]\nrealizations = 3\n"
+                                       "[study.set]\n\"mesh.size\" = 0.004\n";
   const StudySpec spec = load_study(dir / "study.toml");
   EXPECT_EQ(spec.realizations, 3);
   const auto cases = expand(spec);
@@ -154,7 +155,8 @@ TEST(Study, RealizationsGiveMeanSdAndInterval) {
   std::ifstream in(dir / "table.csv");
   std::string header, line;
   std::getline(in, header);
-  for (const char* col : {",realizations,", ",peak_stress_sd_pa,", ",peak_stress_ci95_pa,", ",peak_stress_ci95_low_pa,"})
+  for (const char* col :
+       {",realizations,", ",peak_stress_sd_pa,", ",peak_stress_ci95_pa,", ",peak_stress_ci95_low_pa,"})
     EXPECT_NE(header.find(col), std::string::npos) << col << " missing in " << header;
   std::vector<std::string> rows;
   while (std::getline(in, line)) rows.push_back(line);
