@@ -276,10 +276,11 @@ py::dict elastic_gate(const std::string& file, const std::vector<Assignment>& sc
   {
     py::gil_scoped_release release;
     report = compare::run_elastic_gate(scene, go);
-    json = compare::elastic_json(report, scene).dump();
+    const nlohmann::json j = compare::elastic_json(report, scene);
+    json = j.dump();
     if (!out.empty()) {
       std::filesystem::create_directories(out);
-      io::write_text_atomic(std::filesystem::path(out) / "elastic.json", compare::elastic_json(report, scene).dump(1) + "\n");
+      io::write_text_atomic(std::filesystem::path(out) / "elastic.json", j.dump(1) + "\n");
     }
     compare::store_elastic_gate(scene, report);
   }
