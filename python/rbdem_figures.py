@@ -21,9 +21,7 @@ how to read it: docs/outputs.md. The functions plot_* can be imported as well.
 """
 
 import argparse
-import csv
 import json
-import math
 import os
 import sys
 import time
@@ -67,122 +65,21 @@ LAYER_FILLS = ["#ececec", "#dfe6ee", "#f1ebe0", "#e3ece2"]
 # ------------------------------------------------------------------------------------------------ reading runs
 
 
-def _read_csv(path):
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
+def _load_results():
+    """The run readers of the rbdem package (python/rbdem/results.py beside this script), loaded by path: the
+    package's __init__ needs the compiled module, which a source tree does not have."""
+    import importlib.util
+
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "rbdem", "results.py")
+    spec = importlib.util.spec_from_file_location("rbdem_results", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
-def _float(text):
-    try:
-        return float(text)
-    except (TypeError, ValueError):
-        return math.nan
-
-
-def read_summary(run_dir):
-    path = os.path.join(run_dir, "summary.json")
-    if os.path.exists(path):
-        with open(path) as f:
-            return json.load(f)
-    h5 = os.path.join(run_dir, "result.h5")
-    if os.path.exists(h5):
-        import h5py
-
-        with h5py.File(h5, "r") as f:
-            return json.loads(f["summary"].attrs["json"])
-    raise SystemExit(f"{run_dir}: no summary.json or result.h5 (is it the --out folder of `rbdem ucs`?)")
-
-
-def read_curve(run_dir):
-    """The stress-strain curve as a dict of numpy arrays (curve.csv columns), from curve.csv or result.h5."""
-    path = os.path.join(run_dir, "curve.csv")
-    if os.path.exists(path):
-        rows = _read_csv(path)
-        if not rows:
-            raise SystemExit(f"{path}: empty curve")
-        return {k: np.array([_float(r[k]) for r in rows]) for k in rows[0]}
-    h5 = os.path.join(run_dir, "result.h5")
-    if os.path.exists(h5):
-        import h5py
-
-        with h5py.File(h5, "r") as f:
-            return {k: np.asarray(v[()], dtype=float) for k, v in f["history"].items()}
-    raise SystemExit(f"{run_dir}: no curve.csv or result.h5")
-
-
-class CrackMapData:
-    """What a crack map needs from result.h5: mesh, bonds, crack log, frames (read lazily)."""
-
-    def __init__(self, run_dir):
-        import h5py
-
-        path = os.path.join(run_dir, "result.h5")
-        if not os.path.exists(path):
-            raise SystemExit(f"{run_dir}: no result.h5 (written by `rbdem ucs`)")
-        self.run_dir = run_dir
-        self.file = h5py.File(path, "r")
-        f = self.file
-        self.summary = json.loads(f["summary"].attrs["json"])
-        self.triangles = f["mesh/triangles"][()]
-        self.layer = f["mesh/layer"][()]
-        self.nodes = f["mesh/nodes"][()]
-        self.bond_i = f["bonds/i"][()]
-        self.node_a = f["bonds/node_a"][()]
-        self.node_b = f["bonds/node_b"][()]
-        self.crack_bond = f["cracks/bond"][()]
-        self.crack_kind = f["cracks/kind"][()]
-        self.crack_mode = f["cracks/mode"][()]
-        self.frames = []
-        names = sorted(f["frames"].keys())
-        for name in names:
-            a = f["frames"][name].attrs
-            label = a["label"]
-            if isinstance(label, bytes):
-                label = label.decode()
-            self.frames.append(
-                {
-                    "name": name,
-                    "label": str(label),
-                    "step": int(a["step"]),
-                    "strain": float(a["strain"]),
-                    "stress": float(a["stress"]),
-                    "cracks": int(a["cracks"]),
-                }
-            )
-        if not self.frames:
-            raise SystemExit(f"{path}: no frames")
-
-    def frame_index(self, at):
-        """Index of the frame labelled `at` ('peak' or 'final'); falls back to the highest stress or the last."""
-        for k, fr in enumerate(self.frames):
-            if fr["label"] == at:
-                return k
-        if at == "peak":
-            return int(np.argmax([fr["stress"] for fr in self.frames]))
-        return len(self.frames) - 1
-
-    def vertices(self, k, magnify=1.0):
-        """Block vertices (T, 3, 2) at frame k; displacements from the reference scaled by `magnify`."""
-        v = self.file["frames"][self.frames[k]["name"]]["vertices"][()].astype(float)
-        v = v.reshape(-1, 3, 3)[:, :, :2]
-        if magnify != 1.0:
-            ref = self.nodes[self.triangles]
-            v = ref + magnify * (v - ref)
-        return v
-
-    def crack_segments(self, k, verts):
-        """The broken bonds' edges up to frame k, end nodes moved with block i: (segments (C, 2, 2), kind, mode)."""
-        n = self.frames[k]["cracks"]
-        bonds = self.crack_bond[:n]
-        i = self.bond_i[bonds]
-        tri = self.triangles[i]  # (C, 3) node ids of block i; vertex v of block t is node triangles[t][v]
-        ka = np.argmax(tri == self.node_a[bonds][:, None], axis=1)
-        kb = np.argmax(tri == self.node_b[bonds][:, None], axis=1)
-        seg = np.stack([verts[i, ka], verts[i, kb]], axis=1)
-        return seg, self.crack_kind[:n], self.crack_mode[:n]
-
-    def close(self):
-        self.file.close()
+results = _load_results()
+_read_csv, _float = results.read_csv_rows, results.to_float
+read_summary, read_curve, CrackMapData = results.read_summary, results.read_curve, results.RunFile
 
 
 def _beta_label(summary):
@@ -600,3 +497,5 @@ if __name__ == "__main__":
         sys.exit(main())
     except ImportError as e:  # h5py is imported where a figure needs result.h5
         _missing_module(e)
+    except results.RunFolderError as e:  # a run folder without the file a figure needs: one line, exit status 1
+        sys.exit(str(e))
