@@ -8,6 +8,7 @@
 // is triangle k) -> DoFs, sparsity -> K per unit thickness (sigma = C eps, K_ij = int eps(phi_i) : C : eps(phi_j))
 // -> point loads -P/t, +P/t on u_y of the top and bottom nodes -> keep the pinned rows of K, impose the pins ->
 // solve -> reactions (K u - f on the kept rows, times t) -> cell stresses -> centre estimates.
+#include "continuum/fe_internal.hpp"
 #include "continuum/fe_disc.hpp"
 
 #include <deal.II/base/quadrature_lib.h>
@@ -63,35 +64,6 @@ std::string num(double v) {
 }
 
 [[noreturn]] void fail(const std::string& what) { throw std::invalid_argument("solve_disc: " + what); }
-
-// ---- MPI: Trilinos needs it even serially (docs/continuum.md, "MPI") ----------------------------------------------
-
-// This file's CG + AMG stage runs one call at a time (Trilinos under MPI_THREAD_SERIALIZED). It is a separate lock
-// from continuum/fe_model.cpp's, which is file-local there: do not run solve_disc's and solve_elastic's CG + AMG
-// stages from two threads at once.
-std::mutex trilinos_mutex;
-
-void ensure_mpi() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    int initialized = 0;
-    MPI_Initialized(&initialized);
-    if (initialized) return;  // the application (or continuum/fe_model.cpp) owns MPI: leave it alone
-    int finalized = 0;
-    MPI_Finalized(&finalized);
-    if (finalized)
-      throw std::runtime_error(
-          "solve_disc: MPI has already been finalised, but the CG+AMG solver (Trilinos) needs it; "
-          "solve before MPI_Finalize or use DiscOptions::solver = Solver::direct");
-    int provided = 0;
-    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);
-    std::atexit([] {
-      int done = 0;
-      MPI_Finalized(&done);
-      if (!done) MPI_Finalize();
-    });
-  });
-}
 
 // ---- Inputs ------------------------------------------------------------------------------------------------------
 
@@ -249,44 +221,12 @@ void dof_geometry(const DoFHandler<dim>& dof, std::vector<Point<dim>>& point, st
 
 // ---- Assembly, solvers -------------------------------------------------------------------------------------------
 
-SymmetricTensor<4, dim> stiffness_tensor(const Stiffness3& C) {
-  constexpr unsigned voigt[3][2] = {{0, 0}, {1, 1}, {0, 1}};  // engineering shear: C acts on (e_xx, e_yy, 2 e_xy)
-  SymmetricTensor<4, dim> t;
-  for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) t[voigt[a][0]][voigt[a][1]][voigt[b][0]][voigt[b][1]] = C[a][b];
-  return t;
-}
-
-void assemble(const DoFHandler<dim>& dof, const Mapping<dim>& mapping, const Quadrature<dim>& q,
-              const SymmetricTensor<4, dim>& C, SparseMatrix<double>& K) {
-  const FiniteElement<dim>& fe = dof.get_fe();
-  FEValues<dim> fev(mapping, fe, q, update_gradients | update_JxW_values);
-  const FEValuesExtractors::Vector u(0);
-  const unsigned n = fe.n_dofs_per_cell();
-  FullMatrix<double> Ke(n, n);
-  std::vector<SymmetricTensor<2, dim>> eps(n);
-  std::vector<types::global_dof_index> local(n);
-  for (const auto& cell : dof.active_cell_iterators()) {
-    fev.reinit(cell);
-    Ke = 0;
-    for (unsigned qp = 0; qp < q.size(); ++qp) {
-      for (unsigned i = 0; i < n; ++i) eps[i] = fev[u].symmetric_gradient(i, qp);
-      for (unsigned i = 0; i < n; ++i) {
-        const SymmetricTensor<2, dim> C_eps_i = C * eps[i];
-        for (unsigned j = 0; j < n; ++j) Ke(i, j) += scalar_product(C_eps_i, eps[j]) * fev.JxW(qp);
-      }
-    }
-    cell->get_dof_indices(local);
-    K.add(local, Ke);
-  }
-}
-
 // CG preconditioned by smoothed-aggregation AMG with the three rigid-body modes about the disc centre as near null
 // space: the same set-up as continuum/fe_model.cpp (docs/continuum.md, "Solvers"). Returns the CG iterations.
 unsigned solve_cg_amg(const SparseMatrix<double>& K, const Vector<double>& b, Vector<double>& u,
                       const DoFHandler<dim>& dof, double cx, double cy, int degree, double tolerance) {
-  std::lock_guard<std::mutex> lock(trilinos_mutex);
-  ensure_mpi();
+  std::lock_guard<std::mutex> lock(internal::trilinos_mutex());
+  internal::ensure_mpi("solve_disc", "DiscOptions::solver = Solver::direct");
   std::vector<Point<dim>> point;
   std::vector<unsigned char> component;
   dof_geometry(dof, point, component);
@@ -419,9 +359,9 @@ DiscResult solve_disc(const TriMesh& mesh, const theory::TIConstants& c, double 
   }
 
   // Per unit thickness: the point forces are P / t.
-  const SymmetricTensor<4, dim> C = stiffness_tensor(stiffness_voigt(c, bedding_deg, plane));
+  const SymmetricTensor<4, dim> C = internal::stiffness_tensor(stiffness_voigt(c, bedding_deg, plane));
   SparseMatrix<double> K(pattern);
-  assemble(dof, mapping, quadrature, C, K);
+  internal::assemble_fe_values(dof, mapping, quadrature, C, K);
   Vector<double> u(n_dofs), b(n_dofs);
   b[vertex_dof(dof, vertex_of[disc.top], 1)] = -load / thickness;
   b[vertex_dof(dof, vertex_of[disc.bottom], 1)] = load / thickness;

@@ -7,6 +7,7 @@
 // DoFs, constraints (platens, pin, ties of glued copies), sparsity with the interface couplings -> assemble cells
 // (constant strain triangles, per-layer C) and interfaces into the constrained matrix, and the platen rows of the
 // unconstrained one into two vectors (reactions) -> solve (UMFPACK or CG+AMG) -> distribute -> reactions, fields.
+#include "continuum/fe_internal.hpp"
 #include "continuum/fe_joints.hpp"
 
 #include <deal.II/base/index_set.h>
@@ -68,34 +69,6 @@ class Stopwatch {
 
 [[noreturn]] void fail(const char* function, const std::string& what) {
   throw std::invalid_argument(std::string(function) + ": " + what);
-}
-
-// ---- MPI: Trilinos needs it even serially ------------------------------------------------------------------------
-
-// fe_model.cpp keeps its own flag and mutex in an anonymous namespace; whichever runs first initialises MPI and the
-// other sees it initialised. This mutex serialises the CG+AMG stages of this file only.
-std::mutex trilinos_mutex;
-
-void ensure_mpi() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    int initialized = 0;
-    MPI_Initialized(&initialized);
-    if (initialized) return;  // the application (or solve_elastic) owns MPI: leave it alone
-    int finalized = 0;
-    MPI_Finalized(&finalized);
-    if (finalized)
-      throw std::runtime_error(
-          "solve_elastic_jointed: MPI has already been finalised, but the CG+AMG solver (Trilinos) needs it; "
-          "solve before MPI_Finalize or use JointedFeOptions::solver = Solver::direct");
-    int provided = 0;
-    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);
-    std::atexit([] {
-      int done = 0;
-      MPI_Finalized(&done);
-      if (!done) MPI_Finalize();
-    });
-  });
 }
 
 // ---- Small tools -------------------------------------------------------------------------------------------------
@@ -387,8 +360,8 @@ void solve_direct(const SparseMatrix<double>& K, const Vector<double>& b, Vector
 unsigned solve_cg_amg(const SparseMatrix<double>& K, const Vector<double>& b, Vector<double>& u,
                       const std::vector<Point<dim>>& dof_point, const std::vector<unsigned char>& dof_component,
                       const Box& box, double tolerance) {
-  std::lock_guard<std::mutex> lock(trilinos_mutex);
-  ensure_mpi();
+  std::lock_guard<std::mutex> lock(internal::trilinos_mutex());
+  internal::ensure_mpi("solve_elastic_jointed", "JointedFeOptions::solver = Solver::direct");
   const auto n = K.m();
   TrilinosWrappers::SparseMatrix K_epetra;
   K_epetra.reinit(complete_index_set(n), complete_index_set(n), K, MPI_COMM_SELF, 0.0, true);

@@ -6,6 +6,7 @@
 // platen DoFs -> assemble K per unit thickness -> keep the platen rows of K, impose the platen displacements ->
 // solve -> reactions from the kept rows (the unconstrained residual K u; there is no body force) -> centroid fields.
 #include "continuum/fe_model.hpp"
+#include "continuum/fe_internal.hpp"
 
 #include <deal.II/base/config.h>
 #include <deal.II/base/index_set.h>
@@ -49,6 +50,74 @@
 
 namespace rbdem::continuum {
 
+// ---- What the solvers of continuum/ share (fe_internal.hpp) ----------------------------------------------------
+
+namespace internal {
+
+std::mutex& trilinos_mutex() {
+  static std::mutex m;
+  return m;
+}
+
+void ensure_mpi(const char* solver, const char* direct_option) {
+  static std::once_flag once;
+  std::call_once(once, [&] {
+    int initialized = 0;
+    MPI_Initialized(&initialized);
+    if (initialized) return;  // the application (e.g. under mpirun) owns MPI: leave it alone
+    int finalized = 0;
+    MPI_Finalized(&finalized);
+    if (finalized)
+      throw std::runtime_error(std::string(solver) +
+                               ": MPI has already been finalised, but the CG+AMG solver (Trilinos) needs it; solve "
+                               "before MPI_Finalize or use " + direct_option);
+    int provided = 0;
+    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);
+    std::atexit([] {
+      int done = 0;
+      MPI_Finalized(&done);
+      if (!done) MPI_Finalize();
+    });
+  });
+}
+
+dealii::SymmetricTensor<4, 2> stiffness_tensor(const Stiffness3& C) {
+  constexpr unsigned voigt[3][2] = {{0, 0}, {1, 1}, {0, 1}};
+  dealii::SymmetricTensor<4, 2> t;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) t[voigt[a][0]][voigt[a][1]][voigt[b][0]][voigt[b][1]] = C[a][b];
+  return t;
+}
+
+void assemble_fe_values(const dealii::DoFHandler<2>& dof, const dealii::Mapping<2>& mapping,
+                        const dealii::Quadrature<2>& q, const dealii::SymmetricTensor<4, 2>& C,
+                        dealii::SparseMatrix<double>& K) {
+  using namespace dealii;
+  constexpr int dim = 2;
+  const FiniteElement<dim>& fe = dof.get_fe();
+  FEValues<dim> fev(mapping, fe, q, update_gradients | update_JxW_values);
+  const FEValuesExtractors::Vector u(0);
+  const unsigned n = fe.n_dofs_per_cell();
+  FullMatrix<double> Ke(n, n);
+  std::vector<SymmetricTensor<2, dim>> eps(n);
+  std::vector<types::global_dof_index> local(n);
+  for (const auto& cell : dof.active_cell_iterators()) {
+    fev.reinit(cell);
+    Ke = 0;
+    for (unsigned qp = 0; qp < q.size(); ++qp) {
+      for (unsigned i = 0; i < n; ++i) eps[i] = fev[u].symmetric_gradient(i, qp);
+      for (unsigned i = 0; i < n; ++i) {
+        const SymmetricTensor<2, dim> C_eps_i = C * eps[i];
+        for (unsigned j = 0; j < n; ++j) Ke(i, j) += scalar_product(C_eps_i, eps[j]) * fev.JxW(qp);
+      }
+    }
+    cell->get_dof_indices(local);
+    K.add(local, Ke);
+  }
+}
+
+}  // namespace internal
+
 namespace {
 
 using namespace dealii;
@@ -67,33 +136,6 @@ class Stopwatch {
  private:
   std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
 };
-
-// ---- MPI: Trilinos needs it even serially (NOTES trap 4) --------------------------------------------------------
-
-// Trilinos runs under MPI_THREAD_SERIALIZED: one CG+AMG stage at a time across threads.
-std::mutex trilinos_mutex;
-
-void ensure_mpi() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    int initialized = 0;
-    MPI_Initialized(&initialized);
-    if (initialized) return;  // the application (e.g. under mpirun) owns MPI: leave it alone
-    int finalized = 0;
-    MPI_Finalized(&finalized);
-    if (finalized)
-      throw std::runtime_error(
-          "solve_elastic: MPI has already been finalised, but the CG+AMG solver (Trilinos) needs it; "
-          "solve before MPI_Finalize or use FeOptions::solver = Solver::direct");
-    int provided = 0;
-    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);
-    std::atexit([] {
-      int done = 0;
-      MPI_Finalized(&done);
-      if (!done) MPI_Finalize();
-    });
-  });
-}
 
 // ---- Inputs ------------------------------------------------------------------------------------------------------
 
@@ -171,15 +213,6 @@ Stiffness3 invert(const theory::Compliance3& S) {
   return C;
 }
 
-// Voigt [xx, yy, xy] with engineering shear -> the tensor with sigma = C : eps.
-SymmetricTensor<4, dim> stiffness_tensor(const Stiffness3& C) {
-  constexpr unsigned voigt[3][2] = {{0, 0}, {1, 1}, {0, 1}};
-  SymmetricTensor<4, dim> t;
-  for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) t[voigt[a][0]][voigt[a][1]][voigt[b][0]][voigt[b][1]] = C[a][b];
-  return t;
-}
-
 // ---- Triangulation and DoFs --------------------------------------------------------------------------------------
 
 // Triangles in the order of a Morton (Z) curve through their centroids: neighbouring cells, and hence the DoFs that
@@ -215,7 +248,7 @@ void make_triangulation(const TriMesh& mesh, const std::vector<unsigned>& cell_t
   std::vector<unsigned> vertex_of(mesh.nodes.size(), numbers::invalid_unsigned_int);
   std::vector<Point<dim>> vertices;
   vertices.reserve(mesh.nodes.size());
-  std::vector<CellData<dim>> cells(cell_triangle.size(), CellData<dim>(3));  // 3: see NOTES trap 2
+  std::vector<CellData<dim>> cells(cell_triangle.size(), CellData<dim>(3));  // 3 vertices: a triangle, not a quad
   for (std::size_t k = 0; k < cell_triangle.size(); ++k)
     for (unsigned i = 0; i < 3; ++i) {
       const int v = mesh.triangles[cell_triangle[k]][i];
@@ -361,30 +394,6 @@ void assemble_affine(const DoFHandler<dim>& dof, const Quadrature<dim>& q, const
   }
 }
 
-void assemble_fe_values(const DoFHandler<dim>& dof, const Mapping<dim>& mapping, const Quadrature<dim>& q,
-                        const SymmetricTensor<4, dim>& C, SparseMatrix<double>& K) {
-  const FiniteElement<dim>& fe = dof.get_fe();
-  FEValues<dim> fev(mapping, fe, q, update_gradients | update_JxW_values);
-  const FEValuesExtractors::Vector u(0);
-  const unsigned n = fe.n_dofs_per_cell();
-  FullMatrix<double> Ke(n, n);
-  std::vector<SymmetricTensor<2, dim>> eps(n);
-  std::vector<types::global_dof_index> local(n);
-  for (const auto& cell : dof.active_cell_iterators()) {
-    fev.reinit(cell);
-    Ke = 0;
-    for (unsigned qp = 0; qp < q.size(); ++qp) {
-      for (unsigned i = 0; i < n; ++i) eps[i] = fev[u].symmetric_gradient(i, qp);
-      for (unsigned i = 0; i < n; ++i) {
-        const SymmetricTensor<2, dim> C_eps_i = C * eps[i];
-        for (unsigned j = 0; j < n; ++j) Ke(i, j) += scalar_product(C_eps_i, eps[j]) * fev.JxW(qp);
-      }
-    }
-    cell->get_dof_indices(local);
-    K.add(local, Ke);
-  }
-}
-
 // ---- Platens -----------------------------------------------------------------------------------------------------
 
 // Rows of the unconstrained K for the platen u_y DoFs: their product with u is the reaction (residual K u - f,
@@ -427,8 +436,8 @@ unsigned solve_cg_amg(const SparseMatrix<double>& K, const Vector<double>& b, Ve
                       const DofGeometry& geometry, const Box& box, int degree, double tolerance,
                       double& precondition_seconds) {
   Stopwatch clock;
-  std::lock_guard<std::mutex> lock(trilinos_mutex);
-  ensure_mpi();
+  std::lock_guard<std::mutex> lock(internal::trilinos_mutex());
+  internal::ensure_mpi("solve_elastic", "FeOptions::solver = Solver::direct");
   const auto n = K.m();
   TrilinosWrappers::SparseMatrix K_epetra;
   K_epetra.reinit(complete_index_set(n), complete_index_set(n), K, MPI_COMM_SELF, 0.0, true);
@@ -550,12 +559,12 @@ FeResult solve_elastic(const TriMesh& mesh, const theory::TIConstants& c, double
   result.setup_seconds = clock.lap();
 
   // Assembly per unit thickness; the platen rows are kept before the boundary values overwrite them.
-  const SymmetricTensor<4, dim> C = stiffness_tensor(stiffness_voigt(c, bedding_deg, options.plane));
+  const SymmetricTensor<4, dim> C = internal::stiffness_tensor(stiffness_voigt(c, bedding_deg, options.plane));
   SparseMatrix<double> K(pattern);
   if (options.assembly == Assembly::affine)
     assemble_affine(dof, quadrature, C, K);
   else
-    assemble_fe_values(dof, mapping, quadrature, C, K);
+    internal::assemble_fe_values(dof, mapping, quadrature, C, K);
   ReactionRows top_rows, bottom_rows;
   top_rows.keep(K, top_uy);
   bottom_rows.keep(K, bottom_uy);

@@ -1,0 +1,34 @@
+// What the deal.II solvers of continuum/ share (fe_model.cpp, fe_joints.cpp, fe_disc.cpp); defined in
+// fe_model.cpp. Internal to continuum/: it includes deal.II, which nothing outside this folder may.
+#pragma once
+
+#include <mutex>
+
+#include <deal.II/base/quadrature.h>
+#include <deal.II/base/symmetric_tensor.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/mapping.h>
+#include <deal.II/lac/sparse_matrix.h>
+
+#include "continuum/fe_model.hpp"
+
+namespace rbdem::continuum::internal {
+
+// Trilinos runs under MPI_THREAD_SERIALIZED: every CG+AMG stage of continuum/, whichever solver it belongs to, holds
+// this one lock, so two threads (e.g. the elastic gate's dips, run two at a time) never enter Trilinos together.
+std::mutex& trilinos_mutex();
+
+// Initialises MPI once for the whole process (Trilinos needs it even serially; docs/continuum.md, "Solvers"), unless
+// the application already did (mpirun). Throws std::runtime_error naming `solver` and the option that avoids
+// Trilinos (`direct_option`) when MPI has already been finalised.
+void ensure_mpi(const char* solver, const char* direct_option);
+
+// Voigt [xx, yy, xy] with engineering shear -> the tensor with sigma = C : eps.
+dealii::SymmetricTensor<4, 2> stiffness_tensor(const Stiffness3& C);
+
+// K += the elastic stiffness of every cell of `dof` (vector-valued, C constant), integrated with FEValues.
+void assemble_fe_values(const dealii::DoFHandler<2>& dof, const dealii::Mapping<2>& mapping,
+                        const dealii::Quadrature<2>& q, const dealii::SymmetricTensor<4, 2>& C,
+                        dealii::SparseMatrix<double>& K);
+
+}  // namespace rbdem::continuum::internal
