@@ -2,6 +2,7 @@
 //
 //   rbdem mesh --beta 30 --spacing 0.01 --out s.msh      # gmsh 4.1 file, one physical surface per layer
 //   rbdem mesh --set mesh.size=0.0005                    # statistics only
+#include <array>
 #include <chrono>
 #include <cmath>
 
@@ -9,6 +10,7 @@
 
 #include "apps/cli_common.hpp"
 #include "apps/commands.hpp"
+#include "dem/materials.hpp"
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
 
@@ -40,6 +42,23 @@ void print_statistics(const Scene& scene, const TriMesh& mesh, const Topology& t
              topo.total_length(BondKind::joint), lmin);
   fmt::print("boundary     {} edges (bottom {}, right {}, top {}, left {}, other {})\n", topo.boundary.size(),
              boundary_by_side[0], boundary_by_side[1], boundary_by_side[2], boundary_by_side[3], boundary_by_side[4]);
+  // Which material each bond got (dem/materials.hpp); throws SceneError for a group the mesh lacks.
+  const MaterialMap materials = assign_materials(topo, scene);
+  std::array<std::size_t, material_count> per_material{};
+  for (auto m : materials.bond) ++per_material[m];
+  std::string used;
+  for (std::size_t m = 0; m < material_count; ++m)
+    if (per_material[m]) used += fmt::format("{}{} {}", used.empty() ? "" : ", ", material_name[m], per_material[m]);
+  fmt::print("materials    bonds: {}\n", used);
+  if (!topo.interface_names.empty()) {
+    std::string names;
+    for (std::size_t f = 0; f < mesh.interfaces.size(); ++f)
+      names += fmt::format("{}{} ({} edges)", f ? ", " : "", mesh.interfaces[f].name, mesh.interfaces[f].edges.size());
+    fmt::print("interfaces   {}\n", names);
+  }
+  if (scene.joint_set2.enabled && scene.mesh.file.empty())
+    fmt::print("joint set 2  dip {:.4g} deg, spacing {:.4g} m, offset {:.4g} m\n",
+               SpecimenGeometry::from_scene(scene).set2.dip_deg, scene.joint_set2.spacing, scene.joint_set2.offset);
   for (const auto& note : mesh.notes) fmt::print("note         {}\n", note);
 }
 

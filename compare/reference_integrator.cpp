@@ -183,12 +183,13 @@ void check_reference_scope(const Engine& engine, double damping) {
     throw std::invalid_argument("reference integrator: frictional platens carry a shear history; set "
                                 "loading.platen_friction = 0");
   const Model& M = engine.model();
-  for (int k = 0; k < 2; ++k) {
-    const BondKindLaw& law = M.law[std::size_t(k)];
+  for (std::size_t k = 0; k < M.law.size(); ++k) {
+    if (std::find(M.material.begin(), M.material.end(), std::uint8_t(k)) == M.material.end()) continue;  // unused
+    const BondKindLaw& law = M.law[k];
     if (!(law.mu == 0.0 && law.slip_bonded))
       throw std::invalid_argument("reference integrator: the linear part's and the contacts' incremental shear "
-                                  "carries history; set contact_friction = 0 and slip_when_bonded = true for rock "
-                                  "and joint");
+                                  "carries history; set contact_friction = 0 and slip_when_bonded = true for "
+                                  "every material in use (rock, joint, joint2, rock2)");
   }
 }
 

@@ -149,7 +149,7 @@ double Engine::critical_step() const {
       if (s != Side::top && s != Side::bottom) continue;
       const std::size_t blk = std::size_t(E.block[e]);
       const double k = model_.platen_kn[blk] * model_.thickness * E.length[e];
-      kt[blk] += k * (1.0 + 1.0 / model_.law[0].kappa);
+      kt[blk] += k * (1.0 + 1.0 / model_.law[model_.block_material[blk]].kappa);
       const double r = 0.5 * model_.radius[blk];
       kr[blk] += k * r * r;
     }
@@ -170,7 +170,7 @@ BondForces Engine::bond_forces(int b) const {
   const double keep = work_.keep[k];
   out.fn_b = keep * ev.fnb, out.fs_b = keep * ev.fsb, out.m_b = keep * ev.mb, out.fn_lin = ev.fnl, out.fs_lin = ev.fsl;
   const double L = model_.frame.L[k], A = model_.frame.A[k];
-  model_.law[int(model_.kind[k])].bond.strength.stresses(ev.fnb, ev.fsb, ev.mb, A, A * L * L / 12.0, 0.5 * L,
+  model_.law[model_.material[k]].bond.strength.stresses(ev.fnb, ev.fsb, ev.mb, A, A * L * L / 12.0, 0.5 * L,
                                                          out.sigma, out.tau);
   return out;
 }

@@ -89,6 +89,30 @@ TriMesh collect_triangles(const std::vector<std::vector<int>>& layer_entities, s
     }
   }
   mesh.layer_names = std::move(names);
+  // Physical curve groups: the interfaces (joint chains) of the mesh.
+  gmsh::vectorpair curve_groups;
+  gmsh::model::getPhysicalGroups(curve_groups, 1);
+  for (const auto& [dim, group] : curve_groups) {
+    MeshInterface itf;
+    gmsh::model::getPhysicalName(1, group, itf.name);
+    if (itf.name.empty()) itf.name = fmt::format("curve_{}", group);
+    std::vector<int> entities;
+    gmsh::model::getEntitiesForPhysicalGroup(1, group, entities);
+    for (int entity : entities) {
+      std::vector<int> types;
+      std::vector<std::vector<std::size_t>> etags, enodes;
+      gmsh::model::mesh::getElements(types, etags, enodes, 1, entity);
+      for (std::size_t k = 0; k < types.size(); ++k) {
+        if (types[k] != 1)
+          throw SceneError(fmt::format("{}: physical curve '{}' holds elements of type {}: rbdem needs first-order "
+                                       "lines on curves (in gmsh: Mesh.ElementOrder = 1)",
+                                       source, itf.name, types[k]));
+        for (std::size_t e = 0; e < etags[k].size(); ++e)
+          itf.edges.push_back({index.at(enodes[k][2 * e]), index.at(enodes[k][2 * e + 1])});
+      }
+    }
+    mesh.interfaces.push_back(std::move(itf));
+  }
   // Drop nodes that no triangle uses (boundary-only or unused nodes of the file).
   std::vector<int> used(mesh.nodes.size(), -1);
   std::vector<std::array<double, 2>> kept;
@@ -101,6 +125,12 @@ TriMesh collect_triangles(const std::vector<std::vector<int>>& layer_entities, s
       v = used[v];
     }
   mesh.nodes = std::move(kept);
+  for (auto& itf : mesh.interfaces) {
+    std::vector<std::array<int, 2>> kept_edges;
+    for (const auto& [u, v] : itf.edges)
+      if (used[u] >= 0 && used[v] >= 0) kept_edges.push_back({used[u], used[v]});
+    itf.edges = std::move(kept_edges);
+  }
   return mesh;
 }
 

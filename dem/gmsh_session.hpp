@@ -35,7 +35,8 @@ std::string gmsh_error(const std::string& fallback);
 // onto them exactly (OpenCASCADE returns 0.09999999999999999 for 0.1).
 void tidy(TriMesh& mesh, double width, double height, double tol);
 
-// Collects the first-order triangles of the current gmsh model, one layer per entry of `layer_entities`.
+// Collects the first-order triangles of the current gmsh model, one layer per entry of `layer_entities`, and the
+// line elements of its physical curve groups as TriMesh::interfaces (unnamed groups are called "curve_<tag>").
 TriMesh collect_triangles(const std::vector<std::vector<int>>& layer_entities, std::vector<std::string> names,
                           const std::string& source);
 

@@ -7,13 +7,14 @@
 #include <stdexcept>
 
 #include "common/fault_injection.hpp"
+#include "dem/materials.hpp"
 #include "dem/scene_keys.hpp"
 
 namespace rbdem {
 
 BondStiffness Model::stiffness(int b) const {
   const std::size_t k = std::size_t(b);
-  const BondKindLaw& kl = law[int(kind[k])];
+  const BondKindLaw& kl = law[material[k]];
   const double K = frame.K[k], L = frame.L[k];
   const double A = L * thickness;
   return {K, K / kl.kappa, K * L * L / kl.inertia_divisor, K, K / kl.kappa, kl.mu, kl.slip_bonded,
@@ -23,10 +24,11 @@ BondStiffness Model::stiffness(int b) const {
 LinearContact Model::pair_law(int i, int j, int bond) const {
   if (bond >= 0) {  // a broken bond: the very law its linear part had (the bond's K, K / kappa and L)
     const std::size_t k = std::size_t(bond);
-    return {frame.K[k], frame.Ks[k], law[int(kind[k])].mu, frame.inv_L[k]};
+    return {frame.K[k], frame.Ks[k], law[material[k]].mu, frame.inv_L[k]};
   }
   // Never neighbours: d and L_ref from the blocks' inradii (the bond's d and L for equilateral blocks).
-  const BondKindLaw& kl = law[layer[std::size_t(i)] == layer[std::size_t(j)] ? 0 : 1];
+  const bool same_layer = layer[std::size_t(i)] == layer[std::size_t(j)];
+  const BondKindLaw& kl = law[same_layer ? block_material[std::size_t(i)] : std::uint8_t(material_joint)];
   const double r = inradius[std::size_t(i)] + inradius[std::size_t(j)];
   const double kn = kl.modulus / r;
   return LinearContact::per_area(kn, kn / kl.kappa, kl.mu, std::sqrt(3.0) * r, thickness);
@@ -34,7 +36,8 @@ LinearContact Model::pair_law(int i, int j, int bond) const {
 
 LinearContact Model::platen_law(int block, double mu) const {
   const std::size_t b = std::size_t(block);
-  return LinearContact::per_area(platen_kn[b], platen_kn[b] / law[0].kappa, mu, platen_lref[b], thickness);
+  return LinearContact::per_area(platen_kn[b], platen_kn[b] / law[block_material[b]].kappa, mu, platen_lref[b],
+                                 thickness);
 }
 
 bool Model::has_intact_bond(int b, const std::vector<std::uint8_t>& broken) const {
@@ -61,11 +64,17 @@ Model build_model(const Topology& topo, const Scene& scene, double mass_scaling)
 
   const auto& G = topo.blocks;
   const std::size_t nb = G.size();
+  const MaterialMap materials = assign_materials(topo, scene);
+  m.block_material = materials.block;
+  // The topology's masses are at rock.density; blocks of rock2 scale by the density ratio.
+  const double rock2_density = scene.rock2.density / scene.rock.density;
   m.mass.resize(nb), m.inv_mass.resize(nb), m.inertia.resize(nb);
   for (std::size_t b = 0; b < nb; ++b) {
-    m.mass[b] = G.mass[b] * mass_scaling;
+    const double scaling = m.block_material[b] == material_rock2 && rock2_density != 1.0 ? mass_scaling * rock2_density
+                                                                                        : mass_scaling;
+    m.mass[b] = G.mass[b] * scaling;
     m.inv_mass[b] = 1.0 / m.mass[b];
-    m.inertia[b] = G.inertia[b] * mass_scaling;
+    m.inertia[b] = G.inertia[b] * scaling;
   }
   m.x0 = G.cx, m.y0 = G.cy;
   m.radius = G.radius, m.shape = G.shape, m.layer = G.layer;
@@ -79,10 +88,11 @@ Model build_model(const Topology& topo, const Scene& scene, double mass_scaling)
   }
   m.fixed.assign(nb, 0);
 
-  // Laws by kind: rock inside a layer, joint across layers.
-  const std::array<const MaterialParams*, 2> mat{&scene.rock, &scene.joint};
-  for (int k = 0; k < 2; ++k) {
-    BondKindLaw& kl = m.law[std::size_t(k)];
+  // Laws by material (dem/materials.hpp).
+  std::array<const MaterialParams*, material_count> mat{};
+  for (std::size_t k = 0; k < material_count; ++k) mat[k] = &material_params(scene, k);
+  for (std::size_t k = 0; k < material_count; ++k) {
+    BondKindLaw& kl = m.law[k];
     kl.modulus = mat[k]->effective_modulus;
     kl.kappa = mat[k]->stiffness_ratio;
     kl.mu = mat[k]->contact_friction;
@@ -98,13 +108,13 @@ Model build_model(const Topology& topo, const Scene& scene, double mass_scaling)
 
   const auto& N = topo.bonds;
   const std::size_t nbond = N.size();
-  m.bi = N.i, m.bj = N.j, m.kind = N.kind;
+  m.bi = N.i, m.bj = N.j, m.kind = N.kind, m.material = materials.bond;
   BondFrames& f = m.frame;
   for (auto* v : {&f.rix, &f.riy, &f.rjx, &f.rjy, &f.n0x, &f.n0y, &f.L, &f.inv_L, &f.K, &f.Ks, &f.KI, &f.A,
                   &f.rupture, &f.mu_bonded, &f.tension_limit, &f.cohesion_A, &f.tan_phi, &f.beta_m})
     v->resize(nbond);
   for (std::size_t b = 0; b < nbond; ++b) {
-    const BondKindLaw& kl = m.law[int(N.kind[b])];
+    const BondKindLaw& kl = m.law[m.material[b]];
     const double L = N.length[b];
     f.rix[b] = N.mx[b] - G.cx[N.i[b]], f.riy[b] = N.my[b] - G.cy[N.i[b]];
     f.rjx[b] = N.mx[b] - G.cx[N.j[b]], f.rjy[b] = N.my[b] - G.cy[N.j[b]];
@@ -132,7 +142,7 @@ Model build_model(const Topology& topo, const Scene& scene, double mass_scaling)
 
   // Platen stiffness: the platen acts as the mirror image of the block, d = 2 x inradius.
   m.platen_kn.resize(nb);
-  for (std::size_t b = 0; b < nb; ++b) m.platen_kn[b] = m.law[0].modulus / (2.0 * m.inradius[b]);
+  for (std::size_t b = 0; b < nb; ++b) m.platen_kn[b] = m.law[m.block_material[b]].modulus / (2.0 * m.inradius[b]);
   // L_ref of a platen contact: the block's edge on the platen, else the inradius-based length of a fresh contact.
   m.platen_lref.resize(nb);
   for (std::size_t b = 0; b < nb; ++b) m.platen_lref[b] = 2.0 * std::sqrt(3.0) * m.inradius[b];
@@ -163,10 +173,13 @@ Model build_model(const Topology& topo, const Scene& scene, double mass_scaling)
 
 namespace scene_keys {
 
-// The keys of one contact kind; `section` is "rock" or "joint".
+// The keys of one material; `section` is "rock", "joint", "joint2" or "rock2".
 void add_material(Keys& k, const std::string& section, std::function<MaterialParams&(Scene&)> m) {
   const std::string p = section + ".";
-  const std::string what = section == "rock" ? "bonds inside a layer" : "bonds across layers (joints)";
+  const std::string what = section == "rock"    ? "bonds inside a layer"
+                           : section == "joint"  ? "bonds across layers (joints)"
+                           : section == "joint2" ? "joints of the second set and of the interfaces joint2.groups names"
+                                                 : "bonds inside the layers rock2.groups names";
   k.add(positive(p + "effective_modulus", "Pa", 1e14,
                  "effective modulus E* of " + what + ": k_n = E*/d (linear part and parallel bond)",
                  [m](Scene& s) -> double& { return m(s).effective_modulus; }));
@@ -196,12 +209,23 @@ void add_material(Keys& k, const std::string& section, std::function<MaterialPar
                 [m](Scene& s) -> bool& { return m(s).slip_when_bonded; }));
 }
 
-// [rock], [joint]: the bond and contact laws of each kind, and the block density.
+// [rock], [joint], [joint2], [rock2]: the bond and contact laws of each material, and the block densities.
 void declare_materials(Keys& k) {
   add_material(k, "rock", [](Scene& s) -> MaterialParams& { return s.rock; });
   k.add(positive("rock.density", "kg/m^3", 1e5, "block density",
                  [](Scene& s) -> double& { return s.rock.density; }));
   add_material(k, "joint", [](Scene& s) -> MaterialParams& { return s.joint; });
+  add_material(k, "joint2", [](Scene& s) -> MaterialParams& { return s.joint2; });
+  k.add(text("joint2.groups",
+             "interfaces (physical curve names of the mesh, comma separated) whose joints get this material besides "
+             "the second generated joint set; empty = the second set only",
+             [](Scene& s) -> std::string& { return s.joint2.groups; }));
+  add_material(k, "rock2", [](Scene& s) -> MaterialParams& { return s.rock2; });
+  k.add(positive("rock2.density", "kg/m^3", 1e5, "block density of the layers of this rock",
+                 [](Scene& s) -> double& { return s.rock2.density; }));
+  k.add(text("rock2.groups",
+             "layers (physical surface names or layer numbers, comma separated) made of this rock; empty = none",
+             [](Scene& s) -> std::string& { return s.rock2.groups; }));
 }
 
 }  // namespace scene_keys

@@ -17,7 +17,7 @@
 
 namespace rbdem {
 
-// The laws and parameters of one bond kind (rock = 0, joint = 1).
+// The laws and parameters of one material (dem/materials.hpp: rock, joint, joint2, rock2).
 struct BondKindLaw {
   double modulus = 0;         // Pa, E*
   double kappa = 1;           // k_n / k_s
@@ -62,14 +62,16 @@ struct Model {
   std::vector<double> radius, inradius;         // m
   std::vector<std::array<double, 6>> shape;     // body-frame vertices (m), counter-clockwise
   std::vector<int> layer;
+  std::vector<std::uint8_t> block_material;     // material id per block (rock or rock2)
   std::vector<std::uint8_t> fixed;              // kinematically fixed (tests, the reference studies)
   std::size_t num_blocks() const { return mass.size(); }
 
   // bonds
   std::vector<int> bi, bj;
   std::vector<BondKind> kind;
+  std::vector<std::uint8_t> material;  // material id per bond (dem/materials.hpp), the index of its law
   BondFrames frame;
-  std::array<BondKindLaw, 2> law;
+  std::array<BondKindLaw, 4> law;      // by material id
   std::size_t num_bonds() const { return bi.size(); }
   // CSR of the force gather: entries csr_entry[csr_offset[b] .. csr_offset[b+1]) are 2 bond + (1 if b is j).
   std::vector<int> csr_offset, csr_entry;

@@ -238,6 +238,11 @@ Scene::Scene() {
   joint.contact_friction = 0.5;
   joint.moment_factor = 1.0;
   joint.fracture_energy = 0.0;
+  // The second materials start as copies of the first; a scene changes what differs.
+  static_cast<MaterialParams&>(joint2) = joint;
+  static_cast<RockParams&>(rock2) = rock;
+  joint_set2.enabled = false;
+  joint_set2.dip_deg = 0.0;
 }
 
 const std::vector<ParamInfo>& scene_parameters() {
@@ -282,7 +287,8 @@ Scene parse_scene(std::string_view toml_text, std::string_view origin) {
     const auto* table = node.as_table();
     if (!table)
       throw SceneError(fmt::format("{}: top-level key '{}' must be a [section] table (sections: specimen, "
-                                   "joint_set, mesh, rock, joint, loading, numerics, elastic, output)",
+                                   "joint_set, joint_set2, mesh, rock, joint, joint2, rock2, loading, numerics, elastic, "
+                                   "output)",
                                    origin, section.str()));
     for (const auto& [name, value] : *table) {
       const std::string key = std::string(section.str()) + "." + std::string(name.str());
@@ -347,6 +353,27 @@ void validate(const Scene& scene) {
                                  "at least two elements across; use mesh.size <= {} m or a wider spacing",
                                  fmt_real(scene.joint_set.spacing), fmt_real(scene.mesh.size),
                                  fmt_real(0.5 * scene.joint_set.spacing)));
+  if (scene.joint_set2.enabled && scene.mesh.file.empty() && scene.joint_set2.spacing < 2.0 * scene.mesh.size)
+    throw SceneError(fmt::format("joint_set2.spacing = {} m is under two mesh sizes (mesh.size = {} m): use mesh.size "
+                                 "<= {} m or a wider spacing",
+                                 fmt_real(scene.joint_set2.spacing), fmt_real(scene.mesh.size),
+                                 fmt_real(0.5 * scene.joint_set2.spacing)));
+  for (const auto& [name, set] : {std::pair<const char*, const JointSetParams*>{"joint_set", &scene.joint_set},
+                                  std::pair<const char*, const JointSetParams*>{"joint_set2", &scene.joint_set2}}) {
+    if (!set->enabled || set->persistence >= 1.0) continue;
+    if (!scene.mesh.file.empty())
+      throw SceneError(fmt::format("{}.persistence = {} applies to generated specimens only (mesh.file = \"{}\"): "
+                                   "draw the joint pieces in the user mesh as physical curves instead "
+                                   "(docs/scene.md, \"Several joint sets and materials\")",
+                                   name, fmt_real(set->persistence), scene.mesh.file));
+    const double bridge = set->joint_length * (1.0 - set->persistence) / set->persistence;
+    if (set->joint_length < 2.0 * scene.mesh.size || bridge < 2.0 * scene.mesh.size)
+      throw SceneError(fmt::format("{0}.joint_length = {1} m with {0}.persistence = {2} gives joint pieces of {1} m "
+                                   "and rock bridges of {3} m: each must span at least two mesh sizes ({4} m); "
+                                   "use a longer joint_length, a persistence nearer 0.5 or a finer mesh.size",
+                                   name, fmt_real(set->joint_length), fmt_real(set->persistence),
+                                   fmt_real(bridge), fmt_real(2.0 * scene.mesh.size)));
+  }
   if (scene.mesh.seed != 0 && !scene.mesh.file.empty())
     throw SceneError(fmt::format("mesh.seed = {} has no effect on a user mesh (mesh.file = \"{}\"): realizations "
                                  "re-mesh the specimen; use mesh.seed = 0 with a user mesh, or no mesh.file",
@@ -368,6 +395,8 @@ void check_plausible(const Scene& scene) {
   };
   check("rock", scene.rock);
   check("joint", scene.joint);
+  if (!scene.rock2.groups.empty()) check("rock2", scene.rock2);
+  check("joint2", scene.joint2);
 }
 
 std::string parameter_text(const Scene& scene, std::string_view key) {

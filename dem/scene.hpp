@@ -31,6 +31,10 @@ struct JointSetParams {
   double spacing = 0.01;  // m, normal distance between joints
   double offset = 0.0;    // m, shift of the set along its normal, from the specimen centre
   bool enabled = true;    // false: intact rock, no joints
+  double persistence = 1.0;  // -, joint length / (joint length + rock bridge length) along a joint; 1 = through-going
+  double joint_length = 0.02;  // m, length of each joint piece of a non-persistent set (persistence < 1)
+  double stagger = 0.5;   // -, shift of the joint pieces from one joint to the next, as a fraction of their period
+  bool follows_set1 = false;  // second set only: dip_deg is measured from joint_set.dip_deg (turns with set 1)
 };
 
 struct MeshParams {
@@ -54,6 +58,15 @@ struct MaterialParams {
 
 struct RockParams : MaterialParams {
   double density = 2700.0;  // kg/m^3, block density
+};
+
+// A second rock material and a second joint material, and where they apply (dem/materials.hpp): `groups` is a comma
+// separated list of layer names or numbers (rock2) or of interface names (joint2) of the mesh.
+struct Rock2Params : RockParams {
+  std::string groups;  // layers of this rock; empty = none
+};
+struct Joint2Params : MaterialParams {
+  std::string groups;  // interfaces of this joint material besides the second generated set; empty = none
 };
 
 struct LoadingParams {
@@ -90,9 +103,12 @@ struct ElasticGateParams {
 struct Scene {
   SpecimenParams specimen;
   JointSetParams joint_set;
+  JointSetParams joint_set2;  // a second joint set, off by default (enabled = false)
   MeshParams mesh;
   RockParams rock;
   MaterialParams joint;
+  Joint2Params joint2;  // the second set's joints, and any interface the scene names
+  Rock2Params rock2;    // layers the scene names
   LoadingParams loading;
   NumericsParams numerics;
   ElasticGateParams elastic;

@@ -1,8 +1,8 @@
 // How a module declares its scene section. The scene (dem/scene.hpp) is one registry of keys, each with its unit,
 // allowed range, default and doc string; every section is declared by the module that reads it, through the
 // builders below, and dem/scene.cpp collects them in file order:
-//   [specimen] [joint_set] [mesh]   dem/specimen_mesh.cpp   declare_geometry
-//   [rock] [joint]                  dem/model.cpp           declare_materials
+//   [specimen] [joint_set] [joint_set2] [mesh]  dem/specimen_mesh.cpp  declare_geometry
+//   [rock] [joint] [joint2] [rock2] dem/model.cpp           declare_materials
 //   [loading]                       dem/driver/ucs.cpp      declare_loading
 //   [numerics]                      dem/engine.cpp          declare_numerics
 //   [elastic]                       dem/scene.cpp           declare_elastic (read by compare/gate, which the DEM

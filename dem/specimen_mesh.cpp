@@ -60,34 +60,49 @@ SpecimenGeometry SpecimenGeometry::from_scene(const Scene& scene) {
   g.contact_arc_deg = g.disc ? scene.specimen.contact_arc_deg : 0.0;
   g.width = g.disc ? scene.specimen.diameter : scene.specimen.width;
   g.height = g.disc ? scene.specimen.diameter : scene.specimen.height;
-  g.dip_deg = scene.joint_set.dip_deg;
-  g.spacing = scene.joint_set.spacing;
-  g.offset = scene.joint_set.offset;
-  g.joints = scene.joint_set.enabled;
+  const JointSetParams& j = scene.joint_set;
+  g.dip_deg = j.dip_deg, g.spacing = j.spacing, g.offset = j.offset, g.joints = j.enabled;
+  g.persistence = j.persistence, g.joint_length = j.joint_length, g.stagger = j.stagger;
+  const JointSetParams& j2 = scene.joint_set2;
+  g.second_set = j2.enabled;
+  double dip2 = j2.follows_set1 ? j.dip_deg + j2.dip_deg : j2.dip_deg;
+  dip2 = std::fmod(dip2, 180.0);  // a set is the same at beta and beta + 180 deg
+  if (dip2 < 0) dip2 += 180.0;
+  g.set2 = {dip2, j2.spacing, j2.offset, j2.persistence, j2.joint_length, j2.stagger};
   g.mesh_seed = scene.mesh.seed;
   return g;
 }
 
-std::array<double, 2> SpecimenGeometry::direction() const {
+std::array<double, 2> JointSetGeometry::direction() const {
   if (dip_deg == 0.0) return {1.0, 0.0};
   if (dip_deg == 90.0) return {0.0, 1.0};
   return {std::cos(dip_deg * deg), std::sin(dip_deg * deg)};
 }
 
-std::array<double, 2> SpecimenGeometry::normal() const {
+std::array<double, 2> JointSetGeometry::normal() const {
   const auto d = direction();
   return {-d[1], d[0]};
 }
 
+JointSetGeometry SpecimenGeometry::set(int k) const {
+  if (k == 1) return set2;
+  return {dip_deg, spacing, offset, persistence, joint_length, stagger};
+}
+
+std::array<double, 2> SpecimenGeometry::direction() const { return set(0).direction(); }
+std::array<double, 2> SpecimenGeometry::normal() const { return set(0).normal(); }
+
 double JointSegment::length() const { return std::hypot(b[0] - a[0], b[1] - a[1]); }
 
-std::vector<JointSegment> joint_segments(const SpecimenGeometry& g, double min_piece,
-                                         std::vector<std::string>* notes) {
-  std::vector<JointSegment> out;
-  if (!g.joints) return out;
+namespace {
+// The segments of one set (see joint_segments).
+void set_segments(const SpecimenGeometry& g, int k, double min_piece, std::vector<std::string>* notes,
+                  std::vector<JointSegment>& out) {
+  const JointSetGeometry js = g.set(k);
+  const std::string name = joint_set_group[std::size_t(k)];
   const std::array<double, 2> c{0.5 * g.width, 0.5 * g.height};
-  const auto d = g.direction();
-  const auto n = g.normal();
+  const auto d = js.direction();
+  const auto n = js.normal();
   // Extent of the specimen along the normal, measured from the centre.
   double rmin = 1e300, rmax = -1e300;
   for (double x : {0.0, g.width})
@@ -99,16 +114,16 @@ std::vector<JointSegment> joint_segments(const SpecimenGeometry& g, double min_p
   const double radius = 0.5 * g.width;
   if (g.disc) rmin = -radius, rmax = radius;
   const double tol = 1e-9 * std::max(g.width, g.height);
-  const long kmin = long(std::ceil((rmin - g.offset) / g.spacing - 1e-9));
-  const long kmax = long(std::floor((rmax - g.offset) / g.spacing + 1e-9));
-  for (long k = kmin; k <= kmax; ++k) {
-    const double r = g.offset + double(k) * g.spacing;
+  const long kmin = long(std::ceil((rmin - js.offset) / js.spacing - 1e-9));
+  const long kmax = long(std::floor((rmax - js.offset) / js.spacing + 1e-9));
+  for (long row = kmin; row <= kmax; ++row) {
+    const double r = js.offset + double(row) * js.spacing;
     if (r - rmin <= tol || rmax - r <= tol) continue;  // on a side or through a corner only
     if (r - rmin < min_piece || rmax - r < min_piece) {
       if (notes)
         notes->push_back(fmt::format("joint at {:.4g} m from the centre left out: it would cut off a corner piece "
-                                     "{:.3g} m thick (under {:.3g} m); shift joint_set.offset to keep it",
-                                     r, std::min(r - rmin, rmax - r), min_piece));
+                                     "{:.3g} m thick (under {:.3g} m); shift {}.offset to keep it",
+                                     r, std::min(r - rmin, rmax - r), min_piece, name));
       continue;
     }
     // Clip the infinite line p(t) = c + r n + t d to the rectangle (Liang-Barsky) or to the disc (the chord).
@@ -124,9 +139,37 @@ std::vector<JointSegment> joint_segments(const SpecimenGeometry& g, double min_p
       t1 = std::min(t1, tb);
     }
     if (t1 - t0 <= tol) continue;
-    JointSegment s{{p[0] + t0 * d[0], p[1] + t0 * d[1]}, {p[0] + t1 * d[0], p[1] + t1 * d[1]}, r};
-    out.push_back(s);
+    auto at = [&](double t) { return std::array<double, 2>{p[0] + t * d[0], p[1] + t * d[1]}; };
+    if (js.persistence >= 1.0) {
+      out.push_back({at(t0), at(t1), r, k, true, true});
+      continue;
+    }
+    // Pieces [m P + shift, m P + shift + L_j] along the joint, the piece m = 0 of the joint through the centre
+    // centred on the centre's foot, each next joint shifted by `stagger` periods.
+    const double P = js.joint_length / js.persistence;
+    const double shift = -0.5 * js.joint_length + js.stagger * P * double(row);
+    const long mmin = long(std::floor((t0 - shift - js.joint_length) / P)), mmax = long(std::ceil((t1 - shift) / P));
+    for (long m = mmin; m <= mmax; ++m) {
+      const double a = std::max(t0, double(m) * P + shift), b = std::min(t1, double(m) * P + shift + js.joint_length);
+      if (b - a <= tol) continue;
+      if (b - a < std::max(min_piece, tol)) {
+        if (notes)
+          notes->push_back(fmt::format("a piece of a {} joint {:.3g} m long left out where the boundary cuts it "
+                                       "(under {:.3g} m)",
+                                       name, b - a, min_piece));
+        continue;
+      }
+      out.push_back({at(a), at(b), r, k, a <= t0, b >= t1});
+    }
   }
+}
+}  // namespace
+
+std::vector<JointSegment> joint_segments(const SpecimenGeometry& g, double min_piece,
+                                         std::vector<std::string>* notes) {
+  std::vector<JointSegment> out;
+  if (g.joints) set_segments(g, 0, min_piece, notes, out);
+  if (g.second_set) set_segments(g, 1, min_piece, notes, out);
   return out;
 }
 
@@ -164,34 +207,53 @@ TriMesh mesh_specimen(const SpecimenGeometry& g, double h, const std::filesystem
       rect = gmsh::model::occ::addRectangle(0, 0, 0, g.width, g.height);
     }
     gmsh::vectorpair tools;
-    const auto d = g.direction();
     const double reach = 0.05 * std::hypot(g.width, g.height);  // lines overshoot the sides; trimmed below
     for (const auto& s : segments) {
-      const int p0 = gmsh::model::occ::addPoint(s.a[0] - reach * d[0], s.a[1] - reach * d[1], 0);
-      const int p1 = gmsh::model::occ::addPoint(s.b[0] + reach * d[0], s.b[1] + reach * d[1], 0);
+      const auto d = g.set(s.set).direction();
+      const double ra = s.a_on_boundary ? reach : 0.0, rb = s.b_on_boundary ? reach : 0.0;
+      const int p0 = gmsh::model::occ::addPoint(s.a[0] - ra * d[0], s.a[1] - ra * d[1], 0);
+      const int p1 = gmsh::model::occ::addPoint(s.b[0] + rb * d[0], s.b[1] + rb * d[1], 0);
       tools.push_back({1, gmsh::model::occ::addLine(p0, p1)});
     }
+    std::vector<gmsh::vectorpair> map;
     if (!tools.empty()) {
       gmsh::vectorpair out;
-      std::vector<gmsh::vectorpair> map;
       gmsh::model::occ::fragment({{2, rect}}, tools, out, map);
     }
     gmsh::model::occ::synchronize();
 
     gmsh::vectorpair surfaces;
     gmsh::model::getEntities(surfaces, 2);
-    // Remove the overshooting line pieces: curves that bound no surface.
-    gmsh::vectorpair boundary;
-    gmsh::model::getBoundary(surfaces, boundary, false, false, false);
-    std::set<int> bounding;
-    for (const auto& [dim, tag] : boundary) bounding.insert(std::abs(tag));
+    // Remove the overshooting line pieces: curves outside the specimen (their middle is outside it).
+    const double eps_in = 1e-7 * std::max(g.width, g.height);
+    auto inside = [&](double x, double y) {
+      if (g.disc) return std::hypot(x - 0.5 * g.width, y - 0.5 * g.height) <= 0.5 * g.width + eps_in;
+      return x >= -eps_in && x <= g.width + eps_in && y >= -eps_in && y <= g.height + eps_in;
+    };
     gmsh::vectorpair curves, dangling;
     gmsh::model::getEntities(curves, 1);
-    for (const auto& dt : curves)
-      if (!bounding.count(dt.second)) dangling.push_back(dt);
+    std::set<int> kept;
+    for (const auto& dt : curves) {
+      std::vector<double> lo, hi, xyz;
+      gmsh::model::getParametrizationBounds(1, dt.second, lo, hi);
+      gmsh::model::getValue(1, dt.second, {0.5 * (lo.at(0) + hi.at(0))}, xyz);
+      if (inside(xyz.at(0), xyz.at(1))) kept.insert(dt.second);
+      else dangling.push_back(dt);
+    }
     if (!dangling.empty()) {
       gmsh::model::occ::remove(dangling, true);
       gmsh::model::occ::synchronize();
+    }
+    // The joints of each set as a physical curve group (what collect_triangles reads as TriMesh::interfaces).
+    for (int k = 0; k < 2; ++k) {
+      std::set<int> group;
+      for (std::size_t t = 0; t < segments.size(); ++t)
+        if (segments[t].set == k && 1 + t < map.size())
+          for (const auto& [dim, tag] : map[1 + t])
+            if (dim == 1 && kept.count(tag)) group.insert(tag);
+      if (group.empty()) continue;
+      const int pg = gmsh::model::addPhysicalGroup(1, std::vector<int>(group.begin(), group.end()));
+      gmsh::model::setPhysicalName(1, pg, joint_set_group[std::size_t(k)]);
     }
 
     // Layers ordered along the joint normal, so layer ids are reproducible.
@@ -269,7 +331,44 @@ TriMesh make_mesh(const Scene& scene, const std::filesystem::path& msh_out) {
 
 namespace scene_keys {
 
-// [specimen], [joint_set], [mesh]: the specimen geometry and its mesh.
+namespace {
+// The keys of one joint set; `section` is "joint_set" or "joint_set2".
+void declare_joint_set(Keys& k, const std::string& section, std::function<JointSetParams&(Scene&)> set) {
+  const bool second = section == "joint_set2";
+  const std::string p = section + ".";
+  k.add(real(p + "dip_deg", "deg", second ? -180.0 : 0.0, second ? 180.0 : 90.0,
+             second ? "dip of the second set from the horizontal (or from joint_set.dip_deg when follows_set1 = "
+                      "true); above 90 deg the set dips the other way"
+                    : "joint dip from the horizontal; the load is vertical (0 = joints normal to the load)",
+             [set](Scene& s) -> double& { return set(s).dip_deg; }));
+  k.add(positive(p + "spacing", "m", 100.0, "normal distance between neighbouring joints",
+                 [set](Scene& s) -> double& { return set(s).spacing; }));
+  k.add(real(p + "offset", "m", -100.0, 100.0,
+             "shift of the joint set along its normal; 0 puts a joint through the specimen centre",
+             [set](Scene& s) -> double& { return set(s).offset; }));
+  k.add(boolean(p + "enabled",
+                second ? "true adds a second joint set (its joints get the [joint2] material)"
+                       : "false gives intact rock (no joints)",
+                [set](Scene& s) -> bool& { return set(s).enabled; }));
+  k.add(real(p + "persistence", "-", 0.0, 1.0,
+             "joint length / (joint length + rock bridge length) along each joint; 1 = through-going joints; below 1 "
+             "each joint is a row of pieces joint_length long separated by intact rock bridges",
+             [set](Scene& s) -> double& { return set(s).persistence; }, true));
+  k.add(positive(p + "joint_length", "m", 100.0, "length of each joint piece when persistence < 1",
+                 [set](Scene& s) -> double& { return set(s).joint_length; }));
+  k.add(real(p + "stagger", "-", 0.0, 1.0,
+             "shift of the joint pieces from one joint to the next along the set, as a fraction of their period "
+             "(joint + bridge length); 0.5 = en echelon",
+             [set](Scene& s) -> double& { return set(s).stagger; }));
+  if (second)
+    k.add(boolean(p + "follows_set1",
+                  "true: dip_deg is measured from joint_set.dip_deg, so the two sets keep their angle when a study "
+                  "turns the first set",
+                  [set](Scene& s) -> bool& { return set(s).follows_set1; }));
+}
+}  // namespace
+
+// [specimen], [joint_set], [joint_set2], [mesh]: the specimen geometry and its mesh.
 void declare_geometry(Keys& k) {
   // [specimen]
   k.add(choice("specimen.shape", {"rectangle", "disc"},
@@ -290,17 +389,9 @@ void declare_geometry(Keys& k) {
   k.add(choice("specimen.model", {"plane_strain", "plane_stress"},
                "2D interpretation of the continuum constants (FE model and Amadei's formula)",
                [](Scene& s) -> std::string& { return s.specimen.model; }));
-  // [joint_set]
-  k.add(real("joint_set.dip_deg", "deg", 0.0, 90.0,
-             "joint dip from the horizontal; the load is vertical (0 = joints normal to the load)",
-             [](Scene& s) -> double& { return s.joint_set.dip_deg; }));
-  k.add(positive("joint_set.spacing", "m", 100.0, "normal distance between neighbouring joints",
-                 [](Scene& s) -> double& { return s.joint_set.spacing; }));
-  k.add(real("joint_set.offset", "m", -100.0, 100.0,
-             "shift of the joint set along its normal; 0 puts a joint through the specimen centre",
-             [](Scene& s) -> double& { return s.joint_set.offset; }));
-  k.add(boolean("joint_set.enabled", "false gives intact rock (no joints)",
-                [](Scene& s) -> bool& { return s.joint_set.enabled; }));
+  // [joint_set], [joint_set2]
+  declare_joint_set(k, "joint_set", [](Scene& s) -> JointSetParams& { return s.joint_set; });
+  declare_joint_set(k, "joint_set2", [](Scene& s) -> JointSetParams& { return s.joint_set2; });
   // [mesh]
   k.add(positive("mesh.size", "m", 1.0, "target triangle edge length h (one rigid block per triangle)",
                  [](Scene& s) -> double& { return s.mesh.size; }));

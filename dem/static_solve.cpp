@@ -145,7 +145,7 @@ class Stiffness {
       const PlatenRow& p = platens_[m];
       const double ay[3] = {0.0, 1.0, p.rx};    // u_y at the contact point
       const double ax[3] = {1.0, 0.0, -p.ry};   // u_x at the contact point (sticking platens)
-      const double ks = sticky ? p.k / e_.model().law[0].kappa : 0.0;
+      const double ks = sticky ? p.k / e_.model().law[e_.model().block_material[std::size_t(p.block)]].kappa : 0.0;
       for (int a = 0; a < 3; ++a)
         for (int c = 0; c < 3; ++c) v[platen_slots_[9 * m + 3 * a + c]] += p.k * ay[a] * ay[c] + ks * ax[a] * ax[c];
     }
@@ -324,7 +324,7 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
     if (e.platen_friction() > 0.0) {  // sticking platen: shear along t = perp(n), n = +-y into the platen
       const double uxp = u[3 * p.block] - p.ry * u[3 * p.block + 2];
       const double tx = p.top ? -1.0 : 1.0;
-      r.platen_fs[p.block] += -(p.k / M.law[0].kappa) * uxp * tx;
+      r.platen_fs[p.block] += -(p.k / M.law[M.block_material[std::size_t(p.block)]].kappa) * uxp * tx;
     }
   }
   const double H = e.model().height, W = e.model().width, t = e.model().thickness;
@@ -345,7 +345,7 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
     if (ls == StaticResult::stick) r.fs_lin[b] = -k.ksA * ds;
     else if (ls != StaticResult::open) r.fs_lin[b] = (ls == StaticResult::slip_positive ? -1.0 : 1.0) * k.mu * (-k.knA * dn);
     // The parallel bond's own strength test (dem/laws/parallel_bond.hpp), solved for the load factor.
-    const BondStrength& st = M.law[int(M.kind[b])].bond.strength;
+    const BondStrength& st = M.law[M.material[b]].bond.strength;
     const double lam = st.first_break_factor(fn, fs, m, k.A, k.I, 0.5 * k.L);
     if (lam < r.first_break_factor) r.first_break_factor = lam, r.first_break_bond = int(b);
   }

@@ -83,6 +83,13 @@ Topology build_topology(const TriMesh& mesh, double thickness, double density) {
                                      mesh.triangles[t][e], mesh.triangles[t][(e + 1) % 3]));
     }
 
+  // Edge -> the first interface that holds it.
+  std::unordered_map<std::uint64_t, int> on_interface;
+  for (std::size_t f = 0; f < mesh.interfaces.size(); ++f)
+    for (const auto& [u, v] : mesh.interfaces[f].edges) on_interface.emplace(key(u, v), int(f));
+  topo.layer_names = mesh.layer_names;
+  for (const auto& itf : mesh.interfaces) topo.interface_names.push_back(itf.name);
+
   // Deterministic order: walk triangles and their edges in mesh order.
   const double tol = 1e-9 * std::max(topo.width(), topo.height());
   auto& N = topo.bonds;
@@ -107,7 +114,10 @@ Topology build_topology(const TriMesh& mesh, double thickness, double density) {
         N.length.push_back(len);
         N.nx.push_back(nx), N.ny.push_back(ny);
         N.d.push_back(std::abs(dn));
-        N.kind.push_back(mesh.layer[i] == mesh.layer[j] ? BondKind::rock : BondKind::joint);
+        const auto found = on_interface.find(key(u, v));
+        const int itf = found == on_interface.end() ? -1 : found->second;
+        N.interface.push_back(itf);
+        N.kind.push_back(mesh.layer[i] == mesh.layer[j] && itf < 0 ? BondKind::rock : BondKind::joint);
       } else {
         Side side = Side::other;
         if (std::abs(pu[1] - topo.ymin) <= tol && std::abs(pv[1] - topo.ymin) <= tol) side = Side::bottom;

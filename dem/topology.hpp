@@ -6,7 +6,10 @@
 //        (perpendicular to the edge), the lever arms midpoint - centroid, and the centroid distance measured
 //        along the normal, d = n . (c_j - c_i). With k_n = E*/d a uniform normal strain eps across the edge gives
 //        the normal stress E* eps, so E* is the modulus of the chain of blocks and bonds along n.
-//        kind = rock when both triangles lie in one layer, joint otherwise.
+//        kind = joint when the two triangles lie in different layers or the edge lies on one of the mesh's
+//        interfaces (a physical curve group: the joints of a generated set, or a curve drawn in a user mesh, which
+//        may end inside a layer), rock otherwise; `interface` is the index of that interface in
+//        TriMesh::interfaces (the first one that holds the edge), -1 for none.
 // Boundary: every edge with one triangle, tagged bottom / right / top / left by the specimen's bounding box, with
 //        its midpoint (where a platen touches a block that has this edge on it).
 // CSR adjacency: the bonds of block b are bond_of[bond_offset[b] .. bond_offset[b+1]).
@@ -14,6 +17,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "mesh/trimesh.hpp"
@@ -42,6 +46,7 @@ struct BondGeometry {
   std::vector<double> nx, ny;          // unit normal from block i to block j
   std::vector<double> d;               // centroid distance along the normal, m
   std::vector<BondKind> kind;
+  std::vector<int> interface;          // index into Topology::interface_names, -1 for none
   std::size_t size() const { return i.size(); }
 };
 
@@ -62,6 +67,8 @@ struct Topology {
   std::vector<int> bond_offset, bond_of;  // CSR: bonds of each block
   double xmin = 0, xmax = 0, ymin = 0, ymax = 0;  // specimen bounding box, m
   double thickness = 1.0;                          // m
+  std::vector<std::string> layer_names;            // the mesh's layer (physical surface) names, by layer id
+  std::vector<std::string> interface_names;        // the mesh's interface (physical curve) names
 
   double width() const { return xmax - xmin; }
   double height() const { return ymax - ymin; }

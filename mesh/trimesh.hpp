@@ -11,11 +11,19 @@
 
 namespace rbdem {
 
+// A named chain of mesh edges: a physical curve group of the mesh (the joints of a generated set, or whatever
+// curves a user mesh names). Interior edges on an interface are joints (dem/topology.hpp).
+struct MeshInterface {
+  std::string name;
+  std::vector<std::array<int, 2>> edges;  // node index pairs
+};
+
 struct TriMesh {
   std::vector<std::array<double, 2>> nodes;   // m
   std::vector<std::array<int, 3>> triangles;  // node indices, counter-clockwise
   std::vector<int> layer;                     // layer id per triangle (0 .. layer_names.size()-1)
   std::vector<std::string> layer_names;       // physical surface group name per layer
+  std::vector<MeshInterface> interfaces;      // physical curve groups (joint chains); may be empty
   std::vector<std::string> notes;             // what the mesher adjusted (skipped slivers, snapped nodes)
 
   std::size_t num_nodes() const { return nodes.size(); }

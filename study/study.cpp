@@ -340,16 +340,26 @@ std::vector<CaseResult> collect(const std::vector<Case>& cases, const std::files
 }
 
 // Jaeger's strength with the joint's effective interface envelope (contact_law.hpp: the linear part shares the
-// traction with the bond), or with the joint bonds' own cohesion and friction (`bond_values`).
+// traction with the bond), or with the joint bonds' own cohesion and friction (`bond_values`). With a second joint
+// set, the weaker of the two planes of weakness governs (docs/theory.md, "Two planes of weakness").
 double jaeger_for(const Scene& scene, double beta, double strength_90, bool bond_values) {
-  if (!scene.joint_set.enabled) return strength_90;
-  const MaterialParams& j = scene.joint;
-  const double tan_phi = std::tan(j.friction_deg * 3.14159265358979323846 / 180.0);
-  const MohrCoulomb env =
-      bond_values ? MohrCoulomb{j.cohesion, tan_phi} : interface_envelope(j.cohesion, tan_phi, j.contact_friction,
-                                                                          j.slip_when_bonded);
-  const double phi_deg = std::atan(env.tan_phi) * 180.0 / 3.14159265358979323846;
-  return theory::jaeger_strength({env.cohesion, phi_deg, strength_90, scene.loading.confining_pressure}, beta);
+  constexpr double deg = std::numbers::pi / 180.0;
+  auto sliding = [&](const MaterialParams& j, double dip) {
+    const double tan_phi = std::tan(j.friction_deg * deg);
+    const MohrCoulomb env = bond_values ? MohrCoulomb{j.cohesion, tan_phi}
+                                        : interface_envelope(j.cohesion, tan_phi, j.contact_friction,
+                                                             j.slip_when_bonded);
+    const double phi_deg = std::atan(env.tan_phi) / deg;
+    const double b = dip > 90.0 ? 180.0 - dip : dip;  // the plane's angle to sigma_3 (symmetric about 90 deg)
+    return theory::jaeger_strength({env.cohesion, phi_deg, strength_90, scene.loading.confining_pressure}, b);
+  };
+  double s = strength_90;
+  if (scene.joint_set.enabled) s = std::min(s, sliding(scene.joint, beta));
+  if (scene.joint_set2.enabled) {
+    const double dip2 = scene.joint_set2.follows_set1 ? beta + scene.joint_set2.dip_deg : scene.joint_set2.dip_deg;
+    s = std::min(s, sliding(scene.joint2, std::fmod(std::fmod(dip2, 180.0) + 180.0, 180.0)));
+  }
+  return s;
 }
 
 double student_t975(int dof) {
@@ -493,7 +503,9 @@ std::vector<GroupSummary> write_tables(const std::vector<CaseResult>& all, const
       best = std::max(best, p);
       if (r->c.beta == 90.0) at90 = p;
     }
-    s90[g] = at90 > 0 ? at90 : best;
+    // With two joint sets the second may govern at 90 deg too: the intact strength is then the group's largest.
+    const bool two_sets = !list.empty() && list.front()->c.scene.joint_set2.enabled;
+    s90[g] = at90 > 0 && !two_sets ? at90 : best;
   }
 
   std::vector<std::string> axis_names;

@@ -53,6 +53,11 @@ SCENES = {
     "realizations_zero.toml": "[study]\ndips = [60]\nrealizations = 0\n",
     "realizations_real.toml": "[study]\ndips = [60]\nrealizations = 2.5\n",
     "one_dip.toml": "[study]\ndips = [60]\n",
+    "rock2_missing_layer.toml": "[rock2]\ngroups = \"sandstone\"\n",
+    "joint2_missing_curve.toml": "[joint2]\ngroups = \"fault\"\n",
+    "short_bridges.toml": "[joint_set]\npersistence = 0.95\njoint_length = 0.01\n",
+    "persistence_zero.toml": "[joint_set]\npersistence = 0\n",
+    "dip2_200.toml": "[joint_set2]\nenabled = true\ndip_deg = 200\n",
 }
 
 # (input tried, command line after `rbdem`, text the message must contain: the name of the input)
@@ -95,6 +100,14 @@ CASES = [
     ("negative mesh seed", "mesh negative_seed.toml", "mesh.seed"),
     ("mesh seed that is not a whole number", "mesh --set mesh.seed=1.5", "mesh.seed"),
     ("mesh seed with a user mesh", "mesh --mesh good_square.msh --set mesh.seed=3", "mesh.seed"),
+    # --- several joint sets and materials
+    ("second rock named for a layer the mesh lacks", "mesh rock2_missing_layer.toml", "rock2.groups"),
+    ("second joint named for a curve the mesh lacks", "mesh joint2_missing_curve.toml", "joint2.groups"),
+    ("rock bridges shorter than two elements", "mesh short_bridges.toml", "joint_set.joint_length"),
+    ("persistence 0 (no joints: use enabled = false)", "mesh persistence_zero.toml", "joint_set.persistence"),
+    ("second set dipping 200 deg", "mesh dip2_200.toml", "joint_set2.dip_deg"),
+    ("persistence with a user mesh", "mesh --mesh good_square.msh --set joint_set.persistence=0.5",
+     "joint_set.persistence"),
     # --- studies with realizations
     ("no realizations in a study", "sweep realizations_zero.toml", "study.realizations"),
     ("realizations not a whole number", "sweep realizations_real.toml", "study.realizations"),

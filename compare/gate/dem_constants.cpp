@@ -1,6 +1,8 @@
 // DEM-measured elastic constants and Goodman's estimate. See dem_constants.hpp.
 #include "compare/gate/dem_constants.hpp"
 
+#include "dem/materials.hpp"
+
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -169,9 +171,10 @@ GoodmanEstimate goodman_estimate(const Scene& scene, const theory::TIConstants& 
 
 namespace rbdem::compare {
 
-JointCompliance joint_compliance(const Scene& scene) {
+JointCompliance joint_compliance(const Scene& scene) { return joint_compliance(scene, scene.joint); }
+
+JointCompliance joint_compliance(const Scene& scene, const MaterialParams& j) {
   const auto& r = scene.rock;
-  const auto& j = scene.joint;
   return {1.0 / (2.0 * j.effective_modulus) - 1.0 / (2.0 * r.effective_modulus),
           j.stiffness_ratio / (2.0 * j.effective_modulus) - r.stiffness_ratio / (2.0 * r.effective_modulus)};
 }
@@ -191,12 +194,13 @@ double JointInterfaces::mean_k_s() const {
 }
 
 JointInterfaces joint_interfaces(const Topology& topo, const Scene& scene, double intact_E) {
-  const JointCompliance c = joint_compliance(scene);
+  const MaterialMap materials = assign_materials(topo, scene);
   const double inf = std::numeric_limits<double>::infinity();
   JointInterfaces out;
   const auto& B = topo.bonds;
   for (std::size_t b = 0; b < B.size(); ++b) {
     if (B.kind[b] != BondKind::joint) continue;
+    const JointCompliance c = joint_compliance(scene, material_params(scene, materials.bond[b]));
     JointInterface e;
     e.node_a = B.node_a[b], e.node_b = B.node_b[b], e.d = B.d[b], e.length = B.length[b];
     const bool rigid_n = !(c.c_n > 0), rigid_s = !(c.c_s > 0);

@@ -119,6 +119,8 @@ struct JointCompliance {
   double c_n = 0, c_s = 0;
 };
 JointCompliance joint_compliance(const Scene& scene);
+// The same for the joint material `joint` (joint or joint2) against scene.rock.
+JointCompliance joint_compliance(const Scene& scene, const MaterialParams& joint);
 
 // One joint bond as an interface of the FE model with the joints: its mesh edge, centroid distance and length, and
 // k_n = 1 / (d c_n), k_s = 1 / (d c_s) (Pa/m). A direction whose compliance is not positive is rigid: both

@@ -83,7 +83,7 @@ void track(double& max, double& where, double d, double beta) {
 Scene dip_scene(const Scene& scene, double beta_deg, bool intact) {
   Scene s = scene;
   s.joint_set.dip_deg = beta_deg;
-  if (intact) s.joint_set.enabled = false;
+  if (intact) s.joint_set.enabled = s.joint_set2.enabled = false;
   return s;
 }
 
@@ -91,6 +91,7 @@ Scene dip_scene(const Scene& scene, double beta_deg, bool intact) {
 Scene rock_joints_scene(const Scene& s) {
   Scene h = s;
   static_cast<MaterialParams&>(h.joint) = static_cast<const MaterialParams&>(s.rock);
+  static_cast<MaterialParams&>(h.joint2) = static_cast<const MaterialParams&>(s.rock);
   return h;
 }
 

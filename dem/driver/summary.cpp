@@ -28,36 +28,59 @@ CrackCounts count_cracks(const std::vector<Crack>& cracks) {
   return c;
 }
 
-std::string classify_failure(const std::vector<Crack>& cracks, const Topology& topo, double dip_deg) {
+double second_set_dip_deg(const Scene& scene) {
+  double dip = scene.joint_set2.follows_set1 ? scene.joint_set.dip_deg + scene.joint_set2.dip_deg
+                                             : scene.joint_set2.dip_deg;
+  dip = std::fmod(dip, 180.0);
+  return dip < 0 ? dip + 180.0 : dip;
+}
+
+bool non_persistent(const Scene& scene) {
+  return (scene.joint_set.enabled && scene.joint_set.persistence < 1.0) ||
+         (scene.joint_set2.enabled && scene.joint_set2.persistence < 1.0);
+}
+
+std::string classify_failure(const std::vector<Crack>& cracks, const Topology& topo, double dip_deg,
+                             double dip2_deg, bool bridges) {
   if (cracks.empty()) return "intact";
-  // Per joint (the interface between two layers): its length and how much of it broke, by mode.
-  std::map<std::pair<int, int>, std::array<double, 3>> joints;  // total, broken in shear, broken in tension
+  // Per joint (the interface between two layers, or the pieces of a set inside one layer): its length and how much
+  // of it broke, by mode.
+  std::map<std::array<int, 3>, std::array<double, 3>> joints;  // total, broken in shear, broken in tension
   const auto& N = topo.bonds;
   auto joint_of = [&](std::size_t b) {
     const int a = topo.blocks.layer[std::size_t(N.i[b])], c = topo.blocks.layer[std::size_t(N.j[b])];
-    return std::pair<int, int>{std::min(a, c), std::max(a, c)};
+    const int f = N.interface.empty() ? -1 : N.interface[b];
+    return std::array<int, 3>{f, std::min(a, c), std::max(a, c)};
+  };
+  auto second_set = [&](const std::array<int, 3>& id) {
+    return id[0] >= 0 && topo.interface_names[std::size_t(id[0])] == "joint_set2";
   };
   for (std::size_t b = 0; b < N.size(); ++b)
     if (N.kind[b] == BondKind::joint) joints[joint_of(b)][0] += N.length[b];
-  double rock_t = 0, rock_s = 0;
+  double rock_t = 0, rock_s = 0, joint_broken = 0;
   for (const auto& k : cracks) {
     const std::size_t b = std::size_t(k.bond);
     const bool shear = k.mode == BreakMode::shear;
-    if (k.kind == BondKind::joint) joints[joint_of(b)][shear ? 1 : 2] += N.length[b];
+    if (k.kind == BondKind::joint) joints[joint_of(b)][shear ? 1 : 2] += N.length[b], joint_broken += N.length[b];
     else (shear ? rock_s : rock_t) += N.length[b];
   }
   // A joint broken along most of its length failed as a plane. It slid if it was broken in shear and the load
   // resolves a large shear stress on it: tau / sigma = sin(2 beta) / 2 >= 1/4, i.e. 15 <= beta <= 75 deg (at 75 deg
   // the paper scene's joints break in shear over their whole length, as Jaeger's slip range 30 < beta < 90 has
   // it). At steeper and flatter dips a broken joint has opened: splitting along the layers (the paper's cleavage
-  // at 90 deg).
-  const bool shear_loaded = dip_deg >= 15.0 && dip_deg <= 75.0;
+  // at 90 deg). A set dipping beyond 90 deg acts as one at 180 - beta.
+  auto shear_loaded = [](double dip) {
+    const double b = dip > 90.0 ? 180.0 - dip : dip;
+    return b >= 15.0 && b <= 75.0;
+  };
   bool slipped = false, opened = false;
   for (const auto& [id, len] : joints) {
     if (len[1] + len[2] < 0.5 * len[0]) continue;
-    if (len[1] >= len[2] && shear_loaded) slipped = true;
+    if (len[1] >= len[2] && shear_loaded(second_set(id) ? dip2_deg : dip_deg)) slipped = true;
     else opened = true;
   }
+  // Non-persistent joints: a failure path that runs as much through the rock bridges as along the joints.
+  if (bridges && (slipped || opened) && rock_t + rock_s >= 0.5 * joint_broken) return "bridge_fracture";
   if (slipped) return "shear_slip_along_joints";
   if (opened) return "splitting_along_layers";
   if (rock_t >= rock_s) return dip_deg >= 60.0 ? "splitting_along_layers" : "splitting_across_layers";
@@ -134,7 +157,8 @@ void summarize(const Scene& scene, const Topology& topo, const TestRecord& recor
     }
   }
   r.crack_counts = count_cracks(r.cracks);
-  r.failure_mode = classify_failure(r.cracks, topo, scene.joint_set.dip_deg);
+  r.failure_mode = classify_failure(r.cracks, topo, scene.joint_set.dip_deg, second_set_dip_deg(scene),
+                                    non_persistent(scene));
   r.crack_band_angle_deg = crack_band_angle_deg(r.cracks, topo);
   double t_len = 0, all = 0;
   for (const auto& k : r.cracks) {

@@ -20,7 +20,15 @@ CrackCounts count_cracks(const std::vector<Crack>& cracks);
 //   no joint broken through: rock cracks, by length, mostly tensile -> splitting, "splitting_along_layers" when the
 //   layers are steep (dip >= 60 deg, cracks parallel to them) else "splitting_across_layers";
 //   mostly shear -> "shear_through_rock"; and "intact" when nothing broke.
-std::string classify_failure(const std::vector<Crack>& cracks, const Topology& topo, double dip_deg);
+// Joints are grouped by interface (joint set) and layer pair; the second set's joints use dip2_deg. With rock
+// bridges (`bridges`: a non-persistent set), a joint failure whose broken rock length is at least half the broken
+// joint length -> "bridge_fracture" (the failure path runs through the bridges as much as along the joints).
+std::string classify_failure(const std::vector<Crack>& cracks, const Topology& topo, double dip_deg,
+                             double dip2_deg = 0.0, bool bridges = false);
+// The second joint set's dip from the horizontal in [0, 180) (joint_set2.follows_set1 resolved).
+double second_set_dip_deg(const Scene& scene);
+// Whether an enabled joint set of the scene has rock bridges (persistence < 1).
+bool non_persistent(const Scene& scene);
 
 // Dip (0..90 deg from the horizontal) of the principal axis of the crack positions, weighted by crack length:
 // near 90 for axial splitting, near 45 + phi/2 for a shear band, the joint dip for slip along a joint.

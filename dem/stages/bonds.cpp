@@ -112,7 +112,7 @@ int bond_events(const Model& m, ModelState& s, Workspace& w, const std::function
   for (const auto& list : w.flagged)
     for (const int b : list) {
       const std::size_t k = std::size_t(b);
-      const BondKindLaw& law = m.law[int(m.kind[k])];
+      const BondKindLaw& law = m.law[m.material[k]];
       // The positions have not moved since the kernel: the same evaluation gives the same undamaged forces.
       const BondEval ev = eval_bond(m, s, w, b, 0.0, s.fs_lin[k], 1.0);
       const BondLoad q = BondLoad::of(m.frame.tension_limit[k], m.frame.cohesion_A[k], m.frame.tan_phi[k],

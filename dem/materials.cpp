@@ -1,0 +1,100 @@
+// Materials over layers and interfaces. See materials.hpp.
+#include "dem/materials.hpp"
+
+#include <algorithm>
+#include <cctype>
+
+#include <fmt/format.h>
+
+namespace rbdem {
+
+namespace {
+std::string trim(std::string s) {
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
+  std::size_t i = 0;
+  while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
+  return s.substr(i);
+}
+
+std::vector<std::string> tokens(const std::string& list) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    const std::size_t comma = std::min(list.find(',', start), list.size());
+    std::string t = trim(list.substr(start, comma - start));
+    if (!t.empty()) out.push_back(std::move(t));
+    start = comma + 1;
+  }
+  return out;
+}
+
+std::string listing(const std::vector<std::string>& names) {
+  if (names.empty()) return "none";
+  std::string s;
+  for (std::size_t k = 0; k < names.size(); ++k) s += (k ? ", " : "") + fmt::format("{} '{}'", k, names[k]);
+  return s;
+}
+
+bool all_digits(const std::string& s) {
+  return !s.empty() && std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); });
+}
+}  // namespace
+
+const MaterialParams& material_params(const Scene& scene, std::size_t id) {
+  switch (id) {
+    case material_joint: return scene.joint;
+    case material_joint2: return scene.joint2;
+    case material_rock2: return scene.rock2;
+    default: return scene.rock;
+  }
+}
+
+MaterialMap assign_materials(const Topology& topo, const Scene& scene) {
+  const std::size_t layers = std::max<std::size_t>(
+      topo.layer_names.size(),
+      topo.blocks.layer.empty() ? 0 : std::size_t(1 + *std::max_element(topo.blocks.layer.begin(),
+                                                                           topo.blocks.layer.end())));
+  std::vector<std::uint8_t> rock2_layer(layers, 0);
+  for (const std::string& t : tokens(scene.rock2.groups)) {
+    const auto named = std::find(topo.layer_names.begin(), topo.layer_names.end(), t);
+    if (named != topo.layer_names.end()) {
+      rock2_layer[std::size_t(named - topo.layer_names.begin())] = 1;
+    } else if (all_digits(t) && t.size() < 9 && std::size_t(std::stoi(t)) < layers) {
+      rock2_layer[std::size_t(std::stoi(t))] = 1;
+    } else {
+      throw SceneError(fmt::format("rock2.groups names layer '{}', which the mesh does not have; its layers (number "
+                                   "and name) are: {}; name one of them, or a number below {}",
+                                   t, listing(topo.layer_names), layers));
+    }
+  }
+  std::vector<std::uint8_t> joint2_interface(topo.interface_names.size(), 0);
+  for (std::size_t f = 0; f < topo.interface_names.size(); ++f)
+    if (topo.interface_names[f] == "joint_set2") joint2_interface[f] = 1;
+  for (const std::string& t : tokens(scene.joint2.groups)) {
+    const auto named = std::find(topo.interface_names.begin(), topo.interface_names.end(), t);
+    if (named == topo.interface_names.end())
+      throw SceneError(fmt::format("joint2.groups names interface '{}', which the mesh does not have; its interfaces "
+                                   "(physical curves) are: {}; name one of them, or draw the curve as a physical "
+                                   "curve in the mesh",
+                                   t, listing(topo.interface_names)));
+    joint2_interface[std::size_t(named - topo.interface_names.begin())] = 1;
+  }
+
+  MaterialMap m;
+  const auto& G = topo.blocks;
+  m.block.resize(G.size());
+  for (std::size_t b = 0; b < G.size(); ++b)
+    m.block[b] = rock2_layer[std::size_t(G.layer[b])] ? material_rock2 : material_rock;
+  const auto& N = topo.bonds;
+  m.bond.resize(N.size());
+  for (std::size_t k = 0; k < N.size(); ++k) {
+    const int f = N.interface.empty() ? -1 : N.interface[k];
+    if (N.kind[k] == BondKind::rock)
+      m.bond[k] = m.block[std::size_t(N.i[k])];
+    else
+      m.bond[k] = f >= 0 && joint2_interface[std::size_t(f)] ? material_joint2 : material_joint;
+  }
+  return m;
+}
+
+}  // namespace rbdem
