@@ -109,6 +109,32 @@ TEST(Study, TableHasJaegerBesideTheMeasuredStrength) {
   std::filesystem::remove_all(dir);
 }
 
+// Jaeger with two planes of weakness: the weaker plane governs. A second set at 90 deg to the first, as weak as
+// the first, makes the first set's trough at 60 deg appear again at 30 deg (the second set then dips 120 deg, 60
+// deg from sigma_3); a second set whose joints are far stronger leaves the one-set curve.
+TEST(Study, JaegerWithTwoSetsFollowsTheWeakerPlane) {
+  const double s90 = 50e6;
+  const Scene one;
+  Scene two = one;
+  two.joint_set2.enabled = true, two.joint_set2.follows_set1 = true, two.joint_set2.dip_deg = 90.0;
+  static_cast<MaterialParams&>(two.joint2) = two.joint;
+  for (double beta : {0.0, 15.0, 30.0, 45.0, 60.0, 75.0, 90.0}) {
+    const double expected = std::min(jaeger_for(one, beta, s90), jaeger_for(one, 90.0 - beta, s90));
+    EXPECT_DOUBLE_EQ(jaeger_for(two, beta, s90), expected) << beta;
+  }
+  EXPECT_DOUBLE_EQ(jaeger_for(two, 30.0, s90), jaeger_for(one, 60.0, s90));
+  EXPECT_LT(jaeger_for(two, 30.0, s90), 0.6 * s90);
+  two.joint2.cohesion = 1e3 * one.joint.cohesion;
+  for (double beta : {0.0, 15.0, 30.0, 45.0, 60.0, 75.0, 90.0})
+    EXPECT_DOUBLE_EQ(jaeger_for(two, beta, s90), jaeger_for(one, beta, s90)) << beta;
+  // An absolute second dip: a set dipping 150 deg acts as one at 30 deg.
+  Scene fixed = one;
+  fixed.joint_set.enabled = false;
+  fixed.joint_set2.enabled = true, fixed.joint_set2.dip_deg = 150.0;
+  static_cast<MaterialParams&>(fixed.joint2) = fixed.joint;
+  EXPECT_DOUBLE_EQ(jaeger_for(fixed, 0.0, s90), jaeger_for(one, 30.0, s90));
+}
+
 // Student's t at 0.975 against published values (the table) and past it (the expansion; exact value from the
 // regularized incomplete beta function).
 TEST(Study, StudentQuantiles) {
