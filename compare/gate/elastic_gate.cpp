@@ -425,6 +425,19 @@ ElasticReport run_elastic_gate(const Scene& scene_in, const ElasticGateOptions& 
     h.indicator = jointed ? h.compliance_ratio / h.layers_across : 0.0;
     h.max_indicator = homogenization_max_indicator;
     h.applies = h.indicator <= h.max_indicator;
+    // Goodman's homogenized medium (docs/theory.md) is one rock with one set of through-going joints. With two sets
+    // the compliances of both add and the medium is no longer transversely isotropic (the five-parameter theory does
+    // not hold); rock bridges and a second rock are outside it too. The FE model with the joints carries all three.
+    std::vector<std::string> outside;
+    if (scene.joint_set2.enabled) outside.push_back("two joint sets (their compliances add; the medium is not TI)");
+    if ((scene.joint_set.enabled && scene.joint_set.persistence < 1.0) ||
+        (scene.joint_set2.enabled && scene.joint_set2.persistence < 1.0))
+      outside.push_back("joints with rock bridges (persistence < 1)");
+    if (!scene.rock2.groups.empty()) outside.push_back("layers of a second rock (rock2.groups)");
+    if (!outside.empty()) {
+      h.applies = false;
+      h.outside = fmt::format("Goodman's one-set medium does not model {}", fmt::join(outside, ", "));
+    }
     if (rep.fe_available && jointed) {
       double worst = 0;
       for (const auto& a : rep.angles) worst = worse(worst, a.homogenization_error());
@@ -442,7 +455,9 @@ ElasticReport run_elastic_gate(const Scene& scene_in, const ElasticGateOptions& 
     const bool ti = rep.dem.admissible && rep.dem.residual <= am.max_residual_for_ti;
     am.applicable = h.applies && ti;
     std::vector<std::string> why;
-    if (!h.applies)
+    if (!h.outside.empty())
+      why.push_back(h.outside);
+    else if (!h.applies)
       why.push_back(fmt::format("layers do not homogenize ({:.3g} layers across, joint compliance {:.3g} x the "
                                 "rock's over one spacing, contrast E*_r/E*_j {:.3g}: indicator {:.3g} > {:.3g})",
                                 h.layers_across, h.compliance_ratio, h.contrast, h.indicator, h.max_indicator));
@@ -589,7 +604,8 @@ nlohmann::json elastic_json(const ElasticReport& r, const Scene& scene) {
                          {"indicator", number(h.indicator)},
                          {"max_indicator", h.max_indicator},
                          {"measured_error", number(h.measured_error)},
-                         {"applies", h.applies}};
+                         {"applies", h.applies},
+                         {"outside", h.outside}};
   j["amadei"] = {{"applicable", r.amadei.applicable},
                  {"max_deviation", number(r.amadei.max_deviation)},
                  {"worst_beta_deg", r.amadei.worst_beta_deg},
@@ -736,6 +752,7 @@ std::string elastic_table(const ElasticReport& r) {
                    std::isfinite(h.measured_error)
                        ? fmt::format("; measured: {:.2f} % (homog column)", 100.0 * h.measured_error)
                        : "");
+  if (!h.outside.empty()) s += "  " + h.outside + ": the gate compares the DEM with the FE model with the joints\n";
   s += fmt::format("gate ({} vs {}): {}\n", measure_name(g.measure), g.comparison, g.message);
   if (!g.passed) s += "  " + g.reason + "\n";
   return s;

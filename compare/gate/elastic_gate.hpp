@@ -126,6 +126,8 @@ struct Homogenization {
   double max_indicator = 0;     // the threshold
   double measured_error = std::numeric_limits<double>::quiet_NaN();
   bool applies = false;
+  std::string outside;          // why Goodman's one-set homogenization is not the model at all (two sets, rock
+                                // bridges, two rocks); empty when it is
 };
 
 // Amadei's curve with the DEM-measured constants beside the verdict: a fair comparison when homogenization applies
