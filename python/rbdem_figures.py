@@ -439,7 +439,9 @@ def _grid(n, width=2.9, height=2.9, polar=False):
     cols = min(n, 4)
     rows = (n + cols - 1) // cols
     kw = {"subplot_kw": {"projection": "polar"}} if polar else {}
-    fig, axes = plt.subplots(rows, cols, figsize=(width * cols + 0.4, height * rows + 0.9), squeeze=False, **kw)
+    # At least 7 in wide: the title and the legend below span the figure.
+    fig, axes = plt.subplots(rows, cols, figsize=(max(width * cols + 0.4, 7.0), height * rows + 0.9), squeeze=False,
+                             **kw)
     for ax in axes.flat[n:]:
         ax.set_visible(False)
     return fig, list(axes.flat[:n])
@@ -460,7 +462,8 @@ def plot_stages(out, run_dirs, labels=None):
     if labels and len(labels) != len(run_dirs):
         raise SystemExit(f"--labels: {len(labels)} labels for {len(run_dirs)} runs")
     fig, axes = _grid(len(run_dirs), 3.2, 2.9)
-    fig.set_layout_engine("constrained", rect=(0, 0.06, 1, 0.95))
+    below = 0.6 / fig.get_figheight()  # room for the legend below (rect: left, bottom, width, height)
+    fig.set_layout_engine("constrained", rect=(0, below, 1, 0.96 - below))
     for m, (ax, run) in enumerate(zip(axes, run_dirs)):
         c, s = read_curve(run), read_summary(run)
         order = np.argsort(c["strain"], kind="stable")
@@ -519,7 +522,8 @@ def plot_rose(out, run_dirs, labels=None, bin_deg=10.0):
         raise SystemExit(f"--bin {bin_deg}: give a divisor of 180 deg, e.g. 5, 10 or 15")
     nb = int(round(180 / bin_deg))
     fig, axes = _grid(len(run_dirs), 2.6, 2.8, polar=True)
-    fig.set_layout_engine("constrained", rect=(0, 0.06, 1, 0.95))
+    below = 0.6 / fig.get_figheight()  # room for the legend below (rect: left, bottom, width, height)
+    fig.set_layout_engine("constrained", rect=(0, below, 1, 0.96 - below))
     for m, (ax, run) in enumerate(zip(axes, run_dirs)):
         s = read_summary(run)
         k = results.read_cracks(run)
