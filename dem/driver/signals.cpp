@@ -68,8 +68,8 @@ double crack_initiation_stress(const std::vector<CurvePoint>& curve, const std::
     any = true;
   }
   if (!any) return undefined_signal;
-  // The uninterrupted run of non-empty bins that ends at the peak's bin (the last bin holding a crack counts as
-  // the end when the last bins are empty: a crack-free stretch just below the peak does not erase the run).
+  // The uninterrupted run of non-empty bins that ends at the highest non-empty bin (normally the peak's: a
+  // crack-free stretch just below the peak does not erase the run).
   int last = nbins - 1;
   while (last > 0 && std::isnan(first_level[std::size_t(last)])) --last;
   int first = last;

@@ -37,8 +37,10 @@ inline constexpr double poisson_window_low = 0.4, poisson_window_high = 0.6;
 // `resolution` x peak (default 2 %); each crack that broke before the peak counts in the bin of the highest stress
 // the curve had reached when it broke (the loading level: the stress is interpolated on the curve at the crack's
 // strain and the running maximum taken, so the short stress drops of a crack event do not move it). Sustained
-// cracking begins with the first bin of the uninterrupted run of non-empty bins that ends at the peak; sigma_ci is
-// the loading level of the first crack in that bin. NaN when no crack broke before the peak.
+// cracking begins with the first bin of the uninterrupted run of non-empty bins that ends at the highest non-empty
+// bin (the peak's bin, unless the last 2 % before the peak broke nothing); sigma_ci is the loading level of the
+// first crack in that bin. NaN when no crack broke before the peak. Throws std::invalid_argument for a resolution
+// outside (0, 1).
 double crack_initiation_stress(const std::vector<CurvePoint>& curve, const std::vector<Crack>& cracks, double peak,
                                double strain_at_peak, double resolution = 0.02);
 
@@ -51,7 +53,7 @@ double crack_damage_stress(const std::vector<CurvePoint>& curve, double strain_a
 // range (strain_at_peak, last strain]. Defined only for a run that continued past the peak until a strain limit
 // (stop_reason "post_peak_strain" or "max_strain") and whose post-peak range is at least `min_span` x strain_at_peak
 // (default 0.2); NaN otherwise (a run stopped by the stress drop, loading.stop_fraction, ended before any residual
-// plateau).
+// plateau). Throws std::invalid_argument for a tail outside (0, 1].
 double residual_stress(const std::vector<CurvePoint>& curve, double strain_at_peak, const std::string& stop_reason,
                        double tail = 0.2, double min_span = 0.2);
 
@@ -63,7 +65,8 @@ double edge_orientation_deg(double nx, double ny);
 std::vector<double> crack_orientations_deg(const std::vector<Crack>& cracks, const Topology& topo);
 
 // Cracks per unit axial strain, in `bins` equal strain bins over [0, strain_end]: the acoustic-emission-like rate
-// of docs/outputs.md (crack_rate.csv). A crack at strain_end counts in the last bin.
+// of docs/outputs.md (crack_rate.csv). A crack at strain_end counts in the last bin; none for strain_end <= 0.
+// Throws std::invalid_argument for bins < 1.
 struct CrackRateBin {
   double strain_low = 0, strain_high = 0;
   int cracks = 0;
