@@ -124,18 +124,19 @@ void write_h5_file(const std::string& tmp, const Scene& scene, const TriMesh& me
       const Id g = w.group(file, "history");
       const std::size_t n = r.curve.size();
       std::vector<std::int64_t> step(n);
-      std::vector<double> time(n), strain(n), st(n), sb(n), ek(n), es(n), lat(n);
+      std::vector<double> time(n), strain(n), st(n), sb(n), ek(n), es(n), lat(n), vol(n);
       std::array<std::vector<std::int32_t>, 4> broken;
       for (auto& v : broken) v.resize(n);
       for (std::size_t k = 0; k < n; ++k) {
         const CurvePoint& p = r.curve[k];
         step[k] = p.step, time[k] = p.time, strain[k] = p.strain, st[k] = p.stress_top, sb[k] = p.stress_bottom;
-        ek[k] = p.kinetic, es[k] = p.strain_energy, lat[k] = p.lateral_strain;
+        ek[k] = p.kinetic, es[k] = p.strain_energy, lat[k] = p.lateral_strain, vol[k] = volumetric_strain(p);
         for (std::size_t c = 0; c < 4; ++c) broken[c][k] = p.broken[c];
       }
       w.dataset(g, "step", step), w.dataset(g, "time_s", time), w.dataset(g, "strain", strain);
       w.dataset(g, "stress_top_pa", st), w.dataset(g, "stress_bottom_pa", sb);
       w.dataset(g, "kinetic_j", ek), w.dataset(g, "strain_energy_j", es), w.dataset(g, "lateral_strain", lat);
+      w.dataset(g, "volumetric_strain", vol);
       w.dataset(g, "broken_rock_tensile", broken[0]), w.dataset(g, "broken_rock_shear", broken[1]);
       w.dataset(g, "broken_joint_tensile", broken[2]), w.dataset(g, "broken_joint_shear", broken[3]);
     }
@@ -153,6 +154,7 @@ void write_h5_file(const std::string& tmp, const Scene& scene, const TriMesh& me
       w.dataset(g, "time_s", time), w.dataset(g, "strain", strain), w.dataset(g, "x_m", x), w.dataset(g, "y_m", y);
       w.dataset(g, "kind", kind), w.dataset(g, "mode", mode), w.dataset(g, "bond", bond);
       w.dataset(g, "sigma_pa", sigma), w.dataset(g, "tau_pa", tau);
+      w.dataset(g, "orientation_deg", crack_orientations_deg(r.cracks, topo));
     }
 
     {  // /frames/NNNNN

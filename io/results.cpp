@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 
@@ -54,6 +55,29 @@ nlohmann::json run_summary(const Scene& scene, const TestResult& r) {
   j["energy_ratio_max"] = r.energy_ratio_max;
   j["confining_pressure_pa"] = r.confining_pressure;
   j["lateral_strain_at_peak"] = r.lateral_strain_at_peak;
+  // The signals (docs/theory.md, section 10): null where not defined.
+  auto defined = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+  auto to_peak = [&](double v) {
+    return std::isfinite(v) && r.peak_stress > 0 ? nlohmann::json(v / r.peak_stress) : nlohmann::json(nullptr);
+  };
+  j["poisson_ratio_at_half_peak"] = defined(r.poisson_ratio_at_half_peak);
+  j["crack_initiation_stress_pa"] = defined(r.crack_initiation_stress);
+  j["crack_damage_stress_pa"] = defined(r.crack_damage_stress);
+  j["residual_stress_pa"] = defined(r.residual_stress);
+  j["crack_initiation_to_peak"] = to_peak(r.crack_initiation_stress);
+  j["crack_damage_to_peak"] = to_peak(r.crack_damage_stress);
+  j["residual_to_peak"] = to_peak(r.residual_stress);
+  {
+    double total = 0;
+    for (const auto& f : r.fragments) total += f.area;
+    const double largest = r.fragments.empty() ? 0.0 : r.fragments.front().area;
+    int single = 0;
+    for (const auto& f : r.fragments) single += f.blocks == 1;
+    j["fragments"] = {{"count", r.fragments.size()},
+                      {"single_blocks", single},
+                      {"largest_area_m2", largest},
+                      {"largest_area_fraction", total > 0 ? largest / total : 0.0}};
+  }
   if (r.test == "triaxial") {
     j["deviator_at_peak_pa"] = r.deviator_at_peak;
     j["axial_strain_at_peak"] = r.strain_at_peak;
@@ -76,7 +100,9 @@ nlohmann::json run_summary(const Scene& scene, const TestResult& r) {
                             "platen_force_mismatch_at_peak", "kinetic_to_strain_energy_at_peak",
                             "kinetic_to_strain_energy_loading", "crack_band_angle_deg", "tensile_fraction",
                             "lateral_strain_at_peak", "deviator_at_peak_pa", "axial_strain_at_peak",
-                            "tensile_strength_pa", "peak_load_n"})
+                            "tensile_strength_pa", "peak_load_n", "poisson_ratio_at_half_peak",
+                            "crack_initiation_stress_pa", "crack_damage_stress_pa", "residual_stress_pa",
+                            "crack_initiation_to_peak", "crack_damage_to_peak", "residual_to_peak"})
       if (j.contains(key)) j[key] = nullptr;
   j["scene"] = scene_json(scene);
   return j;
@@ -140,20 +166,46 @@ void write_text_atomic(const std::filesystem::path& file, const std::string& tex
 void write_curve_csv(const std::filesystem::path& file, const std::vector<CurvePoint>& curve) {
   std::string s =
       "step,time_s,strain,stress_top_pa,stress_bottom_pa,kinetic_j,strain_energy_j,"
-      "broken_rock_tensile,broken_rock_shear,broken_joint_tensile,broken_joint_shear,lateral_strain\n";
+      "broken_rock_tensile,broken_rock_shear,broken_joint_tensile,broken_joint_shear,lateral_strain,"
+      "volumetric_strain\n";
   for (const auto& p : curve)
-    s += fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{},{},{},{},{:.9g}\n", p.step, p.time, p.strain,
-                     p.stress_top, p.stress_bottom, p.kinetic, p.strain_energy, p.broken[0], p.broken[1], p.broken[2],
-                     p.broken[3], p.lateral_strain);
+    s += fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{},{},{},{},{:.9g},{:.9g}\n", p.step, p.time,
+                     p.strain, p.stress_top, p.stress_bottom, p.kinetic, p.strain_energy, p.broken[0], p.broken[1],
+                     p.broken[2], p.broken[3], p.lateral_strain, volumetric_strain(p));
   write_text_atomic(file, s);
 }
 
-void write_cracks_csv(const std::filesystem::path& file, const std::vector<Crack>& cracks) {
-  std::string s = "time_s,strain,x_m,y_m,kind,mode,bond,sigma_pa,tau_pa\n";
-  for (const auto& c : cracks)
-    s += fmt::format("{:.9g},{:.9g},{:.9g},{:.9g},{},{},{},{:.6g},{:.6g}\n", c.time, c.strain, c.x, c.y,
+void write_cracks_csv(const std::filesystem::path& file, const std::vector<Crack>& cracks,
+                      const std::vector<double>& orientation_deg) {
+  if (orientation_deg.size() != cracks.size())
+    throw std::invalid_argument(fmt::format("write_cracks_csv({}): {} orientations for {} cracks", file.string(),
+                                            orientation_deg.size(), cracks.size()));
+  std::string s = "time_s,strain,x_m,y_m,kind,mode,bond,sigma_pa,tau_pa,orientation_deg\n";
+  for (std::size_t k = 0; k < cracks.size(); ++k) {
+    const Crack& c = cracks[k];
+    s += fmt::format("{:.9g},{:.9g},{:.9g},{:.9g},{},{},{},{:.6g},{:.6g},{:.6g}\n", c.time, c.strain, c.x, c.y,
                      c.kind == BondKind::rock ? "rock" : "joint", c.mode == BreakMode::shear ? "shear" : "tensile",
-                     c.bond, c.sigma, c.tau);
+                     c.bond, c.sigma, c.tau, orientation_deg[k]);
+  }
+  write_text_atomic(file, s);
+}
+
+void write_fragments_csv(const std::filesystem::path& file, const std::vector<Fragment>& fragments) {
+  double total = 0;
+  for (const auto& f : fragments) total += f.area;
+  std::string s = "fragment,blocks,area_m2,area_fraction,x_m,y_m\n";
+  for (std::size_t k = 0; k < fragments.size(); ++k) {
+    const Fragment& f = fragments[k];
+    s += fmt::format("{},{},{:.9g},{:.9g},{:.9g},{:.9g}\n", k, f.blocks, f.area, total > 0 ? f.area / total : 0.0,
+                     f.cx, f.cy);
+  }
+  write_text_atomic(file, s);
+}
+
+void write_crack_rate_csv(const std::filesystem::path& file, const std::vector<CrackRateBin>& bins) {
+  std::string s = "strain_low,strain_high,cracks,crack_rate_per_strain\n";
+  for (const auto& b : bins)
+    s += fmt::format("{:.9g},{:.9g},{},{:.9g}\n", b.strain_low, b.strain_high, b.cracks, b.rate);
   write_text_atomic(file, s);
 }
 
@@ -162,7 +214,11 @@ void write_run(const std::filesystem::path& dir, const Scene& scene, const TriMe
   std::filesystem::create_directories(dir);
   write_text_atomic(dir / "scene.toml", to_toml(scene));
   write_curve_csv(dir / "curve.csv", r.curve);
-  write_cracks_csv(dir / "cracks.csv", r.cracks);
+  write_cracks_csv(dir / "cracks.csv", r.cracks,
+                   r.crack_orientation_deg.size() == r.cracks.size() ? r.crack_orientation_deg
+                                                                      : crack_orientations_deg(r.cracks, topo));
+  write_fragments_csv(dir / "fragments.csv", r.fragments);
+  write_crack_rate_csv(dir / "crack_rate.csv", r.crack_rate);
   write_result_h5(dir / "result.h5", scene, mesh, topo, r);
   write_result_xdmf(dir / "result.xdmf", dir / "result.h5", topo.blocks.size(), r.frames);
   write_text_atomic(dir / "summary.json", run_summary(scene, r).dump(2) + "\n");

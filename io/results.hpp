@@ -16,14 +16,20 @@ namespace rbdem::io {
 // The summary.json object of a UCS run (contract in docs/outputs.md).
 nlohmann::json run_summary(const Scene& scene, const TestResult& r);
 
-// Writes scene.toml, curve.csv, cracks.csv, result.h5, result.xdmf and summary.json into `dir` (created if
-// needed), each atomically. summary.json is written last, so a folder with a summary.json holds a complete result.
-// `mesh` and `topo` are the ones the run used.
+// Writes scene.toml, curve.csv, cracks.csv, fragments.csv, crack_rate.csv, result.h5, result.xdmf and summary.json
+// into `dir` (created if needed), each atomically. summary.json is written last, so a folder with a summary.json
+// holds a complete result. `mesh` and `topo` are the ones the run used.
 void write_run(const std::filesystem::path& dir, const Scene& scene, const TriMesh& mesh, const Topology& topo,
                const TestResult& r);
 
 void write_curve_csv(const std::filesystem::path& file, const std::vector<CurvePoint>& curve);
-void write_cracks_csv(const std::filesystem::path& file, const std::vector<Crack>& cracks);
+// One row per crack; `orientation_deg` holds each crack's edge angle (TestResult::crack_orientation_deg, same size).
+void write_cracks_csv(const std::filesystem::path& file, const std::vector<Crack>& cracks,
+                      const std::vector<double>& orientation_deg);
+// One row per fragment (dem/driver/signals.hpp), in the given order (largest first).
+void write_fragments_csv(const std::filesystem::path& file, const std::vector<Fragment>& fragments);
+// One row per strain bin of the crack rate.
+void write_crack_rate_csv(const std::filesystem::path& file, const std::vector<CrackRateBin>& bins);
 // Writes `text` to `file` + ".tmp" and renames it to `file` when complete (a reader never sees half a file).
 void write_text_atomic(const std::filesystem::path& file, const std::string& text);
 // Writes `text` to exactly `file` and checks every write, the fsync and the close: a full disk throws

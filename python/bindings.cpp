@@ -108,11 +108,12 @@ py::dict curve_arrays(const std::vector<CurvePoint>& c) {
   d["broken_joint_tensile"] = column<int, CurvePoint>(c, [](const CurvePoint& p) { return p.broken[2]; });
   d["broken_joint_shear"] = column<int, CurvePoint>(c, [](const CurvePoint& p) { return p.broken[3]; });
   d["lateral_strain"] = column<double, CurvePoint>(c, [](const CurvePoint& p) { return p.lateral_strain; });
+  d["volumetric_strain"] = column<double, CurvePoint>(c, [](const CurvePoint& p) { return volumetric_strain(p); });
   return d;
 }
 
 // The cracks.csv columns (io::write_cracks_csv); kind and mode as lists of strings (NumPy arrays in Python).
-py::dict crack_arrays(const std::vector<Crack>& c) {
+py::dict crack_arrays(const std::vector<Crack>& c, const std::vector<double>& orientation_deg) {
   py::dict d;
   d["time_s"] = column<double, Crack>(c, [](const Crack& k) { return k.time; });
   d["strain"] = column<double, Crack>(c, [](const Crack& k) { return k.strain; });
@@ -128,6 +129,7 @@ py::dict crack_arrays(const std::vector<Crack>& c) {
   d["bond"] = column<int, Crack>(c, [](const Crack& k) { return k.bond; });
   d["sigma_pa"] = column<double, Crack>(c, [](const Crack& k) { return k.sigma; });
   d["tau_pa"] = column<double, Crack>(c, [](const Crack& k) { return k.tau; });
+  d["orientation_deg"] = array_of(orientation_deg);
   return d;
 }
 
@@ -251,7 +253,7 @@ py::dict run(const std::string& test, const std::string& file, const std::vector
   d["summary_json"] = io::run_summary(scene, r).dump();
   d["scene_toml"] = to_toml(scene);
   d["curve"] = curve_arrays(r.curve);
-  d["cracks"] = crack_arrays(r.cracks);
+  d["cracks"] = crack_arrays(r.cracks, r.crack_orientation_deg);
   d["frames"] = frame_list(r.frames);
   d["blocks"] = block_arrays(topo);
   d["elastic_gate"] = skip_gate ? py::object(py::none()) : py::object(gate);

@@ -8,6 +8,10 @@ Run with Debian's /usr/bin/python3 (python3-matplotlib, python3-h5py, python3-nu
     rbdem_figures.py cracks OUT.png RUN_DIR [--at peak|final|both] [--magnify M]
     rbdem_figures.py crack-grid OUT.png RUN_DIR [RUN_DIR ...] [--labels L ...] [--magnify M]
     rbdem_figures.py elastic-fields OUT.png ELASTIC.json [--beta B]
+    rbdem_figures.py stages OUT.png RUN_DIR [RUN_DIR ...] [--labels L ...]
+    rbdem_figures.py rose OUT.png RUN_DIR [RUN_DIR ...] [--labels L ...] [--bin DEG]
+    rbdem_figures.py crack-rate OUT.png RUN_DIR [RUN_DIR ...] [--labels L ...]
+    rbdem_figures.py fragments OUT.png RUN_DIR [RUN_DIR ...] [--labels L ...]
 
 Examples:
 
@@ -15,6 +19,7 @@ Examples:
     /usr/bin/python3 python/rbdem_figures.py strength strength.png runs/study/table.csv --group group
     /usr/bin/python3 python/rbdem_figures.py cracks cracks.png runs/b60 --at both
     /usr/bin/python3 python/rbdem_figures.py crack-grid dips.png runs/study/b*
+    /usr/bin/python3 python/rbdem_figures.py stages stages.png runs/b90
 
 A RUN_DIR is the --out folder of `rbdem ucs` (summary.json, curve.csv, result.h5). What each figure shows and
 how to read it: docs/outputs.md. The functions plot_* can be imported as well.
@@ -423,6 +428,186 @@ def plot_fields(out, csv_path, title=None):
     plt.close(fig)
 
 
+# ------------------------------------------------------------------------------------------------ signals
+
+
+def _run_label(run, summary, labels, m):
+    return labels[m] if labels else (_beta_label(summary) or os.path.basename(os.path.normpath(run)))
+
+
+def _grid(n, width=2.9, height=2.9, polar=False):
+    cols = min(n, 4)
+    rows = (n + cols - 1) // cols
+    kw = {"subplot_kw": {"projection": "polar"}} if polar else {}
+    # At least 7 in wide: the title and the legend below span the figure.
+    fig, axes = plt.subplots(rows, cols, figsize=(max(width * cols + 0.4, 7.0), height * rows + 0.9), squeeze=False,
+                             **kw)
+    for ax in axes.flat[n:]:
+        ax.set_visible(False)
+    return fig, list(axes.flat[:n])
+
+
+# The stages of a compression test on its curve: (summary key, label, colour).
+STAGES = [
+    ("crack_initiation_stress_pa", "crack initiation σ_ci", "#2ca02c"),
+    ("crack_damage_stress_pa", "crack damage σ_cd", "#9467bd"),
+    ("peak_stress_pa", "peak", "#d62728"),
+    ("residual_stress_pa", "residual", "#7f7f7f"),
+]
+
+
+def plot_stages(out, run_dirs, labels=None):
+    """Stress against axial, lateral and volumetric strain per run, the stages marked: crack initiation, crack
+    damage (the reversal of the volumetric strain), peak and residual strength (summary.json)."""
+    if labels and len(labels) != len(run_dirs):
+        raise SystemExit(f"--labels: {len(labels)} labels for {len(run_dirs)} runs")
+    fig, axes = _grid(len(run_dirs), 3.2, 2.9)
+    below = 0.6 / fig.get_figheight()  # room for the legend below (rect: left, bottom, width, height)
+    fig.set_layout_engine("constrained", rect=(0, below, 1, 0.96 - below))
+    for m, (ax, run) in enumerate(zip(axes, run_dirs)):
+        c, s = read_curve(run), read_summary(run)
+        order = np.argsort(c["strain"], kind="stable")
+        stress = 0.5 * (c["stress_top_pa"] + c["stress_bottom_pa"])[order] / 1e6
+        ea = c["strain"][order]
+        el = c["lateral_strain"][order] if "lateral_strain" in c else np.zeros_like(ea)
+        ev = c["volumetric_strain"][order] if "volumetric_strain" in c else ea + el
+        ax.plot(ea, stress, color="k", lw=1.2)
+        ax.plot(el, stress, color="#1f77b4", lw=1.0)
+        ax.plot(ev, stress, color="#ff7f0e", lw=1.0)
+        ax.axvline(0, color="0.6", lw=0.6)
+        for key, _, color in STAGES:
+            v = s.get(key)
+            if v is None:
+                continue
+            ax.axhline(v / 1e6, color=color, lw=0.8, ls=":")
+            if key == "crack_damage_stress_pa":  # on the volumetric curve, where it turns
+                k = int(np.argmin(np.abs(stress - v / 1e6) + (ea > (s.get("strain_at_peak") or np.inf)) * 1e9))
+                ax.plot([ev[k]], [stress[k]], marker="o", ms=5, mfc="white", mec=color, mew=1.4, zorder=5)
+        title = _run_label(run, s, labels, m)
+        ci, cd, peak = s.get("crack_initiation_stress_pa"), s.get("crack_damage_stress_pa"), s.get("peak_stress_pa")
+        parts = []
+        if peak:
+            parts.append(f"peak {peak / 1e6:.1f} MPa")
+            parts.append(f"ci {ci / peak:.2f}" if ci is not None else "ci -")
+            parts.append(f"cd {cd / peak:.2f}" if cd is not None else "cd -")
+        ax.set_title(f"{title}: " + ", ".join(parts), fontsize=8)
+        ax.ticklabel_format(axis="x", style="sci", scilimits=(-3, 3))
+        ax.tick_params(labelsize=7)
+        ax.set_ylim(bottom=0)
+        ax.grid(alpha=0.3)
+        ax.set_xlabel("strain (-), compression positive", fontsize=7)
+        ax.set_ylabel("axial stress (MPa)", fontsize=7)
+    handles = [Line2D([0], [0], color="k", lw=1.2, label="axial ε_a"),
+               Line2D([0], [0], color="#1f77b4", lw=1.0, label="lateral ε_l"),
+               Line2D([0], [0], color="#ff7f0e", lw=1.0, label="volumetric ε_v = ε_a + ε_l")]
+    handles += [Line2D([0], [0], color=col, lw=0.8, ls=":", label=lab) for _, lab, col in STAGES]
+    fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=7, frameon=False)
+    fig.suptitle("Stages of the compression test (dotted: stresses of summary.json; ci, cd: as fractions of "
+                 "the peak)", fontsize=9)
+    fig.savefig(out, dpi=150)
+    plt.close(fig)
+
+
+CLASS_STYLES = [("rock", "tensile", "rock, tensile", "#d62728"), ("rock", "shear", "rock, shear", "#ff7f0e"),
+                ("joint", "tensile", "joint, tensile", "#1f77b4"), ("joint", "shear", "joint, shear", "#2ca02c")]
+
+
+def plot_rose(out, run_dirs, labels=None, bin_deg=10.0):
+    """Rose diagram of the crack orientations (the broken edges' angle from the horizontal, cracks.csv
+    orientation_deg), stacked by kind and mode, one panel per run; symmetric (an edge at a and at a + 180 is the
+    same line)."""
+    if labels and len(labels) != len(run_dirs):
+        raise SystemExit(f"--labels: {len(labels)} labels for {len(run_dirs)} runs")
+    if not (0 < bin_deg <= 90 and abs(180 / bin_deg - round(180 / bin_deg)) < 1e-9):
+        raise SystemExit(f"--bin {bin_deg}: give a divisor of 180 deg, e.g. 5, 10 or 15")
+    nb = int(round(180 / bin_deg))
+    fig, axes = _grid(len(run_dirs), 2.6, 2.8, polar=True)
+    below = 0.6 / fig.get_figheight()  # room for the legend below (rect: left, bottom, width, height)
+    fig.set_layout_engine("constrained", rect=(0, below, 1, 0.96 - below))
+    for m, (ax, run) in enumerate(zip(axes, run_dirs)):
+        s = read_summary(run)
+        k = results.read_cracks(run)
+        if "orientation_deg" not in k:
+            raise results.RunFolderError(f"{run}: cracks.csv has no orientation_deg column (rerun with this rbdem)")
+        ang = np.asarray(k["orientation_deg"], dtype=float)
+        kind, mode = np.asarray(k.get("kind", [])), np.asarray(k.get("mode", []))
+        # Bins centred on 0, bin, 2 bin, ...: horizontal (0) and vertical (90) edges fall in the middle of a bin.
+        edges = np.linspace(0, 180, nb + 1)
+        width = np.radians(bin_deg)
+        bottom = np.zeros(2 * nb)
+        for kd, md, _, color in CLASS_STYLES:
+            sel = ang[(kind == kd) & (mode == md)] if ang.size else ang
+            h, _ = np.histogram(np.mod(sel + 0.5 * bin_deg, 180.0), bins=edges)
+            h2 = np.concatenate([h, h])  # the same line at a + 180
+            theta = np.radians(np.concatenate([edges[:-1], edges[:-1] + 180.0]))
+            ax.bar(theta, h2, width=width, bottom=bottom, color=color, edgecolor="white", lw=0.3)
+            bottom += h2
+        ax.set_title(f"{_run_label(run, s, labels, m)}: {ang.size} cracks", fontsize=8)
+        ax.set_xticks(np.radians(np.arange(0, 360, 45)))
+        ax.tick_params(labelsize=6)
+    handles = [Line2D([0], [0], color=col, lw=6, label=lab) for _, _, lab, col in CLASS_STYLES]
+    fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=7, frameon=False)
+    fig.suptitle(f"Crack orientations: the broken edges' angle from the horizontal ({bin_deg:g}° bins)",
+                 fontsize=9)
+    fig.savefig(out, dpi=150)
+    plt.close(fig)
+
+
+def plot_crack_rate(out, run_dirs, labels=None):
+    """Cracks per unit axial strain (crack_rate.csv) against the axial strain over the strain at the peak, one
+    line per run: the acoustic-emission-like record of the test."""
+    if labels and len(labels) != len(run_dirs):
+        raise SystemExit(f"--labels: {len(labels)} labels for {len(run_dirs)} runs")
+    fig, ax = plt.subplots(figsize=(6.4, 4.6), constrained_layout=True)
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for m, run in enumerate(run_dirs):
+        s = read_summary(run)
+        r = results.read_crack_rate(run)
+        at = s.get("strain_at_peak") or 0.0
+        if not at or r["cracks"].size == 0:
+            continue
+        mid = 0.5 * (r["strain_low"] + r["strain_high"]) / at
+        rate = np.where(r["crack_rate_per_strain"] > 0, r["crack_rate_per_strain"], np.nan)
+        ax.step(mid, rate, where="mid", color=colors[m % len(colors)], lw=1.2,
+                label=f"{_run_label(run, s, labels, m)}: {int(r['cracks'].sum())} cracks")
+    ax.axvline(1.0, color="0.4", lw=0.8, ls="--")
+    ax.set_yscale("log")
+    ax.set_xlabel("axial strain / strain at the peak (-)")
+    ax.set_ylabel("cracks per unit axial strain")
+    ax.set_title("Crack rate (50 strain bins per run; dashed: the peak)", fontsize=10)
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=7)
+    fig.savefig(out, dpi=150)
+    plt.close(fig)
+
+
+def plot_fragments(out, run_dirs, labels=None):
+    """Fragment size distribution at the end of each run (fragments.csv): the number of fragments with an area
+    of at least A against A over the specimen's area, log-log."""
+    if labels and len(labels) != len(run_dirs):
+        raise SystemExit(f"--labels: {len(labels)} labels for {len(run_dirs)} runs")
+    fig, ax = plt.subplots(figsize=(6.4, 4.6), constrained_layout=True)
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for m, run in enumerate(run_dirs):
+        s = read_summary(run)
+        f = results.read_fragments(run)
+        if f["area_fraction"].size == 0:
+            continue
+        a = np.sort(f["area_fraction"])[::-1]
+        n = np.arange(1, a.size + 1)
+        ax.step(a, n, where="post", color=colors[m % len(colors)], lw=1.2,
+                label=f"{_run_label(run, s, labels, m)}: {a.size} fragments, largest {a[0]:.2f}")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("fragment area / specimen area (-)")
+    ax.set_ylabel("fragments at least this large")
+    ax.set_title("Fragments at the end of the run (blocks joined by intact bonds)", fontsize=10)
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=7)
+    fig.savefig(out, dpi=150)
+    plt.close(fig)
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(prog="rbdem_figures.py", description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -450,6 +635,17 @@ def main(argv=None):
     s.add_argument("runs", nargs="+", metavar="RUN_DIR")
     s.add_argument("--labels", nargs="+", help="one title per run (default: beta from summary.json)")
     s.add_argument("--magnify", type=float, default=1.0, help="scale block displacements by this (default 1)")
+
+    for name, text in (("stages", "stress against axial, lateral and volumetric strain, the stages marked"),
+                       ("rose", "rose diagrams of the crack orientations by kind and mode"),
+                       ("crack-rate", "cracks per unit strain against strain (acoustic-emission-like)"),
+                       ("fragments", "fragment size distribution at the end of each run")):
+        s = sub.add_parser(name, help=text)
+        s.add_argument("out")
+        s.add_argument("runs", nargs="+", metavar="RUN_DIR")
+        s.add_argument("--labels", nargs="+", help="one label per run (default: beta from summary.json)")
+        if name == "rose":
+            s.add_argument("--bin", type=float, default=10.0, help="bin width in deg, a divisor of 180 (default 10)")
 
     s = sub.add_parser("fields", help="DEM and FE block displacements side by side (rbdem verify)")
     s.add_argument("out")
@@ -484,6 +680,14 @@ def main(argv=None):
         plot_tensile(a.out, a.table)
     elif a.figure == "envelope":
         plot_envelope(a.out, a.table, a.envelope)
+    elif a.figure == "stages":
+        plot_stages(a.out, a.runs, a.labels)
+    elif a.figure == "rose":
+        plot_rose(a.out, a.runs, a.labels, a.bin)
+    elif a.figure == "crack-rate":
+        plot_crack_rate(a.out, a.runs, a.labels)
+    elif a.figure == "fragments":
+        plot_fragments(a.out, a.runs, a.labels)
     elif a.figure == "elastic-fields":
         plot_elastic_fields(a.out, a.elastic_json, a.beta)
     else:

@@ -101,6 +101,16 @@ std::vector<std::filesystem::path> make_figures(const StudySpec& spec, const std
     if (run(cmd + " stress-strain " + quote(curves) + dirs + " --labels" + labels)) made.push_back(curves);
     const auto cracks = out / ("cracks" + safe + ".png");
     if (run(cmd + " crack-grid " + quote(cracks) + dirs)) made.push_back(cracks);
+    // The signals of each case (docs/outputs.md): stages on the curve (compression tests), crack orientations,
+    // crack rate, fragments.
+    std::vector<std::string> kinds = {"rose", "crack-rate", "fragments"};
+    if (spec.test != "brazilian") kinds.insert(kinds.begin(), "stages");
+    for (const auto& kind : kinds) {
+      std::string stem = kind;
+      for (char& c : stem) c = c == '-' ? '_' : c;
+      const auto file = out / (stem + safe + ".png");
+      if (run(cmd + " " + kind + " " + quote(file) + dirs + " --labels" + labels)) made.push_back(file);
+    }
   }
   (void)spec;
   if (note && made.empty()) *note = "figures failed: run `" + cmd + " --help` to check the script";
@@ -111,6 +121,40 @@ namespace {
 std::string compression_section(const std::vector<CaseResult>& results, const std::vector<GroupSummary>& groups,
                                 const ReportExtras& extras);
 std::string brazilian_section(const std::vector<CaseResult>& results, const std::vector<PointResult>* points);
+
+// A summary value in MPa or as a ratio, "-" where it is null (not defined) or absent (a run of an older rbdem).
+std::string defined_or_dash(const nlohmann::json& s, const char* key, double scale, const char* format) {
+  if (!s.contains(key) || !s[key].is_number()) return "-";
+  return fmt::format(fmt::runtime(format), s[key].get<double>() * scale);
+}
+
+// The signals of each case (docs/theory.md, section 10): Poisson's ratio at half the peak, crack initiation and
+// crack damage stresses against the peak, the residual strength, the fragments at the end.
+std::string signals_table(const std::vector<CaseResult>& results) {
+  std::string md = "\n### Stages and fragments\n\n";
+  md += "Poisson's ratio: tangent -d eps_l / d eps_a between 40 and 60 % of the peak. Crack initiation: the onset "
+        "of uninterrupted cracking (every 2 % stress bin up to the peak holds a crack); crack damage: the reversal "
+        "of the volumetric strain eps_a + eps_l before the peak; residual: the mean stress over the last fifth of "
+        "a post-peak range that reached loading.post_peak_strain or loading.max_strain; '-': not defined "
+        "(docs/outputs.md). Laboratory brittle rock: initiation at 0.3-0.5 and damage at 0.7-0.9 of the peak.\n\n";
+  md += "| case | beta (deg) | Poisson | initiation (MPa) | initiation / peak | damage (MPa) | damage / peak | "
+        "residual (MPa) | fragments | largest fragment (area fraction) |\n"
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const auto& r : results) {
+    const auto& s = r.summary;
+    const nlohmann::json none = nlohmann::json::object();
+    const auto& f = s.contains("fragments") ? s["fragments"] : none;
+    md += fmt::format("| {} | {:g} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r.c.group.empty() ? "-" : r.c.group,
+                      r.c.beta, defined_or_dash(s, "poisson_ratio_at_half_peak", 1.0, "{:.3f}"),
+                      defined_or_dash(s, "crack_initiation_stress_pa", 1e-6, "{:.2f}"),
+                      defined_or_dash(s, "crack_initiation_to_peak", 1.0, "{:.3f}"),
+                      defined_or_dash(s, "crack_damage_stress_pa", 1e-6, "{:.2f}"),
+                      defined_or_dash(s, "crack_damage_to_peak", 1.0, "{:.3f}"),
+                      defined_or_dash(s, "residual_stress_pa", 1e-6, "{:.2f}"), defined_or_dash(f, "count", 1.0, "{:.10g}"),
+                      defined_or_dash(f, "largest_area_fraction", 1.0, "{:.3f}"));
+  }
+  return md;
+}
 
 // A count of a summary (an integer, or the mean of the realizations' counts).
 std::string count(const nlohmann::json& v) { return fmt::format("{:.10g}", v.get<double>()); }
@@ -228,6 +272,7 @@ std::string compression_section(const std::vector<CaseResult>& results, const st
     md += fmt::format("| {} | {:.2f} at {:g} | {:.2f} at {:.0f} | {:.2f} | {:.2f} |\n", g.group.empty() ? "-" : g.group,
                       g.min_strength_pa / 1e6, g.min_beta_deg, g.jaeger_min_pa / 1e6, g.jaeger_min_beta_deg,
                       g.strength_90_pa / 1e6, g.anisotropy_ratio);
+  md += signals_table(results);
   if (extras.paper_check && !groups.empty()) {
     const auto& g = groups.front();
     double s60 = 0;

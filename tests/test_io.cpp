@@ -209,6 +209,25 @@ TEST(Io, XdmfReferencesExistingDatasets) {
     EXPECT_NE(xdmf.find(a), std::string::npos) << a;
 }
 
+// cracks.csv carries one orientation per crack; a list of another length is a programming error named in the
+// message, never a file with shifted columns. fragments.csv lists the fragments in the order given.
+TEST(Io, SignalFilesHaveOneRowPerEntry) {
+  const fs::path dir = fs::temp_directory_path() / ("rbdem_test_io_signals_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const RemoveWhenPassed cleanup{dir};
+  Crack c;
+  c.bond = 3;
+  EXPECT_THROW(io::write_cracks_csv(dir / "cracks.csv", {c, c}, {10.0}), std::invalid_argument);
+  EXPECT_FALSE(fs::exists(dir / "cracks.csv"));
+  io::write_cracks_csv(dir / "cracks.csv", {c}, {45.0});
+  const std::string cracks = read_text(dir / "cracks.csv");
+  EXPECT_NE(cracks.find(",orientation_deg\n"), std::string::npos) << cracks;
+  EXPECT_NE(cracks.find(",45\n"), std::string::npos) << cracks;
+  io::write_fragments_csv(dir / "fragments.csv", {Fragment{3, 3.0, 1.5, 0.5}, Fragment{1, 1.0, 4.5, 0.5}});
+  EXPECT_EQ(read_text(dir / "fragments.csv"),
+            "fragment,blocks,area_m2,area_fraction,x_m,y_m\n0,3,3,0.75,1.5,0.5\n1,1,1,0.25,4.5,0.5\n");
+}
+
 TEST(Io, FailedWriteLeavesNoFileUnderTheFinalName) {
   const SmallRun run = small_run();
   const RemoveWhenPassed cleanup{run.dir};
@@ -272,6 +291,10 @@ TEST(Io, FigureScriptDrawsEveryFigureOfARun) {
       {"cracks " + quote(out / "cracks_peak.png") + " " + quote(run.dir) + " --at peak --magnify 100",
        out / "cracks_peak.png"},
       {"crack-grid " + quote(out / "grid.png") + " " + quote(run.dir) + " " + quote(run.dir), out / "grid.png"},
+      {"stages " + quote(out / "stages.png") + " " + quote(run.dir) + " " + quote(run.dir), out / "stages.png"},
+      {"rose " + quote(out / "rose.png") + " " + quote(run.dir) + " --bin 15", out / "rose.png"},
+      {"crack-rate " + quote(out / "rate.png") + " " + quote(run.dir), out / "rate.png"},
+      {"fragments " + quote(out / "fragments.png") + " " + quote(run.dir) + " --labels one", out / "fragments.png"},
   };
   for (const auto& [args, png] : figures) {
     SCOPED_TRACE(args);

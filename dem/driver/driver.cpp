@@ -101,6 +101,7 @@ class TestRun {
     r.stop_reason = stop_reason_;
     if (completed) completed_result(r);
     else stopped_result(r);
+    crack_statistics(topo_, r);
     r.wall_seconds = wall();
     return r;
   }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "dem/driver/record.hpp"
+#include "dem/driver/signals.hpp"
 #include "dem/state.hpp"
 
 namespace rbdem {
@@ -39,6 +40,14 @@ struct TestResult {
   double wall_seconds = 0;
   double elastic_start_strain = 0;  // strain skipped by the static elastic start (0 if none)
   double lateral_strain_at_peak = 0;  // -, compression positive (< 0: the specimen widened)
+  // The signals of the test (dem/driver/signals.hpp, docs/theory.md, section 10); NaN where not defined.
+  double poisson_ratio_at_half_peak = undefined_signal;  // -, tangent -d eps_l / d eps_a at 40-60 % of the peak
+  double crack_initiation_stress = undefined_signal;     // Pa, onset of sustained cracking
+  double crack_damage_stress = undefined_signal;         // Pa, at the reversal of the volumetric strain
+  double residual_stress = undefined_signal;             // Pa, mean stress at the end of a run past the peak
+  std::vector<double> crack_orientation_deg;             // per crack: its edge's angle from the horizontal, [0, 180)
+  std::vector<CrackRateBin> crack_rate;                  // cracks per unit axial strain, binned
+  std::vector<Fragment> fragments;                       // at the end of the run, largest first
   // Confined compression (triaxial)
   double confining_pressure = 0;    // Pa, sigma_3
   double deviator_at_peak = 0;      // Pa, sigma_1 - sigma_3 at the peak

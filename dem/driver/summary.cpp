@@ -167,6 +167,21 @@ void summarize(const Scene& scene, const Topology& topo, const TestRecord& recor
     if (k.mode == BreakMode::tensile) t_len += L;
   }
   r.tensile_fraction = all > 0 ? t_len / all : 0.0;
+  // The signals (docs/theory.md, section 10).
+  const bool brazilian = r.test == "brazilian";
+  const double floor = r.test == "triaxial" ? scene.loading.confining_pressure : 0.0;
+  if (!brazilian) {
+    r.poisson_ratio_at_half_peak = poisson_ratio_at_half_peak(r.curve, peak, at_peak.strain, floor);
+    r.crack_damage_stress = crack_damage_stress(r.curve, at_peak.strain);
+  }
+  r.crack_initiation_stress = crack_initiation_stress(r.curve, r.cracks, peak, at_peak.strain);
+  r.residual_stress = residual_stress(r.curve, at_peak.strain, r.stop_reason);
+}
+
+void crack_statistics(const Topology& topo, TestResult& r) {
+  r.crack_orientation_deg = crack_orientations_deg(r.cracks, topo);
+  r.crack_rate = crack_rate(r.cracks, r.curve.empty() ? 0.0 : r.curve.back().strain);
+  r.fragments = fragments(topo, r.cracks);
 }
 
 }  // namespace rbdem

@@ -36,7 +36,13 @@ double crack_band_angle_deg(const std::vector<Crack>& cracks, const Topology& to
 
 // The result of a completed run: `result` arrives with the record's curve (the peak sample in it), frames, the
 // crack log, the counts and the timing filled in; this adds the peak, E50, the quasi-static checks, the crack
-// statistics and the failure mode.
+// statistics and the failure mode, and the signals of dem/driver/signals.hpp (Poisson's ratio at half the peak,
+// the crack initiation and damage stresses, the residual strength; Poisson's ratio and the crack damage stress of
+// a Brazilian test are left undefined: its lateral strain is not the specimen's width change under uniaxial load).
 void summarize(const Scene& scene, const Topology& topo, const TestRecord& record, TestResult& result);
+
+// The crack statistics of any run, completed or stopped by the watchdog: each crack's orientation, the crack rate
+// against strain (50 bins up to the last sample's strain) and the fragments left by the crack log.
+void crack_statistics(const Topology& topo, TestResult& result);
 
 }  // namespace rbdem

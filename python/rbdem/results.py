@@ -4,6 +4,8 @@
     s = results.read_summary("runs/b60")        # summary.json as a dict
     c = results.read_curve("runs/b60")          # curve.csv columns as NumPy arrays (docs/outputs.md)
     k = results.read_cracks("runs/b60")         # cracks.csv columns as NumPy arrays
+    f = results.read_fragments("runs/b60")      # fragments.csv: the pieces at the end, largest first
+    a = results.read_crack_rate("runs/b60")     # crack_rate.csv: cracks per unit strain, binned
     with results.RunFile("runs/b60") as r:      # result.h5: mesh, bonds, crack log, frames of block positions
         v = r.vertices(r.frame_index("peak"))
 
@@ -86,6 +88,30 @@ def read_cracks(run_dir):
         text = any(v != "" and math.isnan(x) for v, x in zip(values, numbers))
         columns[k] = np.array(values) if text else np.array(numbers, dtype=float)
     return columns
+
+
+def _read_numeric_csv(run_dir, name):
+    """A run's CSV file of numbers as a dict of float arrays (empty arrays for a file with a header only)."""
+    path = os.path.join(run_dir, name)
+    if not os.path.exists(path):
+        raise RunFolderError(f"{run_dir}: no {name} (written by rbdem ucs, triaxial and brazilian)")
+    with open(path, newline="") as f:
+        reader = csv.DictReader(f)
+        rows = list(reader)
+        names = reader.fieldnames or []
+    return {k: np.array([to_float(r[k]) for r in rows], dtype=float) for k in names}
+
+
+def read_fragments(run_dir):
+    """fragments.csv: the fragments at the end of the run (blocks joined by intact bonds), largest first, as a
+    dict of NumPy arrays (fragment, blocks, area_m2, area_fraction, x_m, y_m)."""
+    return _read_numeric_csv(run_dir, "fragments.csv")
+
+
+def read_crack_rate(run_dir):
+    """crack_rate.csv: cracks per unit axial strain in strain bins, as a dict of NumPy arrays (strain_low,
+    strain_high, cracks, crack_rate_per_strain)."""
+    return _read_numeric_csv(run_dir, "crack_rate.csv")
 
 
 class RunFile:
