@@ -341,23 +341,33 @@ std::vector<CaseResult> collect(const std::vector<Case>& cases, const std::files
 
 // Jaeger's strength with the joint's effective interface envelope (contact_law.hpp: the linear part shares the
 // traction with the bond), or with the joint bonds' own cohesion and friction (`bond_values`). With a second joint
-// set, the weaker of the two planes of weakness governs (docs/theory.md, "Two planes of weakness").
+// set, the weaker of the two planes of weakness governs (docs/theory.md, "Two planes of weakness"); a set with rock
+// bridges slides on Jennings' combined envelope of joint and rock.
 double jaeger_for(const Scene& scene, double beta, double strength_90, bool bond_values) {
   constexpr double deg = std::numbers::pi / 180.0;
-  auto sliding = [&](const MaterialParams& j, double dip) {
-    const double tan_phi = std::tan(j.friction_deg * deg);
-    const MohrCoulomb env = bond_values ? MohrCoulomb{j.cohesion, tan_phi}
-                                        : interface_envelope(j.cohesion, tan_phi, j.contact_friction,
-                                                             j.slip_when_bonded);
+  auto envelope = [&](const MaterialParams& m) {
+    const double tan_phi = std::tan(m.friction_deg * deg);
+    return bond_values ? MohrCoulomb{m.cohesion, tan_phi}
+                       : interface_envelope(m.cohesion, tan_phi, m.contact_friction, m.slip_when_bonded);
+  };
+  auto sliding = [&](const MaterialParams& j, double dip, double persistence) {
+    // Jennings' plane of a non-persistent joint: joint over the fraction k of the plane, rock bridges over the rest,
+    // c = k c_j + (1 - k) c_r and tan phi = k tan phi_j + (1 - k) tan phi_r (docs/theory.md).
+    const MohrCoulomb joint = envelope(j), rock = envelope(scene.rock);
+    const double k = persistence;
+    const MohrCoulomb env = k >= 1.0 ? joint
+                                     : MohrCoulomb{k * joint.cohesion + (1.0 - k) * rock.cohesion,
+                                                   k * joint.tan_phi + (1.0 - k) * rock.tan_phi};
     const double phi_deg = std::atan(env.tan_phi) / deg;
     const double b = dip > 90.0 ? 180.0 - dip : dip;  // the plane's angle to sigma_3 (symmetric about 90 deg)
     return theory::jaeger_strength({env.cohesion, phi_deg, strength_90, scene.loading.confining_pressure}, b);
   };
   double s = strength_90;
-  if (scene.joint_set.enabled) s = std::min(s, sliding(scene.joint, beta));
+  if (scene.joint_set.enabled) s = std::min(s, sliding(scene.joint, beta, scene.joint_set.persistence));
   if (scene.joint_set2.enabled) {
     const double dip2 = scene.joint_set2.follows_set1 ? beta + scene.joint_set2.dip_deg : scene.joint_set2.dip_deg;
-    s = std::min(s, sliding(scene.joint2, std::fmod(std::fmod(dip2, 180.0) + 180.0, 180.0)));
+    s = std::min(s, sliding(scene.joint2, std::fmod(std::fmod(dip2, 180.0) + 180.0, 180.0),
+                            scene.joint_set2.persistence));
   }
   return s;
 }

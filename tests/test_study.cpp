@@ -1,6 +1,8 @@
 // Study files, case expansion, the Jaeger table and the calibration file reader.
 #include <gtest/gtest.h>
 
+#include <numbers>
+
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -133,6 +135,26 @@ TEST(Study, JaegerWithTwoSetsFollowsTheWeakerPlane) {
   fixed.joint_set2.enabled = true, fixed.joint_set2.dip_deg = 150.0;
   static_cast<MaterialParams&>(fixed.joint2) = fixed.joint;
   EXPECT_DOUBLE_EQ(jaeger_for(fixed, 0.0, s90), jaeger_for(one, 30.0, s90));
+}
+
+// Jennings' envelope for joints with rock bridges: persistence k mixes the joint's and the rock's interface
+// envelopes (cohesion and tan phi) by k and 1 - k; at k = 1 it is the joint's, at k = 0.5 the hand value below.
+TEST(Study, JaegerWithRockBridgesUsesJenningsEnvelope) {
+  const double s90 = 50e6;
+  Scene s;
+  const double through = jaeger_for(s, 60.0, s90);
+  s.joint_set.persistence = 1.0;
+  EXPECT_DOUBLE_EQ(jaeger_for(s, 60.0, s90), through);
+  s.joint_set.persistence = 0.5;
+  // Bonded interfaces that stick: c = 2 x bond cohesion (3.36 and 7.51 MPa), tan phi of the bonds (30, 40 deg).
+  const double c = 0.5 * 2 * 3.36e6 + 0.5 * 2 * 7.51e6;
+  const double mu = 0.5 * std::tan(30.0 * std::numbers::pi / 180) + 0.5 * std::tan(40.0 * std::numbers::pi / 180);
+  const double b = 60.0 * std::numbers::pi / 180;
+  const double hand = 2 * c / ((1 - mu / std::tan(b)) * std::sin(2 * b));
+  EXPECT_NEAR(jaeger_for(s, 60.0, s90), hand, 1e-6 * hand);
+  EXPECT_NEAR(hand, 42.5e6, 0.1e6);
+  s.joint_set.persistence = 0.25;
+  EXPECT_DOUBLE_EQ(jaeger_for(s, 60.0, s90), s90);  // the coplanar path is stronger than the intact rock
 }
 
 // Student's t at 0.975 against published values (the table) and past it (the expansion; exact value from the

@@ -43,16 +43,23 @@ bool non_persistent(const Scene& scene) {
 std::string classify_failure(const std::vector<Crack>& cracks, const Topology& topo, double dip_deg,
                              double dip2_deg, bool bridges) {
   if (cracks.empty()) return "intact";
-  // Per joint (the interface between two layers, or the pieces of a set inside one layer): its length and how much
-  // of it broke, by mode.
-  std::map<std::array<int, 3>, std::array<double, 3>> joints;  // total, broken in shear, broken in tension
+  // Per joint (a straight line of joint edges: one interface, one line n . x = r): its length and how much of it
+  // broke, by mode. The pieces of a non-persistent joint count as one joint; a through-going joint between two
+  // layers is one line too.
+  std::map<std::array<long, 4>, std::array<double, 3>> joints;  // total, broken in shear, broken in tension
   const auto& N = topo.bonds;
+  const double scale = std::max(topo.width(), topo.height());
   auto joint_of = [&](std::size_t b) {
     const int a = topo.blocks.layer[std::size_t(N.i[b])], c = topo.blocks.layer[std::size_t(N.j[b])];
     const int f = N.interface.empty() ? -1 : N.interface[b];
-    return std::array<int, 3>{f, std::min(a, c), std::max(a, c)};
+    if (f < 0) return std::array<long, 4>{-1, std::min(a, c), std::max(a, c), 0};  // between layers of a user mesh
+    double nx = N.nx[b], ny = N.ny[b];
+    if (ny < 0 || (ny == 0 && nx < 0)) nx = -nx, ny = -ny;  // one sign per line
+    const double r = nx * N.mx[b] + ny * N.my[b];
+    const double angle = std::atan2(ny, nx);
+    return std::array<long, 4>{f, std::lround(angle * 1e3), std::lround(r / (1e-4 * scale)), 1};
   };
-  auto second_set = [&](const std::array<int, 3>& id) {
+  auto second_set = [&](const std::array<long, 4>& id) {
     return id[0] >= 0 && topo.interface_names[std::size_t(id[0])] == "joint_set2";
   };
   for (std::size_t b = 0; b < N.size(); ++b)
