@@ -400,6 +400,11 @@ void declare_geometry(Keys& k) {
                  "(+-2.5 %, same segment count) so gmsh lays a different mesh of the same size and quality; the same "
                  "seed gives the same mesh (docs/studies.md, \"Realizations\")",
                  [](Scene& s) -> int& { return s.mesh.seed; }));
+  k.add(integer("mesh.strength_seed", "-", 0, 1000000,
+                 "realization of the bond strength factors of the materials with a weibull_modulus (the same seed "
+                 "gives the same strengths on the same mesh); a study's realizations = N runs seeds 0 .. N-1 of "
+                 "both this and mesh.seed",
+                 [](Scene& s) -> int& { return s.mesh.strength_seed; }));
   k.add(text("mesh.file", "user mesh (.msh; physical surfaces = layers); empty = mesh the specimen",
              [](Scene& s) -> std::string& { return s.mesh.file; }));
 }

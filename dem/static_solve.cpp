@@ -345,7 +345,8 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
     if (ls == StaticResult::stick) r.fs_lin[b] = -k.ksA * ds;
     else if (ls != StaticResult::open) r.fs_lin[b] = (ls == StaticResult::slip_positive ? -1.0 : 1.0) * k.mu * (-k.knA * dn);
     // The parallel bond's own strength test (dem/laws/parallel_bond.hpp), solved for the load factor.
-    const BondStrength& st = M.law[M.material[b]].bond.strength;
+    BondStrength st = M.law[M.material[b]].bond.strength;
+    st.sigma_c *= M.frame.strength_factor[b], st.cohesion *= M.frame.strength_factor[b];
     const double lam = st.first_break_factor(fn, fs, m, k.A, k.I, 0.5 * k.L);
     if (lam < r.first_break_factor) r.first_break_factor = lam, r.first_break_bond = int(b);
   }

@@ -194,6 +194,7 @@ std::vector<Case> expand(const StudySpec& spec) {
           // Seeds from the base scene's own, so that a study on mesh.seed = 10 runs the meshes 10, 11, ...
           d.realization = r;
           d.scene.mesh.seed = c.scene.mesh.seed + r;
+          d.scene.mesh.strength_seed = c.scene.mesh.strength_seed + r;
           d.id += fmt::format("/seed={}", d.scene.mesh.seed);
         }
         validate(d.scene);
@@ -412,10 +413,14 @@ nlohmann::json mean_summary(const std::vector<const nlohmann::json*>& summaries)
   nlohmann::json out = *summaries.front();
   for (auto it = out.begin(); it != out.end(); ++it) {
     const std::string& key = it.key();
-    if (it->is_number()) {
+    if (it->is_number() || it->is_null()) {
+      // The mean of the realizations where the value is defined (a signal such as the crack damage stress may be
+      // null in some); null where none defines it.
       double sum = 0;
-      for (const auto* s : summaries) sum += s->value(key, 0.0);
-      *it = sum / double(summaries.size());
+      int defined = 0;
+      for (const auto* s : summaries)
+        if (s->contains(key) && (*s)[key].is_number()) sum += (*s)[key].get<double>(), ++defined;
+      if (defined > 0) *it = sum / double(defined);
     } else if (it->is_object()) {
       std::vector<const nlohmann::json*> inner;
       for (const auto* s : summaries)

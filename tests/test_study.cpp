@@ -195,8 +195,13 @@ TEST(Study, RealizationsGiveMeanSdAndInterval) {
     r.summary = {{"peak_stress_pa", peaks[k]}, {"strain_at_peak", 1e-4}, {"youngs_modulus_pa", 2e11},
                  {"failure_mode", k == 2 ? "y" : "x"}, {"steps", 10 + k}, {"scene", scene_json(cases[k].scene)},
                  {"cracks", {{"rock_tensile", k}, {"rock_shear", 0}, {"joint_tensile", 0}, {"joint_shear", 0}}}};
+    // A signal that one realization of each point leaves undefined (null): 19 and 24 MPa at 60 deg.
+    r.summary["crack_damage_stress_pa"] = k % 3 == 0 ? nlohmann::json(nullptr) : nlohmann::json(peaks[k] - 1e6);
     results.push_back(r);
   }
+  const auto points = realization_means(results);
+  ASSERT_EQ(points.size(), 2u);
+  EXPECT_DOUBLE_EQ(points[0].mean.summary["crack_damage_stress_pa"].get<double>(), 21.5e6);  // of the defined ones
   const auto groups = write_tables(results, dir);
   // By hand at 60 deg: mean 21 MPa, sd sqrt((9 + 1 + 16) / 2) = sqrt(13) = 3.605551 MPa,
   // half-width 4.302653 x 3.605551 / sqrt(3) = 8.956686 MPa.

@@ -30,11 +30,13 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 
 // Scene keys that cannot change the elastic response (see the header).
 bool elastically_irrelevant(const std::string& key) {
-  if (key == "joint_set.dip_deg" || key == "rock.density") return true;
+  if (key == "joint_set.dip_deg" || key == "rock.density" || key == "rock2.density" || key == "mesh.strength_seed")
+    return true;
   if (starts_with(key, "loading.") || starts_with(key, "numerics.") || starts_with(key, "output.")) return true;
   for (const char* strength : {".tensile_strength", ".cohesion", ".friction_deg", ".moment_factor",
-                               ".fracture_energy"})
-    if ((starts_with(key, "rock.") || starts_with(key, "joint.")) && ends_with(key, strength)) return true;
+                               ".fracture_energy", ".weibull_modulus"})
+    for (const char* material : {"rock.", "joint.", "joint2.", "rock2."})
+      if (starts_with(key, material) && ends_with(key, strength)) return true;
   return false;
 }
 
@@ -103,6 +105,15 @@ GateCheck check_elastic_gate(const Scene& scene, const ElasticGateOptions& optio
     c.note = fmt::format("elastic gate: not applicable to a user mesh (mesh.file = {}): it re-meshes the "
                          "specimen at every dip",
                          scene.mesh.file);
+    return c;
+  }
+  if (!scene.rock2.groups.empty() && (scene.rock2.effective_modulus != scene.rock.effective_modulus ||
+                                      scene.rock2.stiffness_ratio != scene.rock.stiffness_ratio)) {
+    c.note = fmt::format("elastic gate: not applicable to layers of two stiffnesses (rock2.effective_modulus = {:g} "
+                         "Pa, rock2.stiffness_ratio = {:g} against rock's {:g} Pa, {:g}): its FE model gives every "
+                         "layer the rock's constants",
+                         scene.rock2.effective_modulus, scene.rock2.stiffness_ratio, scene.rock.effective_modulus,
+                         scene.rock.stiffness_ratio);
     return c;
   }
   c.key = elastic_gate_key(scene);

@@ -2,9 +2,10 @@
 // remember the verdict, refuse a run whose DEM does not reproduce its own elastic theory.
 //
 // Cache key: a hash of every scene key that can change the elastic response, i.e. every key except
-// joint_set.dip_deg (the gate runs every dip), the bond strengths (tensile_strength, cohesion, friction_deg,
-// moment_factor, fracture_energy), rock.density (statics see no mass), loading.* (the gate uses frictionless
-// platens; the rest are stop criteria and speed), numerics.* (time integration) and output.*. Keys added to the scene later are in the
+// joint_set.dip_deg (the gate runs every dip), the bond strengths of every material (tensile_strength, cohesion,
+// friction_deg, moment_factor, fracture_energy, weibull_modulus, and mesh.strength_seed), rock.density and
+// rock2.density (statics see no mass), loading.* (the gate uses frictionless platens; the rest are stop criteria and
+// speed), numerics.* (time integration) and output.*. Keys added to the scene later are in the
 // key until listed here, so a stale verdict is never reused. A user mesh (mesh.file) enters with its contents.
 // The key also holds a gate version string (gate_cache.cpp; 2 since the FE model with the joints decides), bumped
 // when the measurement or the verdict changes meaning; a change of
