@@ -99,10 +99,22 @@ def _mode_text(mode):
 # ------------------------------------------------------------------------------------------------ figures
 
 
-def plot_stress_strain(out, run_dirs, labels=None):
-    """Stress (MPa) against axial strain, top platen solid and bottom platen dashed, the peak marked."""
+def _check_labels(labels, run_dirs):
     if labels and len(labels) != len(run_dirs):
         raise SystemExit(f"--labels: {len(labels)} labels for {len(run_dirs)} runs")
+
+
+def _finish_runs_figure(fig, ax, out):
+    """Grid, legend, save and close: the end of a one-axes figure with one curve per run."""
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=7)
+    fig.savefig(out, dpi=150)
+    plt.close(fig)
+
+
+def plot_stress_strain(out, run_dirs, labels=None):
+    """Stress (MPa) against axial strain, top platen solid and bottom platen dashed, the peak marked."""
+    _check_labels(labels, run_dirs)
     fig, ax = plt.subplots(figsize=(6.4, 4.6), constrained_layout=True)
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for n, run in enumerate(run_dirs):
@@ -339,8 +351,7 @@ def plot_cracks(out, run_dir, at="final", magnify=1.0):
 
 def plot_crack_grid(out, run_dirs, labels=None, magnify=1.0):
     """Crack maps of several runs side by side at their final frame (e.g. the seven dips of a study)."""
-    if labels and len(labels) != len(run_dirs):
-        raise SystemExit(f"--labels: {len(labels)} labels for {len(run_dirs)} runs")
+    _check_labels(labels, run_dirs)
     n = len(run_dirs)
     fig, axes = plt.subplots(1, n, figsize=(2.3 * n + 0.6, 5.8), squeeze=False)
     fig.set_layout_engine("constrained", rect=(0, 0.05, 1, 0.95))  # room for the legend below
@@ -459,8 +470,7 @@ STAGES = [
 def plot_stages(out, run_dirs, labels=None):
     """Stress against axial, lateral and volumetric strain per run, the stages marked: crack initiation, crack
     damage (the reversal of the volumetric strain), peak and residual strength (summary.json)."""
-    if labels and len(labels) != len(run_dirs):
-        raise SystemExit(f"--labels: {len(labels)} labels for {len(run_dirs)} runs")
+    _check_labels(labels, run_dirs)
     fig, axes = _grid(len(run_dirs), 3.2, 2.9)
     below = 0.6 / fig.get_figheight()  # room for the legend below (rect: left, bottom, width, height)
     fig.set_layout_engine("constrained", rect=(0, below, 1, 0.96 - below))
@@ -516,8 +526,7 @@ def plot_rose(out, run_dirs, labels=None, bin_deg=10.0):
     """Rose diagram of the crack orientations (the broken edges' angle from the horizontal, cracks.csv
     orientation_deg), stacked by kind and mode, one panel per run; symmetric (an edge at a and at a + 180 is the
     same line)."""
-    if labels and len(labels) != len(run_dirs):
-        raise SystemExit(f"--labels: {len(labels)} labels for {len(run_dirs)} runs")
+    _check_labels(labels, run_dirs)
     if not (0 < bin_deg <= 90 and abs(180 / bin_deg - round(180 / bin_deg)) < 1e-9):
         raise SystemExit(f"--bin {bin_deg}: give a divisor of 180 deg, e.g. 5, 10 or 15")
     nb = int(round(180 / bin_deg))
@@ -556,8 +565,7 @@ def plot_rose(out, run_dirs, labels=None, bin_deg=10.0):
 def plot_crack_rate(out, run_dirs, labels=None):
     """Cracks per unit axial strain (crack_rate.csv) against the axial strain over the strain at the peak, one
     line per run: the acoustic-emission-like record of the test."""
-    if labels and len(labels) != len(run_dirs):
-        raise SystemExit(f"--labels: {len(labels)} labels for {len(run_dirs)} runs")
+    _check_labels(labels, run_dirs)
     fig, ax = plt.subplots(figsize=(6.4, 4.6), constrained_layout=True)
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for m, run in enumerate(run_dirs):
@@ -575,17 +583,13 @@ def plot_crack_rate(out, run_dirs, labels=None):
     ax.set_xlabel("axial strain / strain at the peak (-)")
     ax.set_ylabel("cracks per unit axial strain")
     ax.set_title("Crack rate (50 strain bins per run; dashed: the peak)", fontsize=10)
-    ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=7)
-    fig.savefig(out, dpi=150)
-    plt.close(fig)
+    _finish_runs_figure(fig, ax, out)
 
 
 def plot_fragments(out, run_dirs, labels=None):
     """Fragment size distribution at the end of each run (fragments.csv): the number of fragments with an area
     of at least A against A over the specimen's area, log-log."""
-    if labels and len(labels) != len(run_dirs):
-        raise SystemExit(f"--labels: {len(labels)} labels for {len(run_dirs)} runs")
+    _check_labels(labels, run_dirs)
     fig, ax = plt.subplots(figsize=(6.4, 4.6), constrained_layout=True)
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for m, run in enumerate(run_dirs):
@@ -602,10 +606,7 @@ def plot_fragments(out, run_dirs, labels=None):
     ax.set_xlabel("fragment area / specimen area (-)")
     ax.set_ylabel("fragments at least this large")
     ax.set_title("Fragments at the end of the run (blocks joined by intact bonds)", fontsize=10)
-    ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=7)
-    fig.savefig(out, dpi=150)
-    plt.close(fig)
+    _finish_runs_figure(fig, ax, out)
 
 
 def main(argv=None):
