@@ -34,6 +34,9 @@ nlohmann::json run_summary(const Scene& scene, const TestResult& r) {
                  {"joint_tensile", r.crack_counts.joint_tensile},
                  {"joint_shear", r.crack_counts.joint_shear},
                  {"total", r.crack_counts.total()}};
+  j["cracks_by_material"] = nlohmann::json::object();
+  for (const auto& m : r.cracks_by_material)
+    j["cracks_by_material"][m.material] = {{"bonds", m.bonds}, {"tensile", m.tensile}, {"shear", m.shear}};
   j["failure_mode"] = r.failure_mode;
   j["crack_band_angle_deg"] = r.crack_band_angle_deg;
   j["tensile_fraction"] = r.tensile_fraction;

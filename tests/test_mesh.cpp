@@ -13,6 +13,7 @@
 
 #include <omp.h>
 
+#include "dem/driver/summary.hpp"
 #include "dem/materials.hpp"
 #include "dem/model.hpp"
 #include "dem/scene.hpp"
@@ -626,6 +627,39 @@ TEST(Materials, WeibullStrengthFactorsFollowTheirDistribution) {
   EXPECT_EQ(build_model(topo, scene, 1.0).frame.strength_factor, model.frame.strength_factor);
   scene.mesh.strength_seed = 1;
   EXPECT_NE(build_model(topo, scene, 1.0).frame.strength_factor, model.frame.strength_factor);
+}
+
+// Crack counts by material: synthetic cracks on the first bond of each material, tensile, plus one shear crack on
+// a second-set joint; materials the specimen lacks (rock2 here) are not listed.
+TEST(Materials, CracksAreCountedByMaterial) {
+  Scene scene;
+  scene.mesh.size = 0.0025;
+  scene.joint_set2.enabled = true, scene.joint_set2.dip_deg = 120.0, scene.joint_set2.spacing = 0.02;
+  const Topology topo = build_topology(make_mesh(scene), 1.0, scene.rock.density);
+  const MaterialMap m = assign_materials(topo, scene);
+  std::vector<Crack> cracks;
+  std::array<int, material_count> bonds{};
+  std::array<bool, material_count> seen{};
+  for (std::size_t b = 0; b < topo.bonds.size(); ++b) {
+    ++bonds[m.bond[b]];
+    if (!seen[m.bond[b]]) {
+      seen[m.bond[b]] = true;
+      Crack c;
+      c.bond = int(b), c.mode = BreakMode::tensile;
+      cracks.push_back(c);
+      if (m.bond[b] == material_joint2) c.mode = BreakMode::shear, c.bond = int(b), cracks.push_back(c);
+    }
+  }
+  const auto counts = count_cracks_by_material(cracks, topo, scene);
+  ASSERT_EQ(counts.size(), 3u);
+  EXPECT_EQ(counts[0].material, "rock");
+  EXPECT_EQ(counts[1].material, "joint");
+  EXPECT_EQ(counts[2].material, "joint2");
+  for (const auto& c : counts) EXPECT_EQ(c.tensile, 1) << c.material;
+  EXPECT_EQ(counts[0].shear + counts[1].shear, 0);
+  EXPECT_EQ(counts[2].shear, 1);
+  EXPECT_EQ(counts[0].bonds, bonds[material_rock]);
+  EXPECT_EQ(counts[2].bonds, bonds[material_joint2]);
 }
 
 }  // namespace

@@ -154,6 +154,7 @@ class TestRun {
     r.frames.assign(rec_.frames.begin(), rec_.frames.begin() + long(watchdog_.good_frames));
     r.cracks.assign(engine_.cracks().begin(), engine_.cracks().begin() + long(watchdog_.good_cracks));
     r.crack_counts = count_cracks(r.cracks);
+    r.cracks_by_material = count_cracks_by_material(r.cracks, topo_, scene_);
     r.stop_reason = "watchdog";
     r.failure_mode = "not_completed";
     r.quasi_static = false;

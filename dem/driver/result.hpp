@@ -17,6 +17,12 @@ struct CrackCounts {
   int total() const { return rock_tensile + rock_shear + joint_tensile + joint_shear; }
 };
 
+// The bonds of one material (dem/materials.hpp) and how many of them broke, by mode.
+struct MaterialCracks {
+  std::string material;  // "rock", "joint", "joint2" or "rock2"
+  int bonds = 0, tensile = 0, shear = 0;
+};
+
 struct TestResult {
   std::string test = "ucs";     // the protocol: "ucs", "triaxial" or "brazilian"
   double peak_stress = 0;       // Pa: sigma_1 at the peak (compression tests), 2 P / (pi D t) (the Brazilian test)
@@ -29,6 +35,7 @@ struct TestResult {
   std::vector<Crack> cracks;
   std::vector<Frame> frames;    // every output.frame_strain_interval, plus the peak and the final state
   CrackCounts crack_counts;
+  std::vector<MaterialCracks> cracks_by_material;  // the materials the specimen has, in material id order
   double crack_band_angle_deg = 0;  // principal direction of the crack positions, from the horizontal
   double tensile_fraction = 0;      // tensile share of the crack length
   std::string failure_mode;

@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include "dem/materials.hpp"
+
 namespace rbdem {
 
 namespace {
@@ -26,6 +28,22 @@ CrackCounts count_cracks(const std::vector<Crack>& cracks) {
     else (shear ? c.joint_shear : c.joint_tensile)++;
   }
   return c;
+}
+
+std::vector<MaterialCracks> count_cracks_by_material(const std::vector<Crack>& cracks, const Topology& topo,
+                                                     const Scene& scene) {
+  const MaterialMap m = assign_materials(topo, scene);
+  std::array<MaterialCracks, material_count> all{};
+  for (std::size_t k = 0; k < material_count; ++k) all[k].material = material_name[k];
+  for (const auto id : m.bond) ++all[id].bonds;
+  for (const auto& c : cracks) {
+    MaterialCracks& mc = all[m.bond[std::size_t(c.bond)]];
+    ++(c.mode == BreakMode::shear ? mc.shear : mc.tensile);
+  }
+  std::vector<MaterialCracks> out;
+  for (const auto& mc : all)
+    if (mc.bonds > 0) out.push_back(mc);
+  return out;
 }
 
 double second_set_dip_deg(const Scene& scene) {
@@ -164,6 +182,7 @@ void summarize(const Scene& scene, const Topology& topo, const TestRecord& recor
     }
   }
   r.crack_counts = count_cracks(r.cracks);
+  r.cracks_by_material = count_cracks_by_material(r.cracks, topo, scene);
   r.failure_mode = classify_failure(r.cracks, topo, scene.joint_set.dip_deg, second_set_dip_deg(scene),
                                     non_persistent(scene));
   r.crack_band_angle_deg = crack_band_angle_deg(r.cracks, topo);

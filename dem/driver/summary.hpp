@@ -12,6 +12,9 @@
 namespace rbdem {
 
 CrackCounts count_cracks(const std::vector<Crack>& cracks);
+// The cracks of each material the specimen has (which joint set slipped, which rock cracked).
+std::vector<MaterialCracks> count_cracks_by_material(const std::vector<Crack>& cracks, const Topology& topo,
+                                                     const Scene& scene);
 
 // Failure mode from the crack log, in the seed paper's three classes plus one:
 //   a joint broken along at least half its length, mostly in shear, with a large resolved shear stress on it
