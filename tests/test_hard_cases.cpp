@@ -85,6 +85,32 @@ TEST(HardCases, SliverTrianglesOfAspectRatio30) {
   EXPECT_GT(r.peak_stress, 1e6);
 }
 
+// Two joint sets 5 deg apart: where their joints cross at that shallow angle gmsh leaves wedges a tenth of an element
+// thick (slivers); the run stays sound on the smaller step they set. And joints with rock bridges whose pieces end
+// inside the layers.
+TEST(HardCases, TwoSetsFiveDegreesApartAndRockBridges) {
+  Scene scene = small_scene();
+  scene.mesh.size = 0.001;
+  scene.joint_set2.enabled = true, scene.joint_set2.follows_set1 = true, scene.joint_set2.dip_deg = 5.0;
+  scene.joint_set2.spacing = 0.005;
+  const TriMesh crossed = make_mesh(scene);
+  const Topology topo = build_topology(crossed, scene.specimen.thickness, scene.rock.density);
+  double shortest = 1e300;
+  for (double l : topo.bonds.length) shortest = std::min(shortest, l);
+  EXPECT_LT(shortest, 0.25 * scene.mesh.size);  // the slivers are there
+  const TestResult r = run_ucs(scene, topo);
+  expect_sound(r, scene);
+  EXPECT_GT(r.peak_stress, 1e6);
+
+  Scene bridges = small_scene();
+  bridges.mesh.size = 0.001;
+  bridges.joint_set.persistence = 0.5, bridges.joint_set.joint_length = 0.004;
+  const Topology pieces = build_topology(make_mesh(bridges), bridges.specimen.thickness, bridges.rock.density);
+  const TestResult b = run_ucs(bridges, pieces);
+  expect_sound(b, bridges);
+  EXPECT_GT(b.peak_stress, 1e6);
+}
+
 TEST(HardCases, RockJointStiffnessContrast1e4) {
   Scene scene = small_scene();
   scene.joint.effective_modulus = scene.rock.effective_modulus * 1e-4;
