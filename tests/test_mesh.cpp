@@ -662,5 +662,15 @@ TEST(Materials, CracksAreCountedByMaterial) {
   EXPECT_EQ(counts[2].bonds, bonds[material_joint2]);
 }
 
+// The dip of a mesh's joints read back from its joint edges (what the failure classification of a user mesh uses).
+TEST(JointSets, JointDipIsReadFromTheJointEdges) {
+  for (double dip : {0.0, 30.0, 75.0, 90.0}) {
+    const Topology topo = build_topology(mesh_specimen(geometry(dip, 0.01), 0.0025), 1.0, 2700.0);
+    EXPECT_NEAR(joint_dip_deg(topo, -1.0), dip, 1e-6) << dip;
+  }
+  const Topology intact = build_topology(mesh_specimen(geometry(0.0, 0.2, 0.1), 0.005), 1.0, 2700.0);
+  EXPECT_EQ(joint_dip_deg(intact, -1.0), -1.0);
+}
+
 }  // namespace
 }  // namespace rbdem

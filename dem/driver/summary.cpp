@@ -46,6 +46,19 @@ std::vector<MaterialCracks> count_cracks_by_material(const std::vector<Crack>& c
   return out;
 }
 
+double joint_dip_deg(const Topology& topo, double fallback) {
+  // The mean of the doubled angles (an axial mean: a joint edge at theta and theta + 180 deg is the same line).
+  double c = 0, s = 0;
+  const auto& N = topo.bonds;
+  for (std::size_t b = 0; b < N.size(); ++b) {
+    if (N.kind[b] != BondKind::joint) continue;
+    const double along = std::atan2(-N.nx[b], N.ny[b]);  // the edge direction, perpendicular to the bond normal
+    c += N.length[b] * std::cos(2.0 * along), s += N.length[b] * std::sin(2.0 * along);
+  }
+  if (std::hypot(c, s) <= 0) return fallback;
+  return std::abs(0.5 * std::atan2(s, c) * 180.0 / std::numbers::pi);  // from (-90, 90]
+}
+
 double second_set_dip_deg(const Scene& scene) {
   double dip = scene.joint_set2.follows_set1 ? scene.joint_set.dip_deg + scene.joint_set2.dip_deg
                                              : scene.joint_set2.dip_deg;
@@ -183,8 +196,9 @@ void summarize(const Scene& scene, const Topology& topo, const TestRecord& recor
   }
   r.crack_counts = count_cracks(r.cracks);
   r.cracks_by_material = count_cracks_by_material(r.cracks, topo, scene);
-  r.failure_mode = classify_failure(r.cracks, topo, scene.joint_set.dip_deg, second_set_dip_deg(scene),
-                                    non_persistent(scene));
+  // A user mesh's layers have the dip its joint edges have, not the scene's joint_set.dip_deg.
+  const double dip = scene.mesh.file.empty() ? scene.joint_set.dip_deg : joint_dip_deg(topo, scene.joint_set.dip_deg);
+  r.failure_mode = classify_failure(r.cracks, topo, dip, second_set_dip_deg(scene), non_persistent(scene));
   r.crack_band_angle_deg = crack_band_angle_deg(r.cracks, topo);
   double t_len = 0, all = 0;
   for (const auto& k : r.cracks) {
