@@ -58,7 +58,7 @@ void print_statistics(const Scene& scene, const TriMesh& mesh, const Topology& t
   }
   if (scene.joint_set2.enabled && scene.mesh.file.empty())
     fmt::print("joint set 2  dip {:.4g} deg, spacing {:.4g} m, offset {:.4g} m\n",
-               SpecimenGeometry::from_scene(scene).set2.dip_deg, scene.joint_set2.spacing, scene.joint_set2.offset);
+               second_set_dip_deg(scene, scene.joint_set.dip_deg), scene.joint_set2.spacing, scene.joint_set2.offset);
   for (const auto& note : mesh.notes) fmt::print("note         {}\n", note);
 }
 

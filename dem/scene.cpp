@@ -316,6 +316,13 @@ Scene load_scene_file(const std::filesystem::path& path) {
   return parse_scene(buffer.str(), path.string());
 }
 
+double second_set_dip_deg(const Scene& scene, double first_dip_deg) {
+  const double dip = std::fmod(scene.joint_set2.follows_set1 ? first_dip_deg + scene.joint_set2.dip_deg
+                                                             : scene.joint_set2.dip_deg,
+                               180.0);
+  return dip < 0 ? dip + 180.0 : dip;
+}
+
 void validate(const Scene& scene) {
   Scene copy = scene;
   for (const auto& e : registry()) {

@@ -154,6 +154,10 @@ void validate(const Scene& scene);
 // modulus). Separate from validate() so that the command line can skip it with --force.
 void check_plausible(const Scene& scene);
 
+// The second joint set's dip from the horizontal in [0, 180) when the first set dips `first_dip_deg`
+// (joint_set2.follows_set1 resolved; a set at beta is the same as at beta + 180 deg).
+double second_set_dip_deg(const Scene& scene, double first_dip_deg);
+
 // The value of one key as text (for printing and tables).
 std::string parameter_text(const Scene& scene, std::string_view key);
 // The resolved scene as TOML (with units as comments) and as JSON.

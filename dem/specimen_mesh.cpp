@@ -65,10 +65,8 @@ SpecimenGeometry SpecimenGeometry::from_scene(const Scene& scene) {
   g.persistence = j.persistence, g.joint_length = j.joint_length, g.stagger = j.stagger;
   const JointSetParams& j2 = scene.joint_set2;
   g.second_set = j2.enabled;
-  double dip2 = j2.follows_set1 ? j.dip_deg + j2.dip_deg : j2.dip_deg;
-  dip2 = std::fmod(dip2, 180.0);  // a set is the same at beta and beta + 180 deg
-  if (dip2 < 0) dip2 += 180.0;
-  g.set2 = {dip2, j2.spacing, j2.offset, j2.persistence, j2.joint_length, j2.stagger};
+  g.set2 = {second_set_dip_deg(scene, j.dip_deg), j2.spacing, j2.offset, j2.persistence, j2.joint_length,
+            j2.stagger};
   g.mesh_seed = scene.mesh.seed;
   return g;
 }

@@ -366,9 +366,7 @@ double jaeger_for(const Scene& scene, double beta, double strength_90, bool bond
   double s = strength_90;
   if (scene.joint_set.enabled) s = std::min(s, sliding(scene.joint, beta, scene.joint_set.persistence));
   if (scene.joint_set2.enabled) {
-    const double dip2 = scene.joint_set2.follows_set1 ? beta + scene.joint_set2.dip_deg : scene.joint_set2.dip_deg;
-    s = std::min(s, sliding(scene.joint2, std::fmod(std::fmod(dip2, 180.0) + 180.0, 180.0),
-                            scene.joint_set2.persistence));
+    s = std::min(s, sliding(scene.joint2, second_set_dip_deg(scene, beta), scene.joint_set2.persistence));
   }
   return s;
 }

@@ -59,13 +59,6 @@ double joint_dip_deg(const Topology& topo, double fallback) {
   return std::abs(0.5 * std::atan2(s, c) * 180.0 / std::numbers::pi);  // from (-90, 90]
 }
 
-double second_set_dip_deg(const Scene& scene) {
-  double dip = scene.joint_set2.follows_set1 ? scene.joint_set.dip_deg + scene.joint_set2.dip_deg
-                                             : scene.joint_set2.dip_deg;
-  dip = std::fmod(dip, 180.0);
-  return dip < 0 ? dip + 180.0 : dip;
-}
-
 bool non_persistent(const Scene& scene) {
   return (scene.joint_set.enabled && scene.joint_set.persistence < 1.0) ||
          (scene.joint_set2.enabled && scene.joint_set2.persistence < 1.0);
@@ -198,7 +191,8 @@ void summarize(const Scene& scene, const Topology& topo, const TestRecord& recor
   r.cracks_by_material = count_cracks_by_material(r.cracks, topo, scene);
   // A user mesh's layers have the dip its joint edges have, not the scene's joint_set.dip_deg.
   const double dip = scene.mesh.file.empty() ? scene.joint_set.dip_deg : joint_dip_deg(topo, scene.joint_set.dip_deg);
-  r.failure_mode = classify_failure(r.cracks, topo, dip, second_set_dip_deg(scene), non_persistent(scene));
+  r.failure_mode = classify_failure(r.cracks, topo, dip, second_set_dip_deg(scene, scene.joint_set.dip_deg),
+                                    non_persistent(scene));
   r.crack_band_angle_deg = crack_band_angle_deg(r.cracks, topo);
   double t_len = 0, all = 0;
   for (const auto& k : r.cracks) {

@@ -31,8 +31,6 @@ std::string classify_failure(const std::vector<Crack>& cracks, const Topology& t
 // The dip (0..90 deg from the horizontal) of a mesh's joints: the length-weighted axial mean direction of its joint
 // edges; `fallback` when it has none. The failure classification of a user mesh uses it.
 double joint_dip_deg(const Topology& topo, double fallback);
-// The second joint set's dip from the horizontal in [0, 180) (joint_set2.follows_set1 resolved).
-double second_set_dip_deg(const Scene& scene);
 // Whether an enabled joint set of the scene has rock bridges (persistence < 1).
 bool non_persistent(const Scene& scene);
 
