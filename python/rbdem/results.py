@@ -74,13 +74,7 @@ def read_curve(run_dir):
 def read_cracks(run_dir):
     """The crack log as a dict of NumPy arrays (cracks.csv columns; text columns such as kind and mode stay
     strings), empty arrays for a run without cracks."""
-    path = os.path.join(run_dir, "cracks.csv")
-    if not os.path.exists(path):
-        raise RunFolderError(f"{run_dir}: no cracks.csv")
-    with open(path, newline="") as f:
-        reader = csv.DictReader(f)
-        rows = list(reader)
-        names = reader.fieldnames or []
+    rows, names = _csv_rows(run_dir, "cracks.csv", "")
     columns = {}
     for k in names:
         values = [r[k] for r in rows]
@@ -90,15 +84,20 @@ def read_cracks(run_dir):
     return columns
 
 
-def _read_numeric_csv(run_dir, name):
-    """A run's CSV file of numbers as a dict of float arrays (empty arrays for a file with a header only)."""
+def _csv_rows(run_dir, name, hint):
+    """The rows (dicts of text) and the column names of a run's CSV file; RunFolderError naming it when absent."""
     path = os.path.join(run_dir, name)
     if not os.path.exists(path):
-        raise RunFolderError(f"{run_dir}: no {name} (written by rbdem ucs, triaxial and brazilian)")
+        raise RunFolderError(f"{run_dir}: no {name}{hint}")
     with open(path, newline="") as f:
         reader = csv.DictReader(f)
         rows = list(reader)
-        names = reader.fieldnames or []
+        return rows, reader.fieldnames or []
+
+
+def _read_numeric_csv(run_dir, name):
+    """A run's CSV file of numbers as a dict of float arrays (empty arrays for a file with a header only)."""
+    rows, names = _csv_rows(run_dir, name, " (written by rbdem ucs, triaxial and brazilian)")
     return {k: np.array([to_float(r[k]) for r in rows], dtype=float) for k in names}
 
 
