@@ -2,6 +2,7 @@
 // fe_model.cpp. Internal to continuum/: it includes deal.II, which nothing outside this folder may.
 #pragma once
 
+#include <chrono>
 #include <mutex>
 
 #include <deal.II/base/quadrature.h>
@@ -13,6 +14,20 @@
 #include "continuum/fe_model.hpp"
 
 namespace rbdem::continuum::internal {
+
+// Wall time since the last lap (or construction), in seconds: the stage timings of the solvers' results.
+class Stopwatch {
+ public:
+  double lap() {
+    const auto now = std::chrono::steady_clock::now();
+    const double s = std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+    return s;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
 
 // Trilinos runs under MPI_THREAD_SERIALIZED: every CG+AMG stage of continuum/, whichever solver it belongs to, holds
 // this one lock, so two threads (e.g. the elastic gate's dips, run two at a time) never enter Trilinos together.

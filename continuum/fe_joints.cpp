@@ -54,18 +54,7 @@ namespace {
 using namespace dealii;
 constexpr int dim = 2;
 
-class Stopwatch {
- public:
-  double lap() {
-    const auto now = std::chrono::steady_clock::now();
-    const double s = std::chrono::duration<double>(now - last_).count();
-    last_ = now;
-    return s;
-  }
-
- private:
-  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
-};
+using internal::Stopwatch;
 
 [[noreturn]] void fail(const char* function, const std::string& what) {
   throw std::invalid_argument(std::string(function) + ": " + what);

@@ -124,18 +124,7 @@ using namespace dealii;
 constexpr int dim = 2;
 constexpr types::boundary_id side_id = 0, bottom_id = 1, top_id = 2;
 
-class Stopwatch {
- public:
-  double lap() {
-    const auto now = std::chrono::steady_clock::now();
-    const double s = std::chrono::duration<double>(now - last_).count();
-    last_ = now;
-    return s;
-  }
-
- private:
-  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
-};
+using internal::Stopwatch;
 
 // ---- Inputs ------------------------------------------------------------------------------------------------------
 

@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "dem/specimen_mesh.hpp"
+
 namespace rbdem {
 
 namespace {
@@ -69,7 +71,7 @@ MaterialMap assign_materials(const Topology& topo, const Scene& scene) {
   }
   std::vector<std::uint8_t> joint2_interface(topo.interface_names.size(), 0);
   for (std::size_t f = 0; f < topo.interface_names.size(); ++f)
-    if (topo.interface_names[f] == "joint_set2") joint2_interface[f] = 1;
+    if (topo.interface_names[f] == joint_set_group[1]) joint2_interface[f] = 1;
   for (const std::string& t : tokens(scene.joint2.groups)) {
     const auto named = std::find(topo.interface_names.begin(), topo.interface_names.end(), t);
     if (named == topo.interface_names.end())

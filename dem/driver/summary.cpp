@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "dem/materials.hpp"
+#include "dem/specimen_mesh.hpp"
 
 namespace rbdem {
 
@@ -84,7 +85,7 @@ std::string classify_failure(const std::vector<Crack>& cracks, const Topology& t
     return std::array<long, 4>{f, std::lround(angle * 1e3), std::lround(r / (1e-4 * scale)), 1};
   };
   auto second_set = [&](const std::array<long, 4>& id) {
-    return id[0] >= 0 && topo.interface_names[std::size_t(id[0])] == "joint_set2";
+    return id[0] >= 0 && topo.interface_names[std::size_t(id[0])] == joint_set_group[1];
   };
   for (std::size_t b = 0; b < N.size(); ++b)
     if (N.kind[b] == BondKind::joint) joints[joint_of(b)][0] += N.length[b];
