@@ -228,6 +228,7 @@ struct Interface {
   double nx = 0, ny = 0;           // unit normal
   double k_n = 0, k_s = 0;         // Pa/m
   bool glued = false;
+  double side2 = 1;                // +1 when side 2 lies on the +n side of the edge: [u] . n side2 > 0 opens it
 };
 
 std::vector<Interface> interface_elements(const TriMesh& mesh, const std::vector<InterfaceEdge>& interfaces,
@@ -248,6 +249,9 @@ std::vector<Interface> interface_elements(const TriMesh& mesh, const std::vector
     g.nx = dy / g.length, g.ny = -dx / g.length;
     g.k_n = f.k_n, g.k_s = f.k_s;
     g.glued = std::isinf(f.k_n);
+    double cx = 0, cy = 0;  // centroid of the triangle on side 2
+    for (int v : mesh.triangles[e.tri[1]]) cx += mesh.nodes[v][0] / 3, cy += mesh.nodes[v][1] / 3;
+    g.side2 = (cx - p[0]) * g.nx + (cy - p[1]) * g.ny > 0 ? 1.0 : -1.0;
   }
   return out;
 }
@@ -445,6 +449,7 @@ JointedFeResult solve_elastic_jointed(const TriMesh& mesh, const std::vector<the
     for (const auto& e : interfaces) r.glued_edges += std::isinf(e.k_n) ? 1 : 0;
     if (o.fields)
       for (auto* v : {&r.ux, &r.uy, &r.sxx, &r.syy, &r.sxy}) *v = parent_means(*v, fine.children);
+    r.interface_opening = parent_means(r.interface_opening, std::size_t(1) << o.refinement);  // 2 halves per level
     r.seconds = total.lap();
     return r;
   }
@@ -645,6 +650,15 @@ JointedFeResult solve_elastic_jointed(const TriMesh& mesh, const std::vector<the
   r.top_force = -(g_top * u) * thickness;
   r.bottom_force = (g_bottom * u) * thickness;
   r.apparent_modulus = (r.top_force / (box.width() * thickness)) / (o.platen_displacement / box.height());
+  r.interface_opening.assign(elements.size(), 0.0);
+  for (std::size_t k = 0; k < elements.size(); ++k) {
+    const Interface& g = elements[k];
+    if (g.glued) continue;
+    double jump[2];  // mean jump over the edge: the mean of its two ends (linear along the edge)
+    for (unsigned c = 0; c < dim; ++c)
+      jump[c] = 0.5 * (u[cdof[g.copy[2]][c]] - u[cdof[g.copy[0]][c]] + u[cdof[g.copy[3]][c]] - u[cdof[g.copy[1]][c]]);
+    r.interface_opening[k] = g.side2 * (jump[0] * g.nx + jump[1] * g.ny);
+  }
   if (o.fields) {
     const std::size_t n = mesh.triangles.size();
     r.ux.assign(n, 0), r.uy.assign(n, 0), r.sxx.assign(n, 0), r.syy.assign(n, 0), r.sxy.assign(n, 0);

@@ -90,6 +90,11 @@ struct JointedFeResult {
   double setup_seconds = 0, assemble_seconds = 0, solve_seconds = 0, fields_seconds = 0;  // its stages
   std::vector<double> ux, uy;         // m, displacement at each triangle's centroid (order of mesh.triangles)
   std::vector<double> sxx, syy, sxy;  // Pa, tension positive, stress at each triangle's centroid
+  // Per given interface (the order of `interfaces`): the mean normal jump over the edge, (m), positive when its two
+  // sides separate, 0 for a glued edge; with refinement the mean over the edge's pieces. Always filled: a caller
+  // that models a joint which carries less in tension than in compression iterates on its sign
+  // (compare/gate: the unilateral joints of the DEM's linear parts).
+  std::vector<double> interface_opening;
 };
 
 // layer_constants[l]: the elastic constants of layer l (isotropic via TIConstants::isotropic, or transversely

@@ -154,10 +154,17 @@ TEST(Elastic, SoftJointsPassOnTheFeModelWithTheJoints) {
   EXPECT_NE(r.gate.message.find("Amadei not applicable"), std::string::npos) << r.gate.message;
   EXPECT_NE(r.gate.message.find("layers do not homogenize"), std::string::npos) << r.gate.message;
   EXPECT_NE(r.gate.message.find("linear parts open in tension"), std::string::npos) << r.gate.message;
+  std::size_t fe_open = 0, dem_open = 0;
   for (const auto& a : r.angles) {
     EXPECT_LT(std::abs(a.dem_linear / a.fe_joints_linear - 1), scene.elastic.tolerance) << "beta " << a.beta_deg;
     EXPECT_LE(a.dem_gauge, a.dem_linear * (1 + 1e-9)) << "beta " << a.beta_deg;  // opening only softens
+    // The FE model's unilateral joints open where the DEM's joint bonds do, and only soften it.
+    EXPECT_TRUE(a.fe_joints_states_converged) << "beta " << a.beta_deg;
+    EXPECT_LE(a.fe_joints, a.fe_joints_linear * (1 + 1e-9)) << "beta " << a.beta_deg;
+    if (a.beta_deg >= 30 && a.beta_deg <= 75) fe_open += a.fe_joints_open_edges, dem_open += a.test.open_joint_bonds;
   }
+  EXPECT_GT(dem_open, 0u) << table;
+  EXPECT_NEAR(double(fe_open) / double(dem_open), 1.0, 0.25) << table;  // 1 mm: 358 against 320
   // Where the joints carry no load (dips 0 and 90: uniform stress) both models agree closely.
   EXPECT_LT(std::abs(r.angles.front().deviation_joints(compare::GateMeasure::gauge)), 0.01) << table;
   EXPECT_LT(std::abs(r.angles.back().deviation_joints(compare::GateMeasure::gauge)), 0.01) << table;

@@ -233,6 +233,10 @@ TEST(FeJoints, OneJointNormalToTheLoadAddsItsCompliance) {
                   error);
       EXPECT_LT(error, 1e-10);
       EXPECT_LT(std::abs(r.bottom_force / r.top_force - 1), 1e-10);
+      // Every joint edge closes by sigma / k_n: its mean opening is negative (compression) and exact.
+      const double sigma = r.top_force / (g.width() * thickness);
+      ASSERT_EQ(r.interface_opening.size(), f.size());
+      for (const double opening : r.interface_opening) EXPECT_NEAR(opening / (-sigma / kn), 1.0, 1e-9);
       EXPECT_EQ(f.size(), std::size_t(g.nx));
       EXPECT_EQ(r.duplicated_nodes, std::size_t(g.nx + 1));
     }
@@ -380,6 +384,9 @@ TEST(FeJoints, RefinementKeepsThePatchTestsAndReturnsParentFields) {
     const double expected = H / (H * (1 - nu * nu) / E + 1 / kn);  // one joint normal to the load
     EXPECT_LT(std::abs(r.apparent_modulus / expected - 1), 1e-10) << levels;
     EXPECT_EQ(r.interface_edges, f.size());
+    ASSERT_EQ(r.interface_opening.size(), f.size());  // per given edge, the mean over its pieces
+    const double sigma = r.top_force / (g.width() * thickness);
+    for (const double opening : r.interface_opening) EXPECT_NEAR(opening / (-sigma / kn), 1.0, 1e-9) << levels;
     ASSERT_EQ(r.ux.size(), m.num_triangles());
     // Uniform strain: the mean displacement of a triangle is the value at its centroid, as unrefined.
     const JointedFeResult coarse = solve_elastic_jointed(m, rock, 0, f, thickness, jointed(Plane::strain));

@@ -84,6 +84,8 @@ VirtualTest virtual_test(const Topology& topo, const Scene& scene, double beta_d
   t.bonds = topo.bonds.size();
   t.joint_bonds = topo.count(BondKind::joint);
   t.open_bonds = r.open_bonds;
+  for (std::size_t b = 0; b < r.linear_state.size(); ++b)
+    t.open_joint_bonds += r.linear_state[b] == StaticResult::open && topo.bonds.kind[b] == BondKind::joint ? 1 : 0;
   t.sliding_bonds = r.sliding_bonds;
   t.dofs = r.dofs;
   t.active_set_iterations = r.active_set_iterations;
@@ -176,7 +178,9 @@ JointCompliance joint_compliance(const Scene& scene) { return joint_compliance(s
 JointCompliance joint_compliance(const Scene& scene, const MaterialParams& j) {
   const auto& r = scene.rock;
   return {1.0 / (2.0 * j.effective_modulus) - 1.0 / (2.0 * r.effective_modulus),
-          j.stiffness_ratio / (2.0 * j.effective_modulus) - r.stiffness_ratio / (2.0 * r.effective_modulus)};
+          j.stiffness_ratio / (2.0 * j.effective_modulus) - r.stiffness_ratio / (2.0 * r.effective_modulus),
+          1.0 / j.effective_modulus - 1.0 / (2.0 * r.effective_modulus),
+          j.stiffness_ratio / j.effective_modulus - r.stiffness_ratio / (2.0 * r.effective_modulus)};
 }
 
 void JointInterfaces::merge(const JointInterfaces& o) {
@@ -208,6 +212,9 @@ JointInterfaces joint_interfaces(const Topology& topo, const Scene& scene, doubl
     e.glued = rigid_n && rigid_s;
     e.k_n = e.glued ? inf : rigid_n ? penalty : 1.0 / (e.d * c.c_n);
     e.k_s = e.glued ? inf : rigid_s ? penalty : 1.0 / (e.d * c.c_s);
+    // Open: a direction rigid when closed may soften when open (c_open > c); glued edges stay glued.
+    e.k_n_open = e.glued ? inf : c.c_n_open > 0 ? 1.0 / (e.d * c.c_n_open) : penalty;
+    e.k_s_open = e.glued ? inf : c.c_s_open > 0 ? 1.0 / (e.d * c.c_s_open) : penalty;
     out.glued += e.glued ? 1 : 0;
     out.stiffened += !e.glued && (rigid_n || rigid_s) ? 1 : 0;
     out.sum_length += e.length;

@@ -59,6 +59,7 @@ struct VirtualTest {
   GaugeStrain gauge;
   double S12 = 0, S22 = 0, S26 = 0;  // 1/Pa, measured global compliance entries
   std::size_t blocks = 0, bonds = 0, joint_bonds = 0, open_bonds = 0, sliding_bonds = 0, dofs = 0;
+  std::size_t open_joint_bonds = 0;  // of open_bonds, the joint bonds
   int active_set_iterations = 0;
   double solve_seconds = 0;
 };
@@ -115,8 +116,11 @@ GoodmanEstimate goodman_estimate(const Scene& scene, const theory::TIConstants& 
 // The extra compliance per area and per unit centroid distance of a joint bond over the rock bond it replaces
 // (1/Pa): c_n = 1/(2 E*_j) - 1/(2 E*_r), c_s = kappa_j/(2 E*_j) - kappa_r/(2 E*_r). A bond of centroid distance d
 // adds d c_n, d c_s (m/Pa) in series; c <= 0 means a joint not softer than the rock in that direction.
+// Open: the joint bond's linear part open (its centre in tension), the parallel bond alone against a closed rock
+// bond: c_n_open = 1/E*_j - 1/(2 E*_r), c_s_open = kappa_j/E*_j - kappa_r/(2 E*_r).
 struct JointCompliance {
   double c_n = 0, c_s = 0;
+  double c_n_open = 0, c_s_open = 0;
 };
 JointCompliance joint_compliance(const Scene& scene);
 // The same for the joint material `joint` (joint or joint2) against scene.rock.
@@ -126,10 +130,12 @@ JointCompliance joint_compliance(const Scene& scene, const MaterialParams& joint
 // k_n = 1 / (d c_n), k_s = 1 / (d c_s) (Pa/m). A direction whose compliance is not positive is rigid: both
 // directions rigid = glued (k = +inf, tied copies); one direction rigid = a penalty k = 1e4 E_r / d in it (1e-4 of
 // the compliance of one rock bond layer), counted in `stiffened`.
+// k_n_open, k_s_open: the same with the open compliance (the linear part open), for the unilateral joints.
 struct JointInterface {
   int node_a = 0, node_b = 0;  // mesh nodes
   double d = 0, length = 0;    // m
   double k_n = 0, k_s = 0;     // Pa/m (+inf when glued)
+  double k_n_open = 0, k_s_open = 0;  // Pa/m (+inf when glued)
   bool glued = false;
 };
 

@@ -7,8 +7,10 @@
 //   dem_gauge   = the same stress over the interior strain (affine fit away from the platens, dem_constants.hpp),
 //   fe_joints   = continuum::solve_elastic_jointed on the same mesh: every layer the DEM's intact rock (constants
 //                 measured on the unjointed specimen), every joint bond an interface with that bond's extra
-//                 compliance (dem_constants.hpp, joint_interfaces), frictionless platens; measured with the same
-//                 gauge at the block centroids (fe_joints_platen: from the platens),
+//                 compliance (dem_constants.hpp, joint_interfaces), unilateral as the DEM's joint bonds (an
+//                 interface whose sides separate takes the compliance of the bond without its linear part),
+//                 frictionless platens; measured with the same gauge at the block centroids (fe_joints_platen:
+//                 from the platens),
 //   amadei      = 1 / S22(beta) with the DEM-measured constants (virtual tests at every dip, weighted fit),
 //   fe          = deal.II FE, frictionless platens, DEM-measured constants, the same mesh,
 //   fe_goodman  = the same with Goodman's constants (intact rock + joint stiffness from the bond parameters),
@@ -84,6 +86,11 @@ struct ElasticAngle {
   double fe_joints_platen = nan;   // Pa, from the platens (as dem_static)
   double field_l2_joints = nan;    // relative L2 |u_dem - u_fej| / |u_fej|
   GaugeStrain fe_joints_gauge;     // the gauge on the FE block-centroid displacements
+  // Its unilateral joints (as the DEM's joint bonds, whose linear part takes no tension): the joint edges open at
+  // the end of the active-set iteration, its solves, and whether it settled.
+  std::size_t fe_joints_open_edges = 0;
+  int fe_joints_state_iterations = 0;
+  bool fe_joints_states_converged = true;
   // The rock of the layers: the virtual test of this dip's mesh with rock bonds on the joints, and the isotropic
   // constants from it (E, nu from S22, S12), or the intact constants (ElasticGateOptions::LayerRock).
   VirtualTest rock_test;

@@ -21,7 +21,7 @@ namespace {
 
 // Bumped whenever the gate's measurement or verdict changes meaning, so old verdicts are not reused.
 // 2: the FE model with the joints decides (not Amadei), seven-dip weighted fit, linear check.
-constexpr const char* gate_version = "rbdem-elastic-gate-2";
+constexpr const char* gate_version = "rbdem-elastic-gate-3";
 
 bool starts_with(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
 bool ends_with(const std::string& s, const std::string& suffix) {

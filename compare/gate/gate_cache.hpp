@@ -7,9 +7,9 @@
 // rock2.density (statics see no mass), loading.* (the gate uses frictionless platens; the rest are stop criteria and
 // speed), numerics.* (time integration) and output.*. Keys added to the scene later are in the
 // key until listed here, so a stale verdict is never reused. A user mesh (mesh.file) enters with its contents.
-// The key also holds a gate version string (gate_cache.cpp; 2 since the FE model with the joints decides), bumped
-// when the measurement or the verdict changes meaning; a change of
-// the DEM code itself does not invalidate old verdicts: clear the cache folder after one.
+// The key also holds a gate version string (gate_cache.cpp; 3 since its joints are unilateral), bumped
+// when the measurement or the verdict changes meaning, and rbdem's version and commit (version_text()), so a
+// verdict of another build is never reused.
 // Cache folder: $RBDEM_CACHE_DIR, else $XDG_CACHE_HOME/rbdem, else $HOME/.cache/rbdem; one JSON file per key,
 // written atomically. A cache that cannot be read or written is not an error: the gate just runs.
 #pragma once
