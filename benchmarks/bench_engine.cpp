@@ -4,6 +4,8 @@
 
 #include <omp.h>
 
+#include <map>
+
 #include "dem/engine.hpp"
 #include "dem/specimen_mesh.hpp"
 #include "dem/static_solve.hpp"
@@ -11,18 +13,25 @@
 
 namespace {
 
-const rbdem::Topology& default_topology() {
-  static const rbdem::Topology topo = [] {
+// The paper specimen meshed at `mesh_size` (m), built once per size.
+const rbdem::Topology& topology(double mesh_size) {
+  static std::map<double, rbdem::Topology> cache;
+  auto it = cache.find(mesh_size);
+  if (it == cache.end()) {
     rbdem::Scene s;
-    return rbdem::build_topology(rbdem::make_mesh(s), s.specimen.thickness, s.rock.density);
-  }();
-  return topo;
+    s.mesh.size = mesh_size;
+    it = cache.emplace(mesh_size, rbdem::build_topology(rbdem::make_mesh(s), s.specimen.thickness, s.rock.density))
+             .first;
+  }
+  return it->second;
 }
 
-// One engine step of `scene` on the default specimen, at state.range(0) threads.
-void engine_steps(benchmark::State& state, rbdem::Scene scene) {
+const rbdem::Topology& default_topology() { return topology(rbdem::Scene{}.mesh.size); }
+
+// One engine step of `scene` on the default specimen (or `topo`), at state.range(0) threads.
+void engine_steps(benchmark::State& state, rbdem::Scene scene, const rbdem::Topology* topo_in = nullptr) {
   scene.numerics.threads = int(state.range(0));
-  const auto& topo = default_topology();
+  const auto& topo = topo_in ? *topo_in : default_topology();
   rbdem::Engine engine(topo, scene, rbdem::EngineOptions::from_scene(scene));
   engine.set_dt(0.5 * rbdem::stability_limit(engine));
   engine.run(200);  // warm-up: platen contacts formed, caches warm
@@ -37,6 +46,19 @@ void engine_steps(benchmark::State& state, rbdem::Scene scene) {
 
 void BM_EngineStep(benchmark::State& state) { engine_steps(state, rbdem::Scene{}); }
 BENCHMARK(BM_EngineStep)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+
+// The same step on the paper specimen meshed at state.range(1) tenths of a millimetre (3, 1, 0.5 mm: about 2 000,
+// 20 000 and 78 000 bonds): how the cost per bond-step and the two-thread gain change as the arrays outgrow the
+// caches (docs/performance.md, "Growth with size").
+void BM_EngineStepSize(benchmark::State& state) {
+  const rbdem::Scene scene;
+  engine_steps(state, scene, &topology(1e-4 * double(state.range(1))));
+}
+BENCHMARK(BM_EngineStepSize)
+    ->ArgsProduct({{1, 2}, {30, 10, 5}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(1.0);
 
 // The same with the seed paper's brittle bonds (fracture_energy = 0: no bond ever enters the softened list).
 void BM_EngineStepBrittle(benchmark::State& state) {

@@ -269,8 +269,12 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
   };
   Eigen::VectorXd u;
   // Bonds whose state flips back and forth between iterations are few and near a state boundary, where both
-  // states give nearly the same forces; stop when at most this many change.
+  // states give nearly the same forces; stop when at most this many change. A linear part that has changed its
+  // state twice keeps the state it has: near the boundary no state is consistent for every bond at once (a bond
+  // opening unloads a neighbour, which then closes it again), and without the hold the iteration cycles through
+  // the same few dozen bonds until max_iterations (30 solves where about 5 settle it; docs/performance.md).
   const std::size_t settled = nbond / 10000;
+  std::vector<std::uint8_t> flips(nbond, 0);
   for (int it = 0; it < options.max_iterations; ++it) {
     r.active_set_iterations = it + 1;
     stiffness.assemble(r.linear_state, K_sym, &K_full);
@@ -304,7 +308,12 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
                  ? StaticResult::stick
                  : (ds > 0 ? StaticResult::slip_positive : StaticResult::slip_negative);
       }
-      if (st != r.linear_state[b]) r.linear_state[b] = st, ++changed;
+      if (st == r.linear_state[b]) continue;
+      if (flips[b] >= 2) {
+        ++r.held_bonds;
+        continue;
+      }
+      r.linear_state[b] = st, ++flips[b], ++changed;
     }
     if (changed <= settled) break;
   }

@@ -9,7 +9,8 @@
 // blocks to the relative displacement at the bond point and g picks theta_j - theta_i.
 // The linear part of each bond is open (centre in tension), sticking, or sliding (|F_s| = mu F_n); under a
 // proportional load every state keeps its ratio F_s/F_n, so a bond slides from the start or never, and the states
-// are found by an active-set iteration (a few solves). Sliding makes the matrix non-symmetric; it is a small
+// are found by an active-set iteration (a few solves; a linear part that has changed state twice keeps its state,
+// which ends the cycles of a few dozen bonds near the open/closed boundary). Sliding makes the matrix non-symmetric; it is a small
 // perturbation of the symmetric part, so one sparse LDLT of the first (all closed, sticking) state preconditions
 // BiCGSTAB for the later states (static_solve.cpp); about 0.27 s for the 36k dofs of the 1 mm paper specimen.
 #pragma once
@@ -31,6 +32,9 @@ struct StaticResult {
   enum LinearState : std::uint8_t { open = 0, stick = 1, slip_positive = 2, slip_negative = 3 };
   std::vector<std::uint8_t> linear_state;  // per bond
   std::size_t open_bonds = 0, sliding_bonds = 0;
+  // Linear parts held in their state after changing it twice (an active-set cycle near the open/closed boundary),
+  // summed over the iterations in which they would have changed again.
+  std::size_t held_bonds = 0;
   int active_set_iterations = 0;
   int krylov_iterations = 0;        // BiCGSTAB iterations over all active-set iterations
   int direct_fallbacks = 0;         // solves that fell back to sparse LU (BiCGSTAB did not converge)

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 
 #include "compare/verify/dem_measures.hpp"
@@ -59,6 +60,29 @@ TEST(Static, KrylovAndDirectFallbackAgree) {
   EXPECT_NEAR(direct.apparent_modulus / krylov.apparent_modulus, 1.0, 1e-8);
   EXPECT_EQ(direct.sliding_bonds, krylov.sliding_bonds);
   EXPECT_EQ(direct.open_bonds, krylov.open_bonds);
+}
+
+// The active set settles: on the paper specimen at 60 deg (2 mm) a few dozen linear parts near the open/closed
+// boundary used to cycle until max_iterations. A linear part that has changed state twice now keeps it, so the
+// iteration stops within a few solves, holding under 1 % of the bonds, with a modulus between 95 % of the linear
+// (all closed) one and that one: opening only softens.
+TEST(Static, ActiveSetSettlesWithoutCycling) {
+  Scene scene = unbreakable_scene();
+  scene.mesh.size = 0.002;
+  scene.joint_set.dip_deg = 60;
+  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  const Engine engine(topo, scene, EngineOptions::from_scene(scene));
+  const StaticResult r = solve_static(engine);
+  std::printf("60 deg, 2 mm: %d active-set iterations, %d Krylov iterations, %zu open, %zu held of %zu bonds\n",
+              r.active_set_iterations, r.krylov_iterations, r.open_bonds, r.held_bonds, topo.bonds.size());
+  EXPECT_LT(r.active_set_iterations, 10);
+  EXPECT_GT(r.open_bonds, 0u);  // the active set is exercised
+  EXPECT_LT(double(r.held_bonds), 0.01 * double(topo.bonds.size()));
+  StaticOptions closed;
+  closed.linear_parts_always_closed = true;
+  const StaticResult linear = solve_static(engine, closed);
+  EXPECT_LT(r.apparent_modulus, linear.apparent_modulus);  // opening only softens
+  EXPECT_GT(r.apparent_modulus, 0.95 * linear.apparent_modulus);
 }
 
 // nx x ny rectangular blocks of a (along x) by b (along y) on an aligned grid, one bond per shared face; the
