@@ -157,6 +157,7 @@ JointsSolve solve_joints(const DemJob& job, const theory::TIConstants& rock, con
     bool changed = false;
     const double band = 1e-6 * std::abs(r.top_force) / (job.topo.width() * job.topo.thickness);  // Pa
     for (std::size_t k = 0; k < edges.size(); ++k) {
+      if (std::isinf(edges[k].k_n)) continue;  // glued: its copies are tied, it neither opens nor closes
       const double traction = edges[k].k_n * r.interface_opening[k];  // Pa, tension positive
       const char now = traction > band ? 1 : traction < -band ? 0 : open[k];
       if (now == open[k]) continue;
@@ -441,10 +442,11 @@ ElasticReport run_elastic_gate(const Scene& scene_in, const ElasticGateOptions& 
         a.fe_joints_intact_platen =
             solve_joints(job, rep.intact_constants, interfaces[k], rep.plane, options, false, 0, false).platen_modulus;
       a.fe_joints_seconds = seconds_since(tj);
-      log(fmt::format("  FE with joints beta {:g}: {} DoFs, {} interfaces ({} glued, {} open after {} solves; the "
+      log(fmt::format("  FE with joints beta {:g}: {} DoFs, {} interfaces ({} glued, {} open after {} solves{}; the "
                       "DEM opens {}), E_gauge {:.2f} GPa, {:.2f} s",
                       a.beta_deg, a.fe_joints_dofs, a.interface_edges, a.glued_edges, a.fe_joints_open_edges,
-                      a.fe_joints_state_iterations, a.test.open_joint_bonds, a.fe_joints / 1e9, a.fe_joints_seconds));
+                      a.fe_joints_state_iterations, a.fe_joints_states_converged ? "" : ", not settled",
+                      a.test.open_joint_bonds, a.fe_joints / 1e9, a.fe_joints_seconds));
     });
     rep.fe_seconds = seconds_since(t_fe);
     for (const auto& a : rep.angles) rep.fe_joints_seconds += a.fe_joints_seconds;
@@ -698,6 +700,7 @@ nlohmann::json elastic_json(const ElasticReport& r, const Scene& scene) {
         {"open_joint_linear_parts", a.test.open_joint_bonds},
         {"fe_joints_open_edges", a.fe_joints_open_edges},
         {"fe_joints_state_solves", a.fe_joints_state_iterations},
+        {"fe_joints_states_settled", a.fe_joints_states_converged},
         {"sliding_linear_parts", a.test.sliding_bonds},
         {"static_solve_seconds", a.test.solve_seconds},
         {"fe_seconds", a.fe_seconds},
