@@ -10,9 +10,10 @@
 // The linear part of each bond is open (centre in tension), sticking, or sliding (|F_s| = mu F_n); under a
 // proportional load every state keeps its ratio F_s/F_n, so a bond slides from the start or never, and the states
 // are found by an active-set iteration (a few solves; a linear part that has changed state twice keeps its state,
-// which ends the cycles of a few dozen bonds near the open/closed boundary). Sliding makes the matrix non-symmetric; it is a small
-// perturbation of the symmetric part, so one sparse LDLT of the first (all closed, sticking) state preconditions
-// BiCGSTAB for the later states (static_solve.cpp); about 0.27 s for the 36k dofs of the 1 mm paper specimen.
+// which ends the cycles of a few dozen bonds near the open/closed boundary). Sliding makes the matrix
+// non-symmetric; it is a small perturbation of the symmetric part, so one sparse LDLT of the first (all closed,
+// sticking) state preconditions BiCGSTAB for the later states (static_solve.cpp); about 0.2 s for the 40k dofs of
+// the 1 mm paper specimen.
 #pragma once
 
 #include <vector>

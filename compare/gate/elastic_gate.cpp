@@ -114,7 +114,7 @@ double mean(const std::vector<double>& v, const std::vector<double>& w) {
 // Unilateral joints (`unilateral`): like the DEM's joint bonds, an interface whose sides separate (mean normal jump
 // > 0, the bond's centre in tension) loses its linear part and takes the open stiffness (k_n_open, k_s_open). The
 // states are found by an active-set iteration: solve with every joint closed, open those that separate, close
-// those that press, until no state changes (at most max_joint_state_iterations solves). A joint whose normal
+// those that press, until no state changes (at most max_joint_state_solves solves). A joint whose normal
 // traction k_n x opening is within 1e-6 of the applied stress keeps its state: at beta = 90 deg the joints carry
 // no normal stress, and round-off would flip them back and forth without changing the modulus. Without it (the
 // linear check) every joint stays closed.
@@ -123,12 +123,12 @@ struct JointsSolve {
   GaugeStrain gauge;
   std::size_t dofs = 0;
   std::size_t open_edges = 0;  // interfaces in the open state at the end
-  int state_iterations = 0;    // solves of the active-set iteration (1 when nothing opens)
-  bool states_converged = true;
+  int state_solves = 0;        // solves of the active-set iteration (1 when nothing opens)
+  bool states_settled = true;
   std::vector<double> ux, uy;
 };
 
-constexpr int max_joint_state_iterations = 20;
+constexpr int max_joint_state_solves = 20;
 
 JointsSolve solve_joints(const DemJob& job, const theory::TIConstants& rock, const JointInterfaces& f,
                          theory::Plane plane, const ElasticGateOptions& o, bool gauge, int refinement,
@@ -152,7 +152,7 @@ JointsSolve solve_joints(const DemJob& job, const theory::TIConstants& rock, con
   continuum::JointedFeResult r;
   for (;;) {
     r = continuum::solve_elastic_jointed(job.mesh, layers, job.beta_deg, edges, job.topo.thickness, jo);
-    ++out.state_iterations;
+    ++out.state_solves;
     if (!unilateral) break;
     bool changed = false;
     const double band = 1e-6 * std::abs(r.top_force) / (job.topo.width() * job.topo.thickness);  // Pa
@@ -166,8 +166,8 @@ JointsSolve solve_joints(const DemJob& job, const theory::TIConstants& rock, con
       edges[k].k_s = now ? f.edges[k].k_s_open : f.edges[k].k_s;
     }
     if (!changed) break;
-    if (out.state_iterations == max_joint_state_iterations) {
-      out.states_converged = false;
+    if (out.state_solves == max_joint_state_solves) {
+      out.states_settled = false;
       break;
     }
   }
@@ -424,8 +424,8 @@ ElasticReport run_elastic_gate(const Scene& scene_in, const ElasticGateOptions& 
       if (a.rock_constants.admissible()) {
         const JointsSolve fj = solve_joints(job, a.rock_constants, interfaces[k], rep.plane, options, true,
                                             options.joints_refinement, true);
-        a.fe_joints_open_edges = fj.open_edges, a.fe_joints_state_iterations = fj.state_iterations;
-        a.fe_joints_states_converged = fj.states_converged;
+        a.fe_joints_open_edges = fj.open_edges, a.fe_joints_state_solves = fj.state_solves;
+        a.fe_joints_states_settled = fj.states_settled;
         a.fe_joints = fj.gauge_modulus, a.fe_joints_platen = fj.platen_modulus;
         a.fe_joints_gauge = fj.gauge, a.fe_joints_dofs = fj.dofs;
         if (options.fields) {
@@ -445,7 +445,7 @@ ElasticReport run_elastic_gate(const Scene& scene_in, const ElasticGateOptions& 
       log(fmt::format("  FE with joints beta {:g}: {} DoFs, {} interfaces ({} glued, {} open after {} solves{}; the "
                       "DEM opens {}), E_gauge {:.2f} GPa, {:.2f} s",
                       a.beta_deg, a.fe_joints_dofs, a.interface_edges, a.glued_edges, a.fe_joints_open_edges,
-                      a.fe_joints_state_iterations, a.fe_joints_states_converged ? "" : ", not settled",
+                      a.fe_joints_state_solves, a.fe_joints_states_settled ? "" : ", not settled",
                       a.test.open_joint_bonds, a.fe_joints / 1e9, a.fe_joints_seconds));
     });
     rep.fe_seconds = seconds_since(t_fe);
@@ -699,8 +699,8 @@ nlohmann::json elastic_json(const ElasticReport& r, const Scene& scene) {
         {"open_linear_parts", a.test.open_bonds},
         {"open_joint_linear_parts", a.test.open_joint_bonds},
         {"fe_joints_open_edges", a.fe_joints_open_edges},
-        {"fe_joints_state_solves", a.fe_joints_state_iterations},
-        {"fe_joints_states_settled", a.fe_joints_states_converged},
+        {"fe_joints_state_solves", a.fe_joints_state_solves},
+        {"fe_joints_states_settled", a.fe_joints_states_settled},
         {"sliding_linear_parts", a.test.sliding_bonds},
         {"static_solve_seconds", a.test.solve_seconds},
         {"fe_seconds", a.fe_seconds},

@@ -89,8 +89,8 @@ struct ElasticAngle {
   // Its unilateral joints (as the DEM's joint bonds, whose linear part takes no tension): the joint edges open at
   // the end of the active-set iteration, its solves, and whether it settled.
   std::size_t fe_joints_open_edges = 0;
-  int fe_joints_state_iterations = 0;
-  bool fe_joints_states_converged = true;
+  int fe_joints_state_solves = 0;
+  bool fe_joints_states_settled = true;
   // The rock of the layers: the virtual test of this dip's mesh with rock bonds on the joints, and the isotropic
   // constants from it (E, nu from S22, S12), or the intact constants (ElasticGateOptions::LayerRock).
   VirtualTest rock_test;
