@@ -68,13 +68,15 @@ void BM_EngineStepBrittle(benchmark::State& state) {
 }
 BENCHMARK(BM_EngineStepBrittle)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 
+// The exact stability limit (300 power iterations on the assembled stiffness), at state.range(0) threads.
 void BM_StabilityLimit(benchmark::State& state) {
   rbdem::Scene scene;
+  scene.numerics.threads = int(state.range(0));
   const auto& topo = default_topology();
   rbdem::Engine engine(topo, scene, rbdem::EngineOptions::from_scene(scene));
   for (auto _ : state) benchmark::DoNotOptimize(rbdem::stability_limit(engine));
 }
-BENCHMARK(BM_StabilityLimit)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StabilityLimit)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_StaticSolve(benchmark::State& state) {
   rbdem::Scene scene;

@@ -186,22 +186,6 @@ Box bounding_box(const TriMesh& mesh) {
   return b;
 }
 
-// ---- Material ----------------------------------------------------------------------------------------------------
-
-Stiffness3 invert(const theory::Compliance3& S) {
-  const double det = S[0][0] * (S[1][1] * S[2][2] - S[1][2] * S[2][1]) -
-                     S[0][1] * (S[1][0] * S[2][2] - S[1][2] * S[2][0]) +
-                     S[0][2] * (S[1][0] * S[2][1] - S[1][1] * S[2][0]);
-  Stiffness3 C{};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) {
-      // cofactor of S[j][i]
-      const int r0 = (j + 1) % 3, r1 = (j + 2) % 3, c0 = (i + 1) % 3, c1 = (i + 2) % 3;
-      C[i][j] = (S[r0][c0] * S[r1][c1] - S[r0][c1] * S[r1][c0]) / det;
-    }
-  return C;
-}
-
 // ---- Triangulation and DoFs --------------------------------------------------------------------------------------
 
 // Triangles in the order of a Morton (Z) curve through their centroids: neighbouring cells, and hence the DoFs that
@@ -496,10 +480,6 @@ void centroid_fields(const DoFHandler<dim>& dof, const Mapping<dim>& mapping, co
 }  // namespace
 
 // ---- Public ------------------------------------------------------------------------------------------------------
-
-Stiffness3 stiffness_voigt(const theory::TIConstants& c, double bedding_deg, theory::Plane plane) {
-  return invert(theory::rotated_compliance(theory::reduced_compliance(c, plane), bedding_deg));
-}
 
 FeResult solve_elastic(const TriMesh& mesh, const theory::TIConstants& c, double bedding_deg, double thickness,
                        const FeOptions& options) {

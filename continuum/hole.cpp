@@ -259,14 +259,6 @@ std::map<unsigned, VertexStress> hole_vertex_stress(const DoFHandler<dim>& dof, 
 
 }  // namespace
 
-double hole_scf_closed_form(const theory::Compliance3& S) {
-  return 1 + std::sqrt((2 * S[0][1] + S[2][2]) / S[0][0] + 2 * std::sqrt(S[1][1] / S[0][0]));
-}
-
-double lekhnitskii_hole_scf(const theory::TIConstants& c, theory::Plane plane) {
-  return hole_scf_closed_form(theory::rotated_compliance(theory::reduced_compliance(c, plane), 0.0));
-}
-
 HoleResult solve_hole(const theory::TIConstants& c, double material_angle_deg, theory::Plane plane,
                       const HoleOptions& o) {
   check_inputs(c, material_angle_deg, o);

@@ -385,7 +385,7 @@ void apply_static_state(Engine& e, const StaticResult& st, double factor, double
   });
 }
 
-double stability_limit(const Engine& e, int iterations) {
+double stability_limit(const Engine& e, int iterations, int threads_wanted) {
   const Model& M = e.model();
   const std::size_t nb = M.num_blocks();
   std::vector<std::uint8_t> sticking(M.num_bonds(), StaticResult::stick);
@@ -397,17 +397,34 @@ double stability_limit(const Engine& e, int iterations) {
     inv_sqrt_m[3 * b] = inv_sqrt_m[3 * b + 1] = 1.0 / std::sqrt(M.mass[b]);
     inv_sqrt_m[3 * b + 2] = 1.0 / std::sqrt(M.inertia[b]);
   }
-  // Power iteration on M^-1/2 K M^-1/2 from a deterministic rough start.
-  Eigen::VectorXd v(long(3 * nb));
+  // Power iteration on M^-1/2 K M^-1/2 from a deterministic rough start. The product runs over the rows of K on the
+  // engine's threads; each row sums its entries in column order, as a serial product of K would, so the limit is
+  // the same to the last bit at any thread count.
+  using RowMat = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+  const RowMat Kr = K;
+  const long n = long(3 * nb);
+  Eigen::VectorXd v(n), y(n), w(n);
   for (long k = 0; k < v.size(); ++k) v[k] = std::sin(12.9898 * double(k) + 1.0);
   v.normalize();
   double lambda = 0;
+  const int threads = std::max(1, threads_wanted > 0 ? threads_wanted : e.max_threads());
   for (int it = 0; it < iterations; ++it) {
-    Eigen::VectorXd w = inv_sqrt_m.cwiseProduct(K * inv_sqrt_m.cwiseProduct(v));
-    lambda = v.dot(w);
+#pragma omp parallel num_threads(threads) if (threads > 1)
+    {
+#pragma omp for schedule(static)
+      for (long i = 0; i < n; ++i) y[i] = inv_sqrt_m[i] * v[i];
+#pragma omp for schedule(static)
+      for (long i = 0; i < n; ++i) {
+        double sum = 0.0;
+        for (RowMat::InnerIterator k(Kr, i); k; ++k) sum += k.value() * y[k.index()];
+        w[i] = inv_sqrt_m[i] * sum;
+      }
+    }
+    lambda = v.dot(w);  // the reductions stay serial: their order is Eigen's at any thread count
     const double norm = w.norm();
     if (!(norm > 0)) break;
-    v = w / norm;
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
+    for (long i = 0; i < n; ++i) v[i] = w[i] / norm;
   }
   return 2.0 / std::sqrt(lambda);
 }

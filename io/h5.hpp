@@ -4,9 +4,12 @@
 #pragma once
 
 #include <hdf5.h>
+#include <zlib.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
+#include <cstring>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -105,9 +108,17 @@ constexpr unsigned deflate_level = 4;
 constexpr std::size_t compress_above_bytes = 4096;     // smaller datasets are stored contiguous
 constexpr std::size_t chunk_target_bytes = 1u << 20;   // HDF5's default chunk cache is 1 MiB
 
+// HDF5's shuffle filter on one chunk: byte k of every element, then byte k + 1, ... (H5Z_FILTER_SHUFFLE's layout).
+inline void shuffle_bytes(const unsigned char* in, std::size_t bytes, std::size_t element, unsigned char* out) {
+  const std::size_t n = bytes / element;
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t k = 0; k < element; ++k) out[k * n + i] = in[i * element + k];
+}
+
 class Writer {
  public:
-  explicit Writer(std::string file) : file_(std::move(file)) {}
+  // `threads`: how many threads compress the datasets at save() (1: serially).
+  explicit Writer(std::string file, int threads = 1) : file_(std::move(file)), threads_(std::max(threads, 1)) {}
 
   // The file is built in memory (HDF5's core driver, no backing store) and written by save(): HDF5 never meets a
   // full disk itself (after a failed write its library state is broken and it crashes at exit), and the bytes go
@@ -122,6 +133,7 @@ class Writer {
 
   // Closes the in-memory file and writes its image to disk, every write checked.
   void save(Id& file) const {
+    write_pending();
     if (H5Fflush(file, H5F_SCOPE_LOCAL) < 0) fail(file_, "flushing the file");
     const ssize_t n = H5Fget_file_image(file, nullptr, 0);
     if (n < 0) fail(file_, "sizing the file image");
@@ -155,6 +167,17 @@ class Writer {
     }
     Id ds(H5Dcreate2(loc, name.c_str(), H5Type<T>::file(), space, H5P_DEFAULT, dcpl, H5P_DEFAULT), H5Dclose);
     if (ds < 0) fail(file_, "creating dataset " + name);
+    if (n * sizeof(T) > compress_above_bytes) {
+      // Compressed at save(), with the others, on the writer's threads (the element types stored are
+      // little-endian in memory as in the file: x86-64).
+      Pending p{std::move(ds), name, sizeof(T), dims, {}, {}};
+      p.chunk_dims = dims;
+      p.chunk_dims[0] = std::clamp<hsize_t>(chunk_target_bytes / ((n / dims[0]) * sizeof(T)), 1, dims[0]);
+      p.bytes.resize(std::size_t(n) * sizeof(T));
+      std::memcpy(p.bytes.data(), data, p.bytes.size());
+      pending_.push_back(std::move(p));
+      return;
+    }
     if (n > 0 && H5Dwrite(ds, H5Type<T>::mem(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
       fail(file_, "writing dataset " + name);
   }
@@ -192,7 +215,59 @@ class Writer {
   }
 
  private:
+  // A chunked dataset waiting for its data: the bytes in row-major order, split into chunks along the first axis.
+  struct Pending {
+    Id ds;
+    std::string name;
+    std::size_t element = 0;
+    std::vector<hsize_t> dims, chunk_dims;
+    std::vector<unsigned char> bytes;
+  };
+
+  // Shuffles and deflates every chunk of the pending datasets in parallel (no HDF5 call: zlib only), then stores
+  // them in order with H5Dwrite_chunk: the bytes HDF5's own shuffle and deflate filters would have stored, the
+  // last chunk of a dataset padded with the fill value 0 as HDF5 pads it.
+  void write_pending() const {
+    struct Job {
+      std::size_t dataset, first_row;
+      std::string compressed;
+    };
+    std::vector<Job> jobs;
+    for (std::size_t d = 0; d < pending_.size(); ++d)
+      for (hsize_t r = 0; r < pending_[d].dims[0]; r += pending_[d].chunk_dims[0]) jobs.push_back({d, r, {}});
+    std::atomic<bool> failed{false};
+#pragma omp parallel for schedule(dynamic) num_threads(threads_) if (threads_ > 1 && jobs.size() > 1)
+    for (std::size_t j = 0; j < jobs.size(); ++j) {
+      const Pending& p = pending_[jobs[j].dataset];
+      const std::size_t row = p.bytes.size() / p.dims[0], rows = p.chunk_dims[0];
+      const std::size_t have = std::min<std::size_t>(rows, p.dims[0] - jobs[j].first_row);
+      std::vector<unsigned char> chunk(rows * row, 0), shuffled(rows * row);
+      std::memcpy(chunk.data(), p.bytes.data() + jobs[j].first_row * row, have * row);
+      shuffle_bytes(chunk.data(), chunk.size(), p.element, shuffled.data());
+      uLongf size = compressBound(uLong(shuffled.size()));
+      std::string out(size, '\0');
+      if (compress2(reinterpret_cast<Bytef*>(out.data()), &size, shuffled.data(), uLong(shuffled.size()),
+                    int(deflate_level)) != Z_OK) {
+        failed = true;
+        continue;
+      }
+      out.resize(size);
+      jobs[j].compressed = std::move(out);
+    }
+    if (failed) fail(file_, "compressing the datasets");
+    for (const Job& job : jobs) {
+      const Pending& p = pending_[job.dataset];
+      std::vector<hsize_t> offset(p.dims.size(), 0);
+      offset[0] = job.first_row;
+      if (H5Dwrite_chunk(p.ds, H5P_DEFAULT, 0, offset.data(), job.compressed.size(), job.compressed.data()) < 0)
+        fail(file_, "writing dataset " + p.name);
+    }
+    pending_.clear();
+  }
+
   std::string file_;
+  int threads_ = 1;
+  mutable std::vector<Pending> pending_;
 };
 
 // ---------------------------------------------------------------------------------------------------------------

@@ -1,6 +1,8 @@
 // result.h5 and result.xdmf of a UCS run, and the reader. See result_h5.hpp; the layout is in docs/outputs.md.
 #include "io/result_h5.hpp"
 
+#include <omp.h>
+
 #include <hdf5.h>
 
 #include <algorithm>
@@ -66,7 +68,8 @@ namespace {
 
 void write_h5_file(const std::string& tmp, const Scene& scene, const TriMesh& mesh, const Topology& topo,
                    const TestResult& r) {
-  const Writer w(tmp);
+  // The compression runs on the run's threads (numerics.threads, 0 = all).
+  const Writer w(tmp, scene.numerics.threads > 0 ? scene.numerics.threads : omp_get_max_threads());
   const std::size_t nt = mesh.triangles.size(), nb = topo.bonds.size();
   {
     Id file = w.create_file();

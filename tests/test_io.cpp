@@ -19,6 +19,7 @@
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
 #include "dem/driver/ucs.hpp"
+#include "io/h5.hpp"
 #include "io/result_h5.hpp"
 #include "io/results.hpp"
 
@@ -136,6 +137,52 @@ TEST(Io, Hdf5RoundTripReproducesCurveAndCrackLog) {
   EXPECT_EQ(io::h5_dataset_shape(h5, "/mesh/block_connectivity"), (std::vector<std::uint64_t>{T, 3}));
   EXPECT_FALSE(io::h5_dataset_shape(h5, "/frames/99999/vertices").has_value());
   EXPECT_FALSE(io::h5_dataset_shape(h5, "/frames").has_value());  // a group, not a dataset
+}
+
+// The writer compresses the chunks itself, on several threads, and stores them with H5Dwrite_chunk: HDF5 must read
+// them back through its own shuffle and deflate filters exactly, for a dataset of several chunks whose last chunk
+// is partial, and the file must not depend on the thread count.
+TEST(Io, Hdf5ChunksCompressedInParallelReadBackExactly) {
+  const fs::path dir = fs::temp_directory_path() / ("rbdem_test_io_chunks_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const RemoveWhenPassed cleanup{dir};
+  // 3 columns of doubles: 43 690 rows per 1 MiB chunk, so 100 000 rows make two full chunks and a partial one.
+  const hsize_t rows = 100000, cols = 3;
+  std::vector<double> values(rows * cols);
+  for (std::size_t k = 0; k < values.size(); ++k) values[k] = std::sin(0.001 * double(k)) * 1e-3 + double(k % 7);
+  std::vector<std::int32_t> small{1, 2, 3};  // below the compression threshold: stored contiguous
+  for (int threads : {1, 2}) {
+    const std::string file = (dir / ("t" + std::to_string(threads) + ".h5")).string();
+    const io::h5::Writer w(file, threads);
+    io::h5::Id f = w.create_file();
+    w.dataset(f, "values", values.data(), {rows, cols});
+    w.dataset(f, "small", small);
+    w.save(f);
+  }
+  for (int threads : {1, 2}) {
+    SCOPED_TRACE(testing::Message() << threads << " threads");
+    const io::h5::Reader r((dir / ("t" + std::to_string(threads) + ".h5")).string());
+    const io::h5::Id f = r.open_file();
+    std::vector<hsize_t> dims;
+    EXPECT_EQ(r.dataset<double>(f, "values", &dims), values);
+    EXPECT_EQ(dims, (std::vector<hsize_t>{rows, cols}));
+    EXPECT_EQ(r.dataset<std::int32_t>(f, "small"), small);
+    // The dataset declares the two filters its chunks went through, in HDF5's order.
+    const io::h5::Id ds(H5Dopen2(f, "values", H5P_DEFAULT), H5Dclose);
+    const io::h5::Id dcpl(H5Dget_create_plist(ds), H5Pclose);
+    ASSERT_EQ(H5Pget_nfilters(dcpl), 2);
+    unsigned flags = 0, values_of[4] = {0, 0, 0, 0};
+    std::size_t n = 4;
+    EXPECT_EQ(H5Pget_filter2(dcpl, 0, &flags, &n, values_of, 0, nullptr, nullptr), H5Z_FILTER_SHUFFLE);
+    n = 4;
+    EXPECT_EQ(H5Pget_filter2(dcpl, 1, &flags, &n, values_of, 0, nullptr, nullptr), H5Z_FILTER_DEFLATE);
+    EXPECT_EQ(values_of[0], io::h5::deflate_level);
+    hsize_t chunk[2] = {0, 0};
+    ASSERT_EQ(H5Pget_chunk(dcpl, 2, chunk), 2);
+    EXPECT_EQ(chunk[0], (1u << 20) / (cols * sizeof(double)));
+    EXPECT_LT(fs::file_size(dir / ("t" + std::to_string(threads) + ".h5")), values.size() * sizeof(double));
+  }
+  EXPECT_EQ(read_text(dir / "t1.h5"), read_text(dir / "t2.h5"));
 }
 
 // A minimal XML check: tags nest and close, attributes are quoted. Returns "" when well-formed, else the problem.

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <future>
 
 #include <fmt/format.h>
 
@@ -40,7 +41,13 @@ class TestRun {
       engine_.set_dt(rec_.dt);
       engine_.restore(resume->engine);
     } else {
-      choose_time_step();
+      // The protocol's static solves on this thread while a second one (when the run has two) computes the
+      // stability limit: both only read the engine at rest.
+      const bool overlap = protocol_.prepares() && engine_.max_threads() > 1;
+      auto limit = std::async(overlap ? std::launch::async : std::launch::deferred,
+                              [this, overlap] { return stability_limit(engine_, 300, overlap ? 1 : 0); });
+      protocol_.prepare(engine_);
+      choose_time_step(limit.get());
       engine_.set_dt(rec_.dt);
       rec_.sample_every = std::max(1L, protocol_.max_steps(engine_, rec_) / std::max(options_.curve_points, 1));
       const Reading at_rest = protocol_.read(engine_);
@@ -122,8 +129,8 @@ class TestRun {
   }
 
   // numerics.dt when set (refused above the exact stability limit), else dt_safety x that limit.
-  void choose_time_step() {
-    rec_.dt_critical = stability_limit(engine_);
+  void choose_time_step(double critical) {
+    rec_.dt_critical = critical;
     rec_.dt_block_estimate = engine_.critical_step();
     const double dt = scene_.numerics.dt;
     if (!(dt > 0.0)) {

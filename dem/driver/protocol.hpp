@@ -1,5 +1,7 @@
 // A loading protocol: what the boundaries do and when a test stops. The test driver (dem/driver/driver.hpp) runs
 // the explicit steps and the monitors; a protocol supplies the test-specific parts:
+//   prepare() the static solves of the start, which only read the engine: the driver runs them while another
+//             thread computes the stability limit
 //   start()   before the explicit run: boundary set-up and a static start where it is exact
 //   read()    after each step: the axial strain and the platen stresses that the curve, the peak and the stop
 //             criterion use
@@ -52,6 +54,12 @@ class LoadingProtocol {
   // bring the engine statically to the state where the explicit run takes over; record the static part of the
   // curve and the sampling interval in `record`.
   virtual void start(Engine& engine, TestRecord& record) = 0;
+  // Whether prepare() has static solves to do. The driver then computes the stability limit on a second thread
+  // (when it has one) while prepare() runs.
+  virtual bool prepares() const { return false; }
+  // Before start() of a fresh run, with the engine at rest: the static solves start() needs, kept for it. It must
+  // only read the engine; start() does the same solves itself when prepare() was not called.
+  virtual void prepare(const Engine& engine) { (void)engine; }
   // The reading after a step.
   virtual Reading read(const Engine& engine) const = 0;
   // The most explicit steps the run may take (the max_strain limit).

@@ -34,11 +34,21 @@ long UcsProtocol::max_steps(const Engine& engine, const TestRecord& record) cons
   return long(std::ceil((scene_.loading.max_strain - record.elastic_start_strain) * H / (v * record.dt)));
 }
 
-void UcsProtocol::start(Engine& engine, TestRecord& record) {
-  if (!scene_.numerics.elastic_start) return;
+StaticResult UcsProtocol::closure_solve(const Engine& engine) const {
   StaticOptions so;
   so.platen_displacement = 1e-6 * engine.model().height;
-  start_along(engine, record, StaticResult{}, solve_static(engine, so), 0.0);
+  return solve_static(engine, so);
+}
+
+void UcsProtocol::prepare(const Engine& engine) {
+  if (scene_.numerics.elastic_start) prepared_closure_ = closure_solve(engine);
+}
+
+void UcsProtocol::start(Engine& engine, TestRecord& record) {
+  if (!scene_.numerics.elastic_start) return;
+  const StaticResult closure = prepared_closure_ ? std::move(*prepared_closure_) : closure_solve(engine);
+  prepared_closure_.reset();
+  start_along(engine, record, StaticResult{}, closure, 0.0);
 }
 
 // The model is linear until the first bond breaks: solve that part statically and hand over to the explicit run
@@ -122,6 +132,19 @@ StaticResult TriaxialProtocol::isotropic_state(const Engine& engine, double p) {
   return state;
 }
 
+bool TriaxialProtocol::prepares() const { return scene_.loading.confining_pressure > 0.0 || UcsProtocol::prepares(); }
+
+// The static solves do not depend on the engine's confining pressure (the jacket's load is an input of each).
+void TriaxialProtocol::prepare(const Engine& engine) {
+  const double p = scene_.loading.confining_pressure;
+  if (!(p > 0.0)) {
+    UcsProtocol::prepare(engine);
+    return;
+  }
+  prepared_isotropic_ = isotropic_state(engine, p);
+  prepared_closure_ = closure_solve(engine);
+}
+
 void TriaxialProtocol::start(Engine& engine, TestRecord& record) {
   const double p = scene_.loading.confining_pressure;
   engine.set_confining_pressure(p);
@@ -131,7 +154,8 @@ void TriaxialProtocol::start(Engine& engine, TestRecord& record) {
   }
   const Model& m = engine.model();
   const double H = m.height, v = scene_.loading.platen_velocity;
-  const StaticResult iso = isotropic_state(engine, p);
+  const StaticResult iso = prepared_isotropic_ ? std::move(*prepared_isotropic_) : isotropic_state(engine, p);
+  prepared_isotropic_.reset();
   record.isotropic_strain = iso.platen_displacement / H;
   const double iso_lateral = gauge_.strain_of(iso.ux);
   const int n = 10;  // the isotropic stage on the curve (static: no time passes)
@@ -144,9 +168,8 @@ void TriaxialProtocol::start(Engine& engine, TestRecord& record) {
     pt.lateral_strain = f * iso_lateral;
     record.curve.push_back(pt);
   }
-  StaticOptions closure;
-  closure.platen_displacement = 1e-6 * H;
-  const StaticResult axial = solve_static(engine, closure);
+  const StaticResult axial = prepared_closure_ ? std::move(*prepared_closure_) : closure_solve(engine);
+  prepared_closure_.reset();
   if (scene_.numerics.elastic_start) {
     start_along(engine, record, iso, axial, p);
   } else {
@@ -171,6 +194,10 @@ void TriaxialProtocol::finish(const Engine& engine, const TestRecord& record, Te
 
 BrazilianProtocol::BrazilianProtocol(const Scene& scene, const Topology& topo, int curve_points)
     : UcsProtocol(scene, topo, curve_points), topo_(topo) {}
+
+void BrazilianProtocol::prepare(const Engine& engine) {
+  if (scene_.specimen.contact_arc_deg > 0.0) UcsProtocol::prepare(engine);
+}
 
 void BrazilianProtocol::start(Engine& engine, TestRecord& record) {
   // Flattened ends: the platens load whole edges from the start, the model is linear, the static start applies. A

@@ -22,6 +22,8 @@
 // the joints), mixed, or a fracture off the loaded diameter.
 #pragma once
 
+#include <optional>
+
 #include "dem/driver/driver.hpp"
 #include "dem/driver/protocol.hpp"
 #include "dem/static_solve.hpp"
@@ -33,6 +35,8 @@ class UcsProtocol : public LoadingProtocol {
   UcsProtocol(const Scene& scene, const Topology& topo, int curve_points = 2000)
       : scene_(scene), curve_points_(curve_points), gauge_(topo) {}
   std::string name() const override { return "ucs"; }
+  bool prepares() const override { return scene_.numerics.elastic_start; }
+  void prepare(const Engine& engine) override;
   void start(Engine& engine, TestRecord& record) override;
   Reading read(const Engine& engine) const override;
   long max_steps(const Engine& engine, const TestRecord& record) const override;
@@ -52,15 +56,21 @@ class UcsProtocol : public LoadingProtocol {
   bool stop_above(const Engine& engine, const Reading& reading, const TestRecord& record, double floor,
                   std::string& reason) const;
 
+  // The static solve of the uniaxial elastic start: the platen closure alone, from rest.
+  StaticResult closure_solve(const Engine& engine) const;
+
   const Scene& scene_;
   int curve_points_;
   LateralGauge gauge_;
+  std::optional<StaticResult> prepared_closure_;  // prepare()'s closure_solve, taken by start()
 };
 
 class TriaxialProtocol : public UcsProtocol {
  public:
   using UcsProtocol::UcsProtocol;
   std::string name() const override { return "triaxial"; }
+  bool prepares() const override;
+  void prepare(const Engine& engine) override;
   void start(Engine& engine, TestRecord& record) override;
   bool stop(const Engine& engine, const Reading& reading, const TestRecord& record, std::string& reason) const override;
   void finish(const Engine& engine, const TestRecord& record, TestResult& result) const override;
@@ -69,12 +79,17 @@ class TriaxialProtocol : public UcsProtocol {
   // the platen stress p, found by superposing the two linear solutions (and re-solved until the linear parts'
   // states agree).
   static StaticResult isotropic_state(const Engine& engine, double pressure);
+
+ private:
+  std::optional<StaticResult> prepared_isotropic_;  // prepare()'s isotropic_state, taken by start()
 };
 
 class BrazilianProtocol : public UcsProtocol {
  public:
   BrazilianProtocol(const Scene& scene, const Topology& topo, int curve_points = 2000);
   std::string name() const override { return "brazilian"; }
+  bool prepares() const override { return scene_.specimen.contact_arc_deg > 0.0 && UcsProtocol::prepares(); }
+  void prepare(const Engine& engine) override;
   void start(Engine& engine, TestRecord& record) override;
   Reading read(const Engine& engine) const override;
   void finish(const Engine& engine, const TestRecord& record, TestResult& result) const override;
