@@ -293,13 +293,16 @@ std::string compression_section(const std::vector<CaseResult>& results, const st
     md += "Per dip, the least-squares line sigma_1 = sigma_c + k sigma_3 through the confinements run, the friction "
           "angle and cohesion it implies (phi = asin((k - 1)/(k + 1)), c = sigma_c (1 - sin phi)/(2 cos phi)), and, "
           "where sliding on the joints governs, Jaeger's slope 1 + 2 mu / ((1 - mu cot beta) sin 2 beta) beside the "
-          "measured slope between sigma_3 = 0 and 10 MPa (envelope.csv).\n\n";
+          "measured slope between sigma_3 = 0 and 10 MPa (envelope.csv; with realizations, of the mean peaks, +- its "
+          "standard error).\n\n";
     md += "| dip (deg) | points | sigma_c (MPa) | slope k | phi (deg) | c (MPa) | slope 0-10 MPa | Jaeger slope | "
           "difference |\n|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const auto& e : extras.envelopes)
       md += fmt::format("| {:g} | {} | {:.2f} | {:.3f} | {:.1f} | {:.2f} | {} | {} | {} |\n", e.beta_deg, e.points,
                         e.intercept_pa / 1e6, e.slope, e.friction_deg, e.cohesion_pa / 1e6,
-                        std::isfinite(e.slope_0_10) ? fmt::format("{:.3f}", e.slope_0_10) : "-",
+                        !std::isfinite(e.slope_0_10)      ? std::string("-")
+                        : std::isfinite(e.slope_0_10_se) ? fmt::format("{:.3f} +- {:.3f}", e.slope_0_10, e.slope_0_10_se)
+                                                         : fmt::format("{:.3f}", e.slope_0_10),
                         e.slip_range ? fmt::format("{:.3f}", e.jaeger_slope) : "(intact)",
                         e.slip_range && std::isfinite(e.slope_0_10)
                             ? fmt::format("{:+.1f} %", 100.0 * (e.slope_0_10 / e.jaeger_slope - 1.0))

@@ -606,8 +606,8 @@ std::vector<Envelope> write_envelopes(const std::vector<CaseResult>& results, co
     scene_of[r.c.beta] = &r.c.scene;
   }
   std::vector<Envelope> envelopes;
-  std::string t = "beta_deg,points,slope,intercept_pa,friction_deg,cohesion_pa,slope_0_10mpa,jaeger_slope,"
-                  "jaeger_slip_range\n";
+  std::string t = "beta_deg,points,slope,intercept_pa,friction_deg,cohesion_pa,slope_0_10mpa,slope_0_10mpa_se,"
+                  "jaeger_slope,jaeger_slip_range\n";
   for (auto& [beta, pts] : by_dip) {
     std::sort(pts.begin(), pts.end());
     Envelope e;
@@ -623,13 +623,30 @@ std::vector<Envelope> write_envelopes(const std::vector<CaseResult>& results, co
       e.friction_deg = std::asin(std::clamp(sin_phi, -1.0, 1.0)) * 180.0 / std::numbers::pi;
       e.cohesion_pa = e.intercept_pa * (1.0 - sin_phi) / (2.0 * std::sqrt(std::max(0.0, 1.0 - sin_phi * sin_phi)));
     }
-    e.slope_0_10 = std::nan("");
-    double at0 = std::nan(""), at10 = std::nan("");
+    // The slope between sigma_3 = 0 and 10 MPa from the mean peak at each (every realization of a study with
+    // realizations), and its standard error from their scatter: sqrt(s_0^2 / n_0 + s_10^2 / n_10) / 10 MPa.
+    e.slope_0_10 = e.slope_0_10_se = std::nan("");
+    std::vector<double> at0, at10;
     for (const auto& [x, y] : pts) {
-      if (std::abs(x) < 1.0) at0 = y;
-      if (std::abs(x - 10e6) < 1.0) at10 = y;
+      if (std::abs(x) < 1.0) at0.push_back(y);
+      if (std::abs(x - 10e6) < 1.0) at10.push_back(y);
     }
-    if (std::isfinite(at0) && std::isfinite(at10)) e.slope_0_10 = (at10 - at0) / 10e6;
+    const auto mean = [](const std::vector<double>& v) {
+      double s = 0;
+      for (const double x : v) s += x;
+      return s / double(v.size());
+    };
+    const auto variance_of_mean = [&](const std::vector<double>& v) {
+      const double m = mean(v);
+      double s = 0;
+      for (const double x : v) s += (x - m) * (x - m);
+      return s / double(v.size() - 1) / double(v.size());
+    };
+    if (!at0.empty() && !at10.empty()) {
+      e.slope_0_10 = (mean(at10) - mean(at0)) / 10e6;
+      if (at0.size() > 1 && at10.size() > 1)
+        e.slope_0_10_se = std::sqrt(variance_of_mean(at0) + variance_of_mean(at10)) / 10e6;
+    }
     const Scene& s = *scene_of[beta];
     const MaterialParams& j = s.joint;
     const MohrCoulomb env = interface_envelope(j.cohesion, std::tan(j.friction_deg * std::numbers::pi / 180.0),
@@ -638,8 +655,8 @@ std::vector<Envelope> write_envelopes(const std::vector<CaseResult>& results, co
     const double denom = (1.0 - env.tan_phi / std::tan(b)) * std::sin(2.0 * b);
     e.slip_range = s.joint_set.enabled && b > phi && beta < 90.0 && denom > 0;
     e.jaeger_slope = e.slip_range ? 1.0 + 2.0 * env.tan_phi / denom : std::numeric_limits<double>::infinity();
-    t += fmt::format("{:g},{},{:.6g},{:.9g},{:.4g},{:.9g},{:.6g},{:.6g},{}\n", beta, e.points, e.slope,
-                     e.intercept_pa, e.friction_deg, e.cohesion_pa, e.slope_0_10, e.jaeger_slope,
+    t += fmt::format("{:g},{},{:.6g},{:.9g},{:.4g},{:.9g},{:.6g},{:.6g},{:.6g},{}\n", beta, e.points, e.slope,
+                     e.intercept_pa, e.friction_deg, e.cohesion_pa, e.slope_0_10, e.slope_0_10_se, e.jaeger_slope,
                      e.slip_range ? 1 : 0);
     envelopes.push_back(e);
   }

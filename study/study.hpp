@@ -162,7 +162,8 @@ struct Envelope {
   double beta_deg = 0;
   int points = 0;
   double slope = 0, intercept_pa = 0, friction_deg = 0, cohesion_pa = 0;
-  double slope_0_10 = 0;           // NaN when sigma_3 = 0 or 10 MPa is missing
+  double slope_0_10 = 0;           // NaN when sigma_3 = 0 or 10 MPa is missing; with realizations, of the means
+  double slope_0_10_se = 0;        // its standard error from the scatter of the realizations; NaN with one mesh
   double jaeger_slope = 0;         // of sliding on the joints; +inf outside the slip range
   bool slip_range = false;         // Jaeger: sliding governs at this dip at sigma_3 = 0
 };

@@ -1,6 +1,7 @@
 // Study files, case expansion, the Jaeger table and the calibration file reader.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <numbers>
 
 #include <filesystem>
@@ -155,6 +156,35 @@ TEST(Study, JaegerWithRockBridgesUsesJenningsEnvelope) {
   EXPECT_NEAR(hand, 42.5e6, 0.1e6);
   s.joint_set.persistence = 0.25;
   EXPECT_DOUBLE_EQ(jaeger_for(s, 60.0, s90), s90);  // the coplanar path is stronger than the intact rock
+}
+
+// A confined study with realizations: the slope between sigma_3 = 0 and 10 MPa of the mean peaks, with its standard
+// error from their scatter, against a hand computation; one mesh per pressure gives no error.
+TEST(Study, EnvelopeSlopeOfMeansWithItsStandardError) {
+  const auto dir = std::filesystem::temp_directory_path() / ("rbdem_test_envelope_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  auto result = [](double p, double peak) {
+    CaseResult r;
+    r.c.beta = 60.0;
+    r.summary = {{"confining_pressure_pa", p}, {"peak_stress_pa", peak}};
+    return r;
+  };
+  // sigma_1 at 0: 19, 20, 21 MPa (mean 20, s^2 = 1e12); at 10 MPa: 44, 46 MPa (mean 45, s^2 = 2e12).
+  const std::vector<CaseResult> five{result(0, 19e6), result(0, 20e6), result(0, 21e6), result(10e6, 44e6),
+                                     result(10e6, 46e6)};
+  const auto e = write_envelopes(five, dir);
+  ASSERT_EQ(e.size(), 1u);
+  EXPECT_EQ(e[0].points, 5);
+  EXPECT_NEAR(e[0].slope_0_10, (45e6 - 20e6) / 10e6, 1e-12);
+  EXPECT_NEAR(e[0].slope_0_10_se, std::sqrt(1e12 / 3 + 2e12 / 2) / 10e6, 1e-12);
+  const auto two = write_envelopes({result(0, 20e6), result(10e6, 45e6)}, dir);
+  EXPECT_NEAR(two[0].slope_0_10, 2.5, 1e-12);
+  EXPECT_TRUE(std::isnan(two[0].slope_0_10_se));
+  std::ifstream csv(dir / "envelope.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_NE(header.find("slope_0_10mpa,slope_0_10mpa_se,"), std::string::npos) << header;
+  std::filesystem::remove_all(dir);
 }
 
 // Student's t at 0.975 against published values (the table) and past it (the expansion; exact value from the

@@ -1,8 +1,10 @@
 // Strength cases (full run only): the default dip study against Jaeger's plane of weakness (docs/theory.md, section 4),
 // reported with the difference, not forced to agree.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <optional>
 
 #include <fmt/format.h>
@@ -86,8 +88,11 @@ CaseResult jaeger_curve(const Context& ctx) {
 
 // Confined compression at two confinements (0 and 10 MPa) at a slip dip (60 deg) and an intact one (90 deg), run
 // once per process into <out>/confined.
+constexpr int confined_realizations = 5;
+
 struct ConfinedStudy {
   std::vector<study::Envelope> envelopes;
+  std::vector<double> slopes_60;  // per mesh at 60 deg: (sigma_1 at 10 MPa - at 0) / 10 MPa
   double seconds = 0;
   long steps = 0;
 };
@@ -95,23 +100,37 @@ struct ConfinedStudy {
 const ConfinedStudy& confined_study(const Context& ctx) {
   static std::optional<ConfinedStudy> cached;
   if (cached) return *cached;
+  // 60 deg on five meshes (the slope is compared with Jaeger's: one mesh scatters by about 1.3 %), 90 deg on one
+  // (its intact envelope is reported, with no closed form to meet).
   study::StudySpec spec = study::dip_study(Scene{}, "verify_confined");
   spec.test = "triaxial";
-  spec.dips = {60, 90};
   study::Axis axis;
   axis.name = "sigma3_mpa";
   axis.labels = {"0", "10"};
   axis.values = {{"loading.confining_pressure", {"0", "10e6"}}};
   spec.axes.push_back(axis);
+  spec.dips = {60};
+  spec.realizations = confined_realizations;
+  std::vector<study::Case> cases = study::expand(spec);
+  spec.dips = {90};
+  spec.realizations = 1;
+  for (auto& c : study::expand(spec)) cases.push_back(std::move(c));
   const std::filesystem::path out = ctx.out / "confined";
   std::filesystem::create_directories(out);
-  if (ctx.log) ctx.log("verify: running confined compression at 60 and 90 deg, sigma_3 = 0 and 10 MPa, into " +
-                       out.string());
+  if (ctx.log)
+    ctx.log(fmt::format("verify: running confined compression at 60 deg ({} meshes) and 90 deg, sigma_3 = 0 and 10 "
+                        "MPa, into {}", confined_realizations, out.string()));
   const auto t0 = std::chrono::steady_clock::now();
-  const auto results = study::run_cases(study::expand(spec), out, study::SweepOptions{});
+  const auto results = study::run_cases(cases, out, study::SweepOptions{});
   ConfinedStudy c;
   c.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   for (const auto& r : results) c.steps += r.summary["steps"].get<long>();
+  std::map<int, std::array<double, 2>> by_mesh;  // mesh seed -> peak at 0 and at 10 MPa, 60 deg
+  for (const auto& r : results)
+    if (r.c.beta == 60.0)
+      by_mesh[r.c.scene.mesh.seed][r.c.scene.loading.confining_pressure > 0 ? 1 : 0] =
+          r.summary["peak_stress_pa"].get<double>();
+  for (const auto& [seed, p] : by_mesh) c.slopes_60.push_back((p[1] - p[0]) / 10e6);
   c.envelopes = study::write_envelopes(results, out);
   cached = std::move(c);
   return *cached;
@@ -120,15 +139,17 @@ const ConfinedStudy& confined_study(const Context& ctx) {
 CaseResult triaxial_slope(const Context& ctx) {
   CaseResult r;
   r.checks = "the slope d sigma_1 / d sigma_3 of confined compression at beta = 60 deg (sliding on the joints) "
-             "between sigma_3 = 0 and 10 MPa";
+             "between sigma_3 = 0 and 10 MPa, from the mean peaks of five meshes";
   r.reference = "Jaeger under confinement: 1 + 2 mu / ((1 - mu cot beta) sin 2 beta), mu of the bonded joint's "
                 "envelope (docs/theory.md, section 4)";
   r.unit = "-";
   const ConfinedStudy& c = confined_study(ctx);
   for (const auto& e : c.envelopes) {
-    r.table.push_back({{"beta_deg", e.beta_deg}, {"slope_0_10", e.slope_0_10}, {"intercept_pa", e.intercept_pa},
-                       {"friction_deg", e.friction_deg}, {"cohesion_pa", e.cohesion_pa},
-                       {"jaeger_slope", e.slip_range ? nlohmann::json(e.jaeger_slope) : nlohmann::json(nullptr)}});
+    r.table.push_back({{"beta_deg", e.beta_deg}, {"points", e.points}, {"slope_0_10", e.slope_0_10},
+                       {"slope_0_10_se", std::isfinite(e.slope_0_10_se) ? nlohmann::json(e.slope_0_10_se) : nlohmann::json(nullptr)},
+                       {"intercept_pa", e.intercept_pa}, {"friction_deg", e.friction_deg}, {"cohesion_pa", e.cohesion_pa},
+                       {"jaeger_slope", e.slip_range ? nlohmann::json(e.jaeger_slope) : nlohmann::json(nullptr)},
+                       {"slopes_per_mesh", e.beta_deg == 60.0 ? nlohmann::json(c.slopes_60) : nlohmann::json(nullptr)}});
     if (e.beta_deg == 60.0) r.measured = e.slope_0_10, r.reference_value = e.jaeger_slope;
   }
   r.error = std::abs(r.measured / r.reference_value - 1.0);
@@ -136,8 +157,11 @@ CaseResult triaxial_slope(const Context& ctx) {
   r.tolerance = 0.15;
   r.tolerance_source = "the uniaxial strength at 60 deg sits 14 % below Jaeger's (strength.jaeger_curve): the joints "
                        "fail progressively from the platen corners rather than at once, and confinement scales both "
-                       "terms alike; the 90 deg row gives the DEM's intact envelope (phi, c), which has no closed form";
-  r.cost = fmt::format("4 confined runs at 1 mm, {} steps, {:.0f} s", c.steps, c.seconds);
+                       "terms alike. One mesh's slope scatters by about 1.3 % (slopes_per_mesh), so the mean peaks of "
+                       "five meshes are compared. The 90 deg row gives the DEM's intact envelope (phi, c), which has "
+                       "no closed form";
+  r.cost = fmt::format("{} confined runs at 1 mm, {} steps, {:.0f} s", 2 * confined_realizations + 2, c.steps,
+                       c.seconds);
   return r;
 }
 
