@@ -198,7 +198,7 @@ int run_test_command(const TestCommandOptions& opt) {
   }
   std::signal(SIGINT, old_int), std::signal(SIGTERM, old_term);
   progress.finish();
-  io::write_run(out, scene, mesh, topo, r);
+  io::write_run(out, scene, mesh, topo, r, r.threads);  // the run's threads compress its result.h5
   if (!r.completed) {
     fmt::print(stderr, "rbdem: run failed: {}\n", r.watchdog_message);
     fmt::print(stderr, "rbdem: wrote {}/summary.json with \"completed\": false (results up to the last sound state); "

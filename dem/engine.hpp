@@ -111,6 +111,13 @@ class Engine {
   std::size_t active_contacts() const;
   const EngineOptions& options() const { return options_; }
   int max_threads() const { return nthreads_; }  // the most threads a step may use
+  // The threads of the next parallel stage. With a budget every stage reads it, so that no team is ever larger
+  // than the cores the sweep gave the run (idle extra threads make libgomp stop spinning and wake slowly). Work
+  // beside the steps (the stability limit, the static start) uses it too.
+  int threads() const {
+    return options_.thread_budget ? std::clamp(options_.thread_budget->load(std::memory_order_relaxed), 1, nthreads_)
+                                  : nthreads_;
+  }
   bool has_platens() const { return options_.platens; }
   double platen_friction() const { return options_.platen_friction; }
 
@@ -134,12 +141,6 @@ class Engine {
  private:
   StepContext context(bool advance) const;
   void refresh();
-  // The threads of the next parallel stage. With a budget every stage reads it, so that no team is ever larger
-  // than the cores the sweep gave the run (idle extra threads make libgomp stop spinning and wake slowly).
-  int threads() const {
-    return options_.thread_budget ? std::clamp(options_.thread_budget->load(std::memory_order_relaxed), 1, nthreads_)
-                                  : nthreads_;
-  }
 
   EngineOptions options_;
   Model model_;

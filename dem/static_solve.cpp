@@ -407,7 +407,7 @@ double stability_limit(const Engine& e, int iterations, int threads_wanted) {
   for (long k = 0; k < v.size(); ++k) v[k] = std::sin(12.9898 * double(k) + 1.0);
   v.normalize();
   double lambda = 0;
-  const int threads = std::max(1, threads_wanted > 0 ? threads_wanted : e.max_threads());
+  const int threads = std::max(1, threads_wanted > 0 ? threads_wanted : e.threads());
   for (int it = 0; it < iterations; ++it) {
 #pragma omp parallel num_threads(threads) if (threads > 1)
     {

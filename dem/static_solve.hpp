@@ -88,8 +88,8 @@ void apply_static_path(Engine& engine, const StaticResult& base, const StaticRes
 void apply_static_state(Engine& engine, const StaticResult& state, double factor, double velocity);
 
 // 2 / sqrt(lambda_max(M^-1 K)) of the intact system with every linear part closed (its stiffest state), by power
-// iteration: the largest stable step of the undamped central difference scheme. On `threads` threads (0: the
-// engine's); the same limit to the last bit at any count.
+// iteration: the largest stable step of the undamped central difference scheme. On `threads` threads (0: those
+// the engine may use now, Engine::threads()); the same limit to the last bit at any count.
 double stability_limit(const Engine& engine, int iterations = 300, int threads = 0);
 
 }  // namespace rbdem

@@ -1,8 +1,6 @@
 // result.h5 and result.xdmf of a UCS run, and the reader. See result_h5.hpp; the layout is in docs/outputs.md.
 #include "io/result_h5.hpp"
 
-#include <omp.h>
-
 #include <hdf5.h>
 
 #include <algorithm>
@@ -67,9 +65,8 @@ void check_consistent(const TriMesh& mesh, const Topology& topo, const TestResul
 namespace {
 
 void write_h5_file(const std::string& tmp, const Scene& scene, const TriMesh& mesh, const Topology& topo,
-                   const TestResult& r) {
-  // The compression runs on the run's threads (numerics.threads, 0 = all).
-  const Writer w(tmp, scene.numerics.threads > 0 ? scene.numerics.threads : omp_get_max_threads());
+                   const TestResult& r, int threads) {
+  const Writer w(tmp, threads);
   const std::size_t nt = mesh.triangles.size(), nb = topo.bonds.size();
   {
     Id file = w.create_file();
@@ -208,12 +205,12 @@ void write_h5_file(const std::string& tmp, const Scene& scene, const TriMesh& me
 }  // namespace
 
 void write_result_h5(const std::filesystem::path& path, const Scene& scene, const TriMesh& mesh, const Topology& topo,
-                     const TestResult& r) {
+                     const TestResult& r, int threads) {
   check_consistent(mesh, topo, r);
   const std::lock_guard<std::mutex> lock(h5::lock());
   const std::string tmp = path.string() + ".tmp";
   try {
-    write_h5_file(tmp, scene, mesh, topo, r);
+    write_h5_file(tmp, scene, mesh, topo, r, threads);
   } catch (...) {
     std::error_code ec;
     std::filesystem::remove(tmp, ec);  // never leave a half file behind

@@ -33,9 +33,9 @@ namespace rbdem::io {
 
 // Writes result.h5 of one run to `path` (any name; written as path + ".tmp", then renamed). Throws
 // std::runtime_error naming the file when HDF5 fails, std::invalid_argument when mesh, topology and result
-// disagree (frames or cracks that do not belong to this mesh).
+// disagree (frames or cracks that do not belong to this mesh). The datasets are compressed on `threads` threads.
 void write_result_h5(const std::filesystem::path& path, const Scene& scene, const TriMesh& mesh, const Topology& topo,
-                     const TestResult& result);
+                     const TestResult& result, int threads = 1);
 
 // Writes the XDMF 3 file that makes `h5_path` (written by write_result_h5) a time series in ParaView: one
 // temporal grid per frame, disconnected triangles (3 vertices per block, so cracks open visibly), cell attributes

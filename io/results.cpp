@@ -213,7 +213,7 @@ void write_crack_rate_csv(const std::filesystem::path& file, const std::vector<C
 }
 
 void write_run(const std::filesystem::path& dir, const Scene& scene, const TriMesh& mesh, const Topology& topo,
-               const TestResult& r) {
+               const TestResult& r, int threads) {
   std::filesystem::create_directories(dir);
   write_text_atomic(dir / "scene.toml", to_toml(scene));
   write_curve_csv(dir / "curve.csv", r.curve);
@@ -222,7 +222,7 @@ void write_run(const std::filesystem::path& dir, const Scene& scene, const TriMe
                                                                       : crack_orientations_deg(r.cracks, topo));
   write_fragments_csv(dir / "fragments.csv", r.fragments);
   write_crack_rate_csv(dir / "crack_rate.csv", r.crack_rate);
-  write_result_h5(dir / "result.h5", scene, mesh, topo, r);
+  write_result_h5(dir / "result.h5", scene, mesh, topo, r, threads);
   write_result_xdmf(dir / "result.xdmf", dir / "result.h5", topo.blocks.size(), r.frames);
   write_text_atomic(dir / "summary.json", run_summary(scene, r).dump(2) + "\n");
 }

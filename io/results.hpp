@@ -19,8 +19,9 @@ nlohmann::json run_summary(const Scene& scene, const TestResult& r);
 // Writes scene.toml, curve.csv, cracks.csv, fragments.csv, crack_rate.csv, result.h5, result.xdmf and summary.json
 // into `dir` (created if needed), each atomically. summary.json is written last, so a folder with a summary.json
 // holds a complete result. `mesh` and `topo` are the ones the run used.
+// `threads`: how many threads compress result.h5 (the cores the run may still use; 1 beside other runs).
 void write_run(const std::filesystem::path& dir, const Scene& scene, const TriMesh& mesh, const Topology& topo,
-               const TestResult& r);
+               const TestResult& r, int threads = 1);
 
 void write_curve_csv(const std::filesystem::path& file, const std::vector<CurvePoint>& curve);
 // One row per crack; `orientation_deg` holds each crack's edge angle (TestResult::crack_orientation_deg, same size).

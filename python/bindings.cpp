@@ -242,7 +242,7 @@ py::dict run(const std::string& test, const std::string& file, const std::vector
     mesh = make_mesh(scene);
     topo = build_topology(mesh, scene.specimen.thickness, scene.rock.density);
     r = run_test(test, scene, topo, uo);
-    if (!out.empty()) io::write_run(out, scene, mesh, topo, r);
+    if (!out.empty()) io::write_run(out, scene, mesh, topo, r, r.threads);
   } catch (const RunCancelled&) {
     if (pending.error) throw *pending.error;
     throw;

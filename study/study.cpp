@@ -233,7 +233,8 @@ CaseResult run_one(const Case& c, const std::filesystem::path& dir, const std::a
   uo.cancel = cancel;
   uo.thread_budget = threads;
   const TestResult r = run_test(c.test, scene, topo, uo);
-  io::write_run(dir, c.scene, mesh, topo, r);
+  // The cores the case holds now (one beside a running case, more once the others are done).
+  io::write_run(dir, c.scene, mesh, topo, r, std::max(1, threads ? threads->load() : 1));
   if (!r.completed) throw std::runtime_error(r.watchdog_message);  // its summary says so; the case is not done
   CaseResult cr;
   cr.c = c;

@@ -43,7 +43,7 @@ class TestRun {
     } else {
       // The protocol's static solves on this thread while a second one (when the run has two) computes the
       // stability limit: both only read the engine at rest.
-      const bool overlap = protocol_.prepares() && engine_.max_threads() > 1;
+      const bool overlap = protocol_.prepares() && engine_.threads() > 1;
       auto limit = std::async(overlap ? std::launch::async : std::launch::deferred,
                               [this, overlap] { return stability_limit(engine_, 300, overlap ? 1 : 0); });
       protocol_.prepare(engine_);
