@@ -12,6 +12,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdlib>
 #include <map>
@@ -230,8 +231,11 @@ int run_study(study::StudySpec spec, const std::filesystem::path& out, int worke
     for (const auto& e : extras.envelopes)
       fmt::print("envelope at {:g} deg: sigma_1 = {:.2f} MPa + {:.3f} sigma_3 (phi {:.1f} deg, c {:.2f} MPa){}\n",
                  e.beta_deg, e.intercept_pa / 1e6, e.slope, e.friction_deg, e.cohesion_pa / 1e6,
-                 e.slip_range ? fmt::format("; Jaeger's slope for sliding {:.3f}, measured 0-10 MPa {:.3f}",
-                                            e.jaeger_slope, e.slope_0_10)
+                 e.slip_range ? fmt::format("; Jaeger's slope for sliding {:.3f}, measured 0-10 MPa {:.3f}{}",
+                                            e.jaeger_slope, e.slope_0_10,
+                                            std::isfinite(e.slope_0_10_se)
+                                                ? fmt::format(" +- {:.3f} (standard error)", e.slope_0_10_se)
+                                                : std::string())
                               : std::string());
   }
   fmt::print("sweep: {:.1f} s wall; table {}, report {}\n", extras.wall_seconds, (out / "table.csv").string(),

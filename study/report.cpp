@@ -297,16 +297,18 @@ std::string compression_section(const std::vector<CaseResult>& results, const st
           "standard error).\n\n";
     md += "| dip (deg) | points | sigma_c (MPa) | slope k | phi (deg) | c (MPa) | slope 0-10 MPa | Jaeger slope | "
           "difference |\n|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-    for (const auto& e : extras.envelopes)
+    for (const auto& e : extras.envelopes) {
+      std::string measured = "-";
+      if (std::isfinite(e.slope_0_10))
+        measured = std::isfinite(e.slope_0_10_se) ? fmt::format("{:.3f} +- {:.3f}", e.slope_0_10, e.slope_0_10_se)
+                                                  : fmt::format("{:.3f}", e.slope_0_10);
       md += fmt::format("| {:g} | {} | {:.2f} | {:.3f} | {:.1f} | {:.2f} | {} | {} | {} |\n", e.beta_deg, e.points,
-                        e.intercept_pa / 1e6, e.slope, e.friction_deg, e.cohesion_pa / 1e6,
-                        !std::isfinite(e.slope_0_10)      ? std::string("-")
-                        : std::isfinite(e.slope_0_10_se) ? fmt::format("{:.3f} +- {:.3f}", e.slope_0_10, e.slope_0_10_se)
-                                                         : fmt::format("{:.3f}", e.slope_0_10),
+                        e.intercept_pa / 1e6, e.slope, e.friction_deg, e.cohesion_pa / 1e6, measured,
                         e.slip_range ? fmt::format("{:.3f}", e.jaeger_slope) : "(intact)",
                         e.slip_range && std::isfinite(e.slope_0_10)
                             ? fmt::format("{:+.1f} %", 100.0 * (e.slope_0_10 / e.jaeger_slope - 1.0))
                             : "-");
+    }
   }
   return md;
 }

@@ -144,12 +144,13 @@ CaseResult triaxial_slope(const Context& ctx) {
                 "envelope (docs/theory.md, section 4)";
   r.unit = "-";
   const ConfinedStudy& c = confined_study(ctx);
+  const auto or_null = [](bool has, const nlohmann::json& value) { return has ? value : nlohmann::json(nullptr); };
   for (const auto& e : c.envelopes) {
     r.table.push_back({{"beta_deg", e.beta_deg}, {"points", e.points}, {"slope_0_10", e.slope_0_10},
-                       {"slope_0_10_se", std::isfinite(e.slope_0_10_se) ? nlohmann::json(e.slope_0_10_se) : nlohmann::json(nullptr)},
-                       {"intercept_pa", e.intercept_pa}, {"friction_deg", e.friction_deg}, {"cohesion_pa", e.cohesion_pa},
-                       {"jaeger_slope", e.slip_range ? nlohmann::json(e.jaeger_slope) : nlohmann::json(nullptr)},
-                       {"slopes_per_mesh", e.beta_deg == 60.0 ? nlohmann::json(c.slopes_60) : nlohmann::json(nullptr)}});
+                       {"slope_0_10_se", or_null(std::isfinite(e.slope_0_10_se), e.slope_0_10_se)},
+                       {"intercept_pa", e.intercept_pa}, {"friction_deg", e.friction_deg},
+                       {"cohesion_pa", e.cohesion_pa}, {"jaeger_slope", or_null(e.slip_range, e.jaeger_slope)},
+                       {"slopes_per_mesh", or_null(e.beta_deg == 60.0, c.slopes_60)}});
     if (e.beta_deg == 60.0) r.measured = e.slope_0_10, r.reference_value = e.jaeger_slope;
   }
   r.error = std::abs(r.measured / r.reference_value - 1.0);
