@@ -157,22 +157,20 @@ class Writer {
     Id dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
     hsize_t n = 1;
     for (const hsize_t d : dims) n *= d;
-    if (n * sizeof(T) > compress_above_bytes) {
-      std::vector<hsize_t> chunk = dims;
-      const hsize_t row = (n / dims[0]) * sizeof(T);
-      chunk[0] = std::clamp<hsize_t>(chunk_target_bytes / row, 1, dims[0]);
+    const bool compress = n * sizeof(T) > compress_above_bytes;
+    std::vector<hsize_t> chunk = dims;
+    if (compress) {
+      chunk[0] = std::clamp<hsize_t>(chunk_target_bytes / ((n / dims[0]) * sizeof(T)), 1, dims[0]);
       if (H5Pset_chunk(dcpl, int(chunk.size()), chunk.data()) < 0 || H5Pset_shuffle(dcpl) < 0 ||
           H5Pset_deflate(dcpl, deflate_level) < 0)
         fail(file_, "setting chunking and compression of " + name);
     }
     Id ds(H5Dcreate2(loc, name.c_str(), H5Type<T>::file(), space, H5P_DEFAULT, dcpl, H5P_DEFAULT), H5Dclose);
     if (ds < 0) fail(file_, "creating dataset " + name);
-    if (n * sizeof(T) > compress_above_bytes) {
+    if (compress) {
       // Compressed at save(), with the others, on the writer's threads (the element types stored are
       // little-endian in memory as in the file: x86-64).
-      Pending p{std::move(ds), name, sizeof(T), dims, {}, {}};
-      p.chunk_dims = dims;
-      p.chunk_dims[0] = std::clamp<hsize_t>(chunk_target_bytes / ((n / dims[0]) * sizeof(T)), 1, dims[0]);
+      Pending p{std::move(ds), name, sizeof(T), dims.size(), dims[0], chunk[0], {}};
       p.bytes.resize(std::size_t(n) * sizeof(T));
       std::memcpy(p.bytes.data(), data, p.bytes.size());
       pending_.push_back(std::move(p));
@@ -219,8 +217,9 @@ class Writer {
   struct Pending {
     Id ds;
     std::string name;
-    std::size_t element = 0;
-    std::vector<hsize_t> dims, chunk_dims;
+    std::size_t element = 0;  // bytes per value
+    std::size_t rank = 0;
+    hsize_t rows = 0, chunk_rows = 0;  // along the first axis: the dataset's and a chunk's
     std::vector<unsigned char> bytes;
   };
 
@@ -234,16 +233,21 @@ class Writer {
     };
     std::vector<Job> jobs;
     for (std::size_t d = 0; d < pending_.size(); ++d)
-      for (hsize_t r = 0; r < pending_[d].dims[0]; r += pending_[d].chunk_dims[0]) jobs.push_back({d, r, {}});
+      for (hsize_t r = 0; r < pending_[d].rows; r += pending_[d].chunk_rows) jobs.push_back({d, r, {}});
     std::atomic<bool> failed{false};
 #pragma omp parallel for schedule(dynamic) num_threads(threads_) if (threads_ > 1 && jobs.size() > 1)
     for (std::size_t j = 0; j < jobs.size(); ++j) {
       const Pending& p = pending_[jobs[j].dataset];
-      const std::size_t row = p.bytes.size() / p.dims[0], rows = p.chunk_dims[0];
-      const std::size_t have = std::min<std::size_t>(rows, p.dims[0] - jobs[j].first_row);
-      std::vector<unsigned char> chunk(rows * row, 0), shuffled(rows * row);
-      std::memcpy(chunk.data(), p.bytes.data() + jobs[j].first_row * row, have * row);
-      shuffle_bytes(chunk.data(), chunk.size(), p.element, shuffled.data());
+      const std::size_t row = p.bytes.size() / p.rows, bytes = p.chunk_rows * row;
+      const std::size_t have = std::min<std::size_t>(p.chunk_rows, p.rows - jobs[j].first_row) * row;
+      const unsigned char* in = p.bytes.data() + jobs[j].first_row * row;
+      std::vector<unsigned char> padded, shuffled(bytes);
+      if (have < bytes) {  // the last chunk, partial: padded with the fill value
+        padded.assign(bytes, 0);
+        std::memcpy(padded.data(), in, have);
+        in = padded.data();
+      }
+      shuffle_bytes(in, bytes, p.element, shuffled.data());
       uLongf size = compressBound(uLong(shuffled.size()));
       std::string out(size, '\0');
       if (compress2(reinterpret_cast<Bytef*>(out.data()), &size, shuffled.data(), uLong(shuffled.size()),
@@ -257,7 +261,7 @@ class Writer {
     if (failed) fail(file_, "compressing the datasets");
     for (const Job& job : jobs) {
       const Pending& p = pending_[job.dataset];
-      std::vector<hsize_t> offset(p.dims.size(), 0);
+      std::vector<hsize_t> offset(p.rank, 0);
       offset[0] = job.first_row;
       if (H5Dwrite_chunk(p.ds, H5P_DEFAULT, 0, offset.data(), job.compressed.size(), job.compressed.data()) < 0)
         fail(file_, "writing dataset " + p.name);

@@ -632,21 +632,11 @@ std::vector<Envelope> write_envelopes(const std::vector<CaseResult>& results, co
       if (std::abs(x) < 1.0) at0.push_back(y);
       if (std::abs(x - 10e6) < 1.0) at10.push_back(y);
     }
-    const auto mean = [](const std::vector<double>& v) {
-      double s = 0;
-      for (const double x : v) s += x;
-      return s / double(v.size());
-    };
-    const auto variance_of_mean = [&](const std::vector<double>& v) {
-      const double m = mean(v);
-      double s = 0;
-      for (const double x : v) s += (x - m) * (x - m);
-      return s / double(v.size() - 1) / double(v.size());
-    };
     if (!at0.empty() && !at10.empty()) {
-      e.slope_0_10 = (mean(at10) - mean(at0)) / 10e6;
-      if (at0.size() > 1 && at10.size() > 1)
-        e.slope_0_10_se = std::sqrt(variance_of_mean(at0) + variance_of_mean(at10)) / 10e6;
+      const SampleStats s0 = sample_stats(at0), s10 = sample_stats(at10);
+      e.slope_0_10 = (s10.mean - s0.mean) / 10e6;
+      if (s0.n > 1 && s10.n > 1)
+        e.slope_0_10_se = std::sqrt(s0.sd * s0.sd / s0.n + s10.sd * s10.sd / s10.n) / 10e6;
     }
     const Scene& s = *scene_of[beta];
     const MaterialParams& j = s.joint;
