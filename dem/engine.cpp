@@ -42,7 +42,6 @@ Engine::Engine(const Topology& topo, const Scene& scene, const EngineOptions& op
   Workspace& w = work_;
   w.slot.assign(nbond, Workspace::Slot{0.0, 0.0, 0.0, 0.0});
   w.cfx.assign(nb, 0.0), w.cfy.assign(nb, 0.0), w.cm.assign(nb, 0.0);
-  w.ext_fx.assign(nb, 0.0), w.ext_fy.assign(nb, 0.0), w.ext_m.assign(nb, 0.0);
 
   detection_.contacts = options_.contacts;
   detection_.platens = options_.platens;
@@ -62,19 +61,20 @@ StepContext Engine::context(bool advance) const {
 void Engine::refresh() {
   stages::update_rotations(state_, work_, threads());
   stages::refresh_keep(model_, state_, work_);
+  stages::clear_accumulators(work_);  // a step cut short (an exception) may have left forces in them
   state_.rebuild = true;
 }
 
 void Engine::step() {
   const StepContext c = context(true);
   stages::bond_forces(model_, state_, work_, c);
-  stages::bond_events(model_, state_, work_, on_crack);
+  stages::bond_events(model_, state_, work_, on_crack, c.threads);
   stages::detect_contacts(model_, state_, detection_, c.threads);
   stages::contact_forces(model_, state_, work_, c);
   stages::platen_forces(model_, state_, work_, options_.platen_friction, options_.platens, c);
   stages::jacket_forces(model_, state_, work_, c);
-  stages::integrate(model_, state_, work_, options_.damping, c.threads);
-  stages::update_rotations(state_, work_, c.threads);
+  stages::external_forces(work_);
+  stages::integrate(model_, state_, work_, options_.damping, c.threads);  // and the new rotations
   state_.top_y -= state_.platen_velocity * state_.dt;
   state_.time += state_.dt;
   ++state_.steps;
@@ -88,6 +88,7 @@ void Engine::evaluate_forces(std::vector<double>& fx, std::vector<double>& fy, s
   stages::contact_forces(model_, state_, work_, c);
   stages::platen_forces(model_, state_, work_, options_.platen_friction, options_.platens, c);
   stages::jacket_forces(model_, state_, work_, c);
+  stages::external_forces(work_);
   stages::gather_forces(model_, state_, work_, fx, fy, moment);
 }
 
@@ -120,8 +121,10 @@ void Engine::set_block_mass(int b, double mass, double inertia) {
 }
 
 void Engine::set_external_load(int b, double fx, double fy, double m) {
-  const std::size_t k = std::size_t(b);
-  work_.ext_fx[k] = fx, work_.ext_fy[k] = fy, work_.ext_m[k] = m;
+  auto& loads = work_.external;
+  const auto at = std::find_if(loads.begin(), loads.end(), [&](const auto& e) { return e.block == b; });
+  if (at != loads.end()) *at = {b, fx, fy, m};
+  else loads.push_back({b, fx, fy, m});
 }
 
 double Engine::critical_step() const {
@@ -185,16 +188,23 @@ Energies Engine::energies() const {
   for (std::size_t b = 0; b < model_.num_blocks(); ++b)
     e.kinetic += 0.5 * (model_.mass[b] * (s.vx[b] * s.vx[b] + s.vy[b] * s.vy[b]) +
                         model_.inertia[b] * s.omega[b] * s.omega[b]);
-  for (std::size_t b = 0; b < model_.num_bonds(); ++b) {
-    if (s.broken[b]) continue;
-    const BondForces f = bond_forces(int(b));
-    const BondStiffness k = model_.stiffness(int(b));
+  // Each intact bond's energy on the run's threads, then the sum in bond order (the same at any thread count).
+  const int nbond = int(model_.num_bonds());
+  std::vector<double> bond_energy(std::size_t(nbond), 0.0);
+#pragma omp parallel for schedule(static) num_threads(threads()) if (nbond > 4096)
+  for (int b = 0; b < nbond; ++b) {
+    if (s.broken[std::size_t(b)]) continue;
+    const BondForces f = bond_forces(b);
+    const BondStiffness k = model_.stiffness(b);
     // A damaged bond stores keep k delta^2 / 2 = f^2 / (2 keep k) in its parallel part (f = keep k delta).
-    const double keep = work_.keep[b];  // >= 0: the bond is intact
+    const double keep = work_.keep[std::size_t(b)];  // >= 0: the bond is intact
     const double inv_keep = keep > 0.0 ? 1.0 / keep : 0.0;
-    e.strain += 0.5 * ((f.fn_b * f.fn_b / k.kbnA + f.fs_b * f.fs_b / k.kbsA + f.m_b * f.m_b / k.kbnI) * inv_keep +
-                       f.fn_lin * f.fn_lin / k.knA + f.fs_lin * f.fs_lin / k.ksA);
+    bond_energy[std::size_t(b)] =
+        0.5 * ((f.fn_b * f.fn_b / k.kbnA + f.fs_b * f.fs_b / k.kbsA + f.m_b * f.m_b / k.kbnI) * inv_keep +
+               f.fn_lin * f.fn_lin / k.knA + f.fs_lin * f.fs_lin / k.ksA);
   }
+  for (int b = 0; b < nbond; ++b)
+    if (!s.broken[std::size_t(b)]) e.strain += bond_energy[std::size_t(b)];
   for (std::size_t c = 0; c < s.contacts.size(); ++c)
     e.strain += s.contacts.law[c].strain_energy(s.contacts.fn[c], s.contacts.fs[c], s.contacts.chord[c]);
   e.strain += s.platen_energy;

@@ -69,11 +69,12 @@ void bond_kernel(const Model& m, ModelState& s, Workspace& w, const StepContext&
   const bool test = c.advance && s.breakage;
   const BondArrays a(m, s, w);
   w.flag.resize(std::size_t(n));
+  const Workspace::Partition& part = w.part;
 #pragma omp parallel num_threads(c.threads)
   {
-    // Contiguous chunks in thread order: the flagged lists, read in thread order, are in bond order.
-    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
-    const int lo = int(std::int64_t(n) * t / nt), hi = int(std::int64_t(n) * (t + 1) / nt);
+    // Contiguous ranges in thread order: the flagged lists, read in thread order, are in bond order.
+    const int t = omp_get_thread_num();
+    const int lo = part.bond[std::size_t(t)], hi = part.bond[std::size_t(t) + 1];
     const BondFrames& f = m.frame;
     const KernelRange range{a, f.tension_limit.data(), f.cohesion_A.data(), f.tan_phi.data(), f.beta_m.data(),
                             f.inv_L.data(), s.drive.data(), w.keep.data(), s.fs_lin.data(), w.slot.data(),
@@ -91,6 +92,7 @@ void bond_kernel(const Model& m, ModelState& s, Workspace& w, const StepContext&
 }  // namespace
 
 void bond_forces(const Model& m, ModelState& s, Workspace& w, const StepContext& c) {
+  partition(m, w, c.threads);
   if (int(w.flagged.size()) < c.threads) w.flagged.resize(std::size_t(c.threads));
   for (auto& v : w.flagged) v.clear();
   if (w.damaged > 0) bond_kernel<true>(m, s, w, c);
@@ -107,40 +109,53 @@ void refresh_keep(const Model& m, const ModelState& s, Workspace& w) {
   }
 }
 
-int bond_events(const Model& m, ModelState& s, Workspace& w, const std::function<void(const Crack&)>& on_crack) {
+int bond_events(const Model& m, ModelState& s, Workspace& w, const std::function<void(const Crack&)>& on_crack,
+                int threads) {
+  w.events.clear();
+  for (const auto& list : w.flagged) w.events.insert(w.events.end(), list.begin(), list.end());
+  const int n = int(w.events.size());
+  if (n == 0) return 0;
+  // The positions have not moved since the kernel, and an event changes only its own bond: each flagged bond's
+  // evaluation gives the same undamaged forces as in the kernel, whatever the events before it did.
+  w.event_forces.resize(std::size_t(n));
+#pragma omp parallel for schedule(static) num_threads(threads) if (n > 64)
+  for (int e = 0; e < n; ++e) {
+    const int b = w.events[std::size_t(e)];
+    const BondEval ev = eval_bond(m, s, w, b, 0.0, s.fs_lin[std::size_t(b)], 1.0);
+    w.event_forces[std::size_t(e)] = {ev.fnb, ev.fsb, ev.mb, ev.px, ev.py};
+  }
   int breaks = 0;
-  for (const auto& list : w.flagged)
-    for (const int b : list) {
-      const std::size_t k = std::size_t(b);
-      const BondKindLaw& law = m.law[m.material[k]];
-      // The positions have not moved since the kernel: the same evaluation gives the same undamaged forces.
-      const BondEval ev = eval_bond(m, s, w, b, 0.0, s.fs_lin[k], 1.0);
-      const BondLoad q = BondLoad::of(m.frame.tension_limit[k], m.frame.cohesion_A[k], m.frame.tan_phi[k],
-                                      m.frame.beta_m[k], ev.fnb, ev.fsb, ev.mb, m.frame.inv_L[k]);
-      const bool was_damaged = s.drive[k] > 0.0;
-      const BreakMode mode = law.bond.advance(q, m.frame.rupture[k], s.drive[k]);
-      w.keep[k] = ParallelBond::intact_fraction(s.drive[k], m.frame.rupture[k]);
-      if (!was_damaged && s.drive[k] > 0.0) ++w.damaged;
-      if (mode == BreakMode::none) continue;
-      Crack crack;
-      const double L = m.frame.L[k], A = m.frame.A[k];
-      law.bond.strength.stresses(ev.fnb, ev.fsb, ev.mb, A, A * L * L / 12.0, 0.5 * L, crack.sigma, crack.tau);
-      crack.mode = mode, crack.bond = b, crack.kind = m.kind[k], crack.x = ev.px, crack.y = ev.py;
-      crack.time = s.time, crack.strain = s.strain_for_log;
-      if (s.drive[k] > 0.0) --w.damaged;
-      s.broken[k] = 1;
-      w.keep[k] = -1.0;
-      w.slot[k] = {0.0, 0.0, 0.0, 0.0};  // the pair's contact carries the linear part from now on
-      s.free_face[std::size_t(m.bi[k])] = s.free_face[std::size_t(m.bj[k])] = 1;
-      // With skip_bonded_pairs = false the pair is in the contact list already: it takes over the linear shear.
-      const int lo = std::min(m.bi[k], m.bj[k]), hi = std::max(m.bi[k], m.bj[k]);
-      const std::uint64_t key = (std::uint64_t(std::uint32_t(lo)) << 32) | std::uint32_t(hi);
-      const auto at = std::lower_bound(s.contacts.key.begin(), s.contacts.key.end(), key);
-      if (at != s.contacts.key.end() && *at == key) s.contacts.fs[std::size_t(at - s.contacts.key.begin())] = s.fs_lin[k];
-      s.cracks.push_back(crack);
-      if (on_crack) on_crack(crack);
-      ++breaks;
-    }
+  for (int e = 0; e < n; ++e) {
+    const int b = w.events[std::size_t(e)];
+    const std::size_t k = std::size_t(b);
+    const BondKindLaw& law = m.law[m.material[k]];
+    const Workspace::EventForces& ev = w.event_forces[std::size_t(e)];
+    const BondLoad q = BondLoad::of(m.frame.tension_limit[k], m.frame.cohesion_A[k], m.frame.tan_phi[k],
+                                    m.frame.beta_m[k], ev.fn, ev.fs, ev.m, m.frame.inv_L[k]);
+    const bool was_damaged = s.drive[k] > 0.0;
+    const BreakMode mode = law.bond.advance(q, m.frame.rupture[k], s.drive[k]);
+    w.keep[k] = ParallelBond::intact_fraction(s.drive[k], m.frame.rupture[k]);
+    if (!was_damaged && s.drive[k] > 0.0) ++w.damaged;
+    if (mode == BreakMode::none) continue;
+    Crack crack;
+    const double L = m.frame.L[k], A = m.frame.A[k];
+    law.bond.strength.stresses(ev.fn, ev.fs, ev.m, A, A * L * L / 12.0, 0.5 * L, crack.sigma, crack.tau);
+    crack.mode = mode, crack.bond = b, crack.kind = m.kind[k], crack.x = ev.px, crack.y = ev.py;
+    crack.time = s.time, crack.strain = s.strain_for_log;
+    if (s.drive[k] > 0.0) --w.damaged;
+    s.broken[k] = 1;
+    w.keep[k] = -1.0;
+    w.slot[k] = {0.0, 0.0, 0.0, 0.0};  // the pair's contact carries the linear part from now on
+    s.free_face[std::size_t(m.bi[k])] = s.free_face[std::size_t(m.bj[k])] = 1;
+    // With skip_bonded_pairs = false the pair is in the contact list already: it takes over the linear shear.
+    const int lo = std::min(m.bi[k], m.bj[k]), hi = std::max(m.bi[k], m.bj[k]);
+    const std::uint64_t key = (std::uint64_t(std::uint32_t(lo)) << 32) | std::uint32_t(hi);
+    const auto at = std::lower_bound(s.contacts.key.begin(), s.contacts.key.end(), key);
+    if (at != s.contacts.key.end() && *at == key) s.contacts.fs[std::size_t(at - s.contacts.key.begin())] = s.fs_lin[k];
+    s.cracks.push_back(crack);
+    if (on_crack) on_crack(crack);
+    ++breaks;
+  }
   if (breaks > 0) s.rebuild = true;
   return breaks;
 }

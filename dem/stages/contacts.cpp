@@ -122,22 +122,29 @@ void detect_contacts(const Model& m, ModelState& s, const DetectionOptions& o, i
     std::sort(keys.begin(), keys.end());
   }
 
+  // The new pair list, each pair on its own (its bond, law and carried-over shear force), in parallel.
   ContactPairs next;
   const auto& old = s.contacts;
-  std::size_t at = 0;
-  for (std::uint64_t key : keys) {
+  const int n = int(keys.size());
+  next.i.resize(std::size_t(n)), next.j.resize(std::size_t(n)), next.bond.resize(std::size_t(n));
+  next.law.resize(std::size_t(n)), next.fs.resize(std::size_t(n));
+  next.fn.assign(std::size_t(n), 0.0), next.chord.assign(std::size_t(n), 0.0);
+  next.key = keys;
+#pragma omp parallel for schedule(static) num_threads(threads) if (n > 256)
+  for (int p = 0; p < n; ++p) {
+    const std::uint64_t key = keys[std::size_t(p)];
     const int i = int(key >> 32), j = int(key & 0xffffffffu);
-    while (at < old.key.size() && old.key[at] < key) ++at;
     int bond = -1;
     for (int e = m.csr_offset[i]; e < m.csr_offset[i + 1]; ++e) {
       const int bb = m.csr_entry[e] >> 1;
       if (m.bi[bb] == j || m.bj[bb] == j) bond = bb;
     }
+    const auto at = std::lower_bound(old.key.begin(), old.key.end(), key);
     double fs = 0.0;
-    if (at < old.key.size() && old.key[at] == key) fs = old.fs[at];
-    else if (bond >= 0) fs = s.fs_lin[bond];  // a bond that just broke hands over its linear shear force
-    next.i.push_back(i), next.j.push_back(j), next.bond.push_back(bond), next.law.push_back(m.pair_law(i, j, bond));
-    next.fs.push_back(fs), next.fn.push_back(0.0), next.chord.push_back(0.0), next.key.push_back(key);
+    if (at != old.key.end() && *at == key) fs = old.fs[std::size_t(at - old.key.begin())];
+    else if (bond >= 0) fs = s.fs_lin[std::size_t(bond)];  // a bond that just broke hands over its linear shear force
+    const std::size_t q = std::size_t(p);
+    next.i[q] = i, next.j[q] = j, next.bond[q] = bond, next.law[q] = m.pair_law(i, j, bond), next.fs[q] = fs;
   }
   s.contacts = std::move(next);
 }
@@ -145,9 +152,6 @@ void detect_contacts(const Model& m, ModelState& s, const DetectionOptions& o, i
 // Each pair's narrow phase and contact law run in parallel into the pair's own record; the records are then
 // summed into the contact accumulators serially in pair order, so the sums do not depend on the thread count.
 void contact_forces(const Model& m, ModelState& s, Workspace& w, const StepContext& c) {
-  std::fill(w.cfx.begin(), w.cfx.end(), 0.0);
-  std::fill(w.cfy.begin(), w.cfy.end(), 0.0);
-  std::fill(w.cm.begin(), w.cm.end(), 0.0);
   auto& C = s.contacts;
   const double dt = c.dt;
   const bool advance = c.advance;

@@ -1,7 +1,11 @@
 // The integrator: per-block gather of the bond slots (fixed CSR order) and the contact and boundary forces,
 // Cundall's local damping, and the central difference update of x, y, theta (docs/theory.md, section 8). It sees
 // forces and masses, never a law. See stages.hpp.
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+
+#include <omp.h>
 
 #include <fmt/format.h>
 
@@ -21,17 +25,11 @@ inline void add_slot(int e, const Workspace& w, double& fx, double& fy, double& 
   fx += sign * s.fx, fy += sign * s.fy, m += is_j ? s.mj : s.mi;
 }
 
-}  // namespace
-
-void update_rotations(const ModelState& s, Workspace& w, int threads) {
-  const int n = int(s.num_blocks());
-  w.cos_t.resize(std::size_t(n)), w.sin_t.resize(std::size_t(n));
-  const double* theta = s.theta.data();
-  double *c = w.cos_t.data(), *sn = w.sin_t.data();
-#pragma omp parallel for schedule(static) num_threads(threads)
-  for (int b = 0; b < n; ++b) {
-    // Blocks rotate by well under 0.01 rad until they break free; there the Taylor series are exact to round-off
-    // (the first omitted terms are below 3e-18 relative) and far cheaper than sin and cos.
+// cos and sin of the blocks [lo, hi). Blocks rotate by well under 0.01 rad until they break free; there the
+// Taylor series are exact to round-off (the first omitted terms are below 3e-18 relative) and far cheaper than sin
+// and cos.
+inline void rotations_of(const double* theta, double* c, double* sn, int lo, int hi) {
+  for (int b = lo; b < hi; ++b) {
     const double q = theta[b];
     if (std::abs(q) < 0.01) {
       const double q2 = q * q;
@@ -44,34 +42,79 @@ void update_rotations(const ModelState& s, Workspace& w, int threads) {
   }
 }
 
+}  // namespace
+
+void update_rotations(const ModelState& s, Workspace& w, int threads) {
+  const int n = int(s.num_blocks());
+  w.cos_t.resize(std::size_t(n)), w.sin_t.resize(std::size_t(n));
+  const double* theta = s.theta.data();
+  double *c = w.cos_t.data(), *sn = w.sin_t.data();
+#pragma omp parallel num_threads(threads)
+  {
+    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+    rotations_of(theta, c, sn, int(std::int64_t(n) * t / nt), int(std::int64_t(n) * (t + 1) / nt));
+  }
+}
+
+void partition(const Model& m, Workspace& w, int threads) {
+  Workspace::Partition& p = w.part;
+  if (p.threads == threads) return;
+  const int nb = int(m.num_blocks()), nbond = int(m.num_bonds());
+  const int grain = Workspace::Partition::kBlockGrain;
+  p.threads = threads;
+  p.block.assign(std::size_t(threads) + 1, nb), p.bond.assign(std::size_t(threads) + 1, nbond);
+  p.block[0] = p.bond[0] = 0;
+  for (int t = 1; t < threads; ++t) {
+    const int b = std::min(nb, int(std::lround(double(nb) * t / threads / grain)) * grain);
+    p.block[std::size_t(t)] = b;
+    // The bonds numbered from the blocks below b (bi is ascending).
+    p.bond[std::size_t(t)] = int(std::lower_bound(m.bi.begin(), m.bi.end(), b) - m.bi.begin());
+  }
+  w.damping_work.assign(std::size_t((nb + grain - 1) / grain), 0.0);
+}
+
 void integrate(const Model& m, ModelState& s, Workspace& w, double damping, int threads) {
+  partition(m, w, threads);
   const int* offset = m.csr_offset.data();
   const int* entry = m.csr_entry.data();
-  const int n = int(m.num_blocks());
   const double dt = s.dt, alpha = damping;
-  double e_damp = 0.0;
+  const int grain = Workspace::Partition::kBlockGrain;
+  const Workspace::Partition& part = w.part;
   bool finite = true;
-#pragma omp parallel for schedule(static) num_threads(threads) reduction(+ : e_damp) reduction(&& : finite)
-  for (int b = 0; b < n; ++b) {
-    double fx = w.cfx[b] + w.ext_fx[b], fy = w.cfy[b] + w.ext_fy[b], mz = w.cm[b] + w.ext_m[b];
-    for (int o = offset[b]; o < offset[b + 1]; ++o) add_slot(entry[o], w, fx, fy, mz);
-    s.fx[b] = fx, s.fy[b] = fy, s.moment[b] = mz;
-    if (m.fixed[b]) continue;
-    double &vx = s.vx[b], &vy = s.vy[b], &om = s.omega[b];
-    // Cundall local damping: F_d = -alpha |F| sign(v), per degree of freedom.
-    const double dfx = -alpha * std::abs(fx) * double((vx > 0) - (vx < 0));
-    const double dfy = -alpha * std::abs(fy) * double((vy > 0) - (vy < 0));
-    const double dm = -alpha * std::abs(mz) * double((om > 0) - (om < 0));
-    e_damp -= (dfx * vx + dfy * vy + dm * om) * dt;
-    const double inv_m = m.inv_mass[b];
-    vx += dt * (fx + dfx) * inv_m;
-    vy += dt * (fy + dfy) * inv_m;
-    om += dt * (mz + dm) / m.inertia[b];
-    s.x[b] += dt * vx;
-    s.y[b] += dt * vy;
-    s.theta[b] += dt * om;
-    finite = finite && std::isfinite(s.x[b]) && std::isfinite(s.y[b]) && std::isfinite(s.theta[b]);
+#pragma omp parallel num_threads(threads) reduction(&& : finite)
+  {
+    const int t = omp_get_thread_num();
+    const int lo = part.block[std::size_t(t)], hi = part.block[std::size_t(t) + 1];
+    for (int g0 = lo; g0 < hi; g0 += grain) {
+      const int g1 = std::min(g0 + grain, hi);
+      double e_damp = 0.0;
+      for (int b = g0; b < g1; ++b) {
+        double fx = w.cfx[b], fy = w.cfy[b], mz = w.cm[b];
+        w.cfx[b] = w.cfy[b] = w.cm[b] = 0.0;
+        for (int o = offset[b]; o < offset[b + 1]; ++o) add_slot(entry[o], w, fx, fy, mz);
+        s.fx[b] = fx, s.fy[b] = fy, s.moment[b] = mz;
+        if (m.fixed[b]) continue;
+        double &vx = s.vx[b], &vy = s.vy[b], &om = s.omega[b];
+        // Cundall local damping: F_d = -alpha |F| sign(v), per degree of freedom.
+        const double dfx = -alpha * std::abs(fx) * double((vx > 0) - (vx < 0));
+        const double dfy = -alpha * std::abs(fy) * double((vy > 0) - (vy < 0));
+        const double dm = -alpha * std::abs(mz) * double((om > 0) - (om < 0));
+        e_damp -= (dfx * vx + dfy * vy + dm * om) * dt;
+        const double inv_m = m.inv_mass[b];
+        vx += dt * (fx + dfx) * inv_m;
+        vy += dt * (fy + dfy) * inv_m;
+        om += dt * (mz + dm) / m.inertia[b];
+        s.x[b] += dt * vx;
+        s.y[b] += dt * vy;
+        s.theta[b] += dt * om;
+        finite = finite && std::isfinite(s.x[b]) && std::isfinite(s.y[b]) && std::isfinite(s.theta[b]);
+      }
+      w.damping_work[std::size_t(g0 / grain)] = e_damp;
+    }
+    rotations_of(s.theta.data(), w.cos_t.data(), w.sin_t.data(), lo, hi);
   }
+  double e_damp = 0.0;
+  for (double e : w.damping_work) e_damp += e;
   s.e_damping += e_damp;
   if (!finite)
     throw InstabilityError(fmt::format(
@@ -80,13 +123,27 @@ void integrate(const Model& m, ModelState& s, Workspace& w, double damping, int 
         s.steps, s.time, s.dt));
 }
 
-void gather_forces(const Model& m, const ModelState& s, const Workspace& w, std::vector<double>& fx,
+void external_forces(Workspace& w) {
+  for (const Workspace::ExternalLoad& e : w.external) {
+    const std::size_t b = std::size_t(e.block);
+    w.cfx[b] += e.fx, w.cfy[b] += e.fy, w.cm[b] += e.m;
+  }
+}
+
+void clear_accumulators(Workspace& w) {
+  std::fill(w.cfx.begin(), w.cfx.end(), 0.0);
+  std::fill(w.cfy.begin(), w.cfy.end(), 0.0);
+  std::fill(w.cm.begin(), w.cm.end(), 0.0);
+}
+
+void gather_forces(const Model& m, const ModelState& s, Workspace& w, std::vector<double>& fx,
                    std::vector<double>& fy, std::vector<double>& moment) {
   (void)s;
   const std::size_t n = m.num_blocks();
   fx.resize(n), fy.resize(n), moment.resize(n);
   for (std::size_t b = 0; b < n; ++b) {
-    double f_x = w.cfx[b] + w.ext_fx[b], f_y = w.cfy[b] + w.ext_fy[b], mz = w.cm[b] + w.ext_m[b];
+    double f_x = w.cfx[b], f_y = w.cfy[b], mz = w.cm[b];
+    w.cfx[b] = w.cfy[b] = w.cm[b] = 0.0;
     for (int o = m.csr_offset[b]; o < m.csr_offset[b + 1]; ++o) add_slot(m.csr_entry[o], w, f_x, f_y, mz);
     fx[b] = f_x, fy[b] = f_y, moment[b] = mz;
   }

@@ -13,39 +13,51 @@ void platen_forces(const Model& m, ModelState& s, Workspace& w, double platen_fr
                    const StepContext& c) {
   if (c.advance) s.top_force = s.bottom_force = s.platen_energy = 0.0;
   if (!platens) return;
-  double top_total = 0.0, bottom_total = 0.0, energy = 0.0;
-  for (int side = 0; side < 2; ++side) {
-    const bool top = side == 0;
-    const auto& cand = top ? s.top_candidates : s.bottom_candidates;
-    auto& fs_hist = top ? s.top_fs : s.bottom_fs;
+  // Each candidate's contact runs in parallel into its own record (the top platen's candidates, then the bottom
+  // one's); the records are then summed serially in that order, so the sums do not depend on the thread count.
+  const int ntop = int(s.top_candidates.size()), n = ntop + int(s.bottom_candidates.size());
+  w.platen_force.resize(std::size_t(n));
+  Workspace::PlatenForce* out = w.platen_force.data();
+#pragma omp parallel for schedule(static) num_threads(c.threads) if (n > 64)
+  for (int k = 0; k < n; ++k) {
+    const bool top = k < ntop;
+    const int b = top ? s.top_candidates[std::size_t(k)] : s.bottom_candidates[std::size_t(k - ntop)];
     const double wy = top ? s.top_y : m.ymin;
     const double my = top ? 1.0 : -1.0;  // into the platen
     const double wall_vy = top ? -s.platen_velocity : 0.0;
-    double total = 0.0;
-    for (int b : cand) {
-      double v[6];
-      block_vertices(m, s, w, b, v);
-      Overlap ov;
-      if (!overlap_halfplane(v, 3, 0.0, wy, 0.0, my, ov)) {
-        if (c.advance) fs_hist[b] = 0.0;
-        continue;
-      }
-      const LinearContact law = m.platen_law(b, platen_friction);
-      const double fn = law.normal_force(ov.area, ov.chord);
-      // Force on the block: -fn along the normal (out of the platen), shear along t = perp(n).
-      const double nx = ov.nx, ny = ov.ny, tx = -ny, ty = nx;
-      const double rx = ov.px - s.x[b], ry = ov.py - s.y[b];
-      const double vrx = s.vx[b] - s.omega[b] * ry, vry = s.vy[b] + s.omega[b] * rx - wall_vy;
-      const double vt = vrx * tx + vry * ty;
-      double fs = fs_hist[b];
-      if (law.update_shear(fn, ov.chord, vt, c.dt, fs) && c.advance) s.e_friction += std::abs(fs * vt * c.dt);
-      if (c.advance) fs_hist[b] = fs;
-      const double fx = -fn * nx + fs * tx, fy = -fn * ny + fs * ty;
-      w.cfx[b] += fx, w.cfy[b] += fy, w.cm[b] += cross(rx, ry, fx, fy);
-      total += fn;
-      energy += law.strain_energy(fn, fs, ov.chord);
+    double v[6];
+    block_vertices(m, s, w, b, v);
+    Overlap ov;
+    if (!overlap_halfplane(v, 3, 0.0, wy, 0.0, my, ov)) {
+      out[k] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, false};
+      continue;
     }
-    (top ? top_total : bottom_total) = total;
+    const LinearContact law = m.platen_law(b, platen_friction);
+    const double fn = law.normal_force(ov.area, ov.chord);
+    // Force on the block: -fn along the normal (out of the platen), shear along t = perp(n).
+    const double nx = ov.nx, ny = ov.ny, tx = -ny, ty = nx;
+    const double rx = ov.px - s.x[b], ry = ov.py - s.y[b];
+    const double vrx = s.vx[b] - s.omega[b] * ry, vry = s.vy[b] + s.omega[b] * rx - wall_vy;
+    const double vt = vrx * tx + vry * ty;
+    double fs = (top ? s.top_fs : s.bottom_fs)[std::size_t(b)];
+    const double friction = law.update_shear(fn, ov.chord, vt, c.dt, fs) ? std::abs(fs * vt * c.dt) : 0.0;
+    const double fx = -fn * nx + fs * tx, fy = -fn * ny + fs * ty;
+    out[k] = {fx, fy, cross(rx, ry, fx, fy), fn, fs, law.strain_energy(fn, fs, ov.chord), friction, true};
+  }
+  double top_total = 0.0, bottom_total = 0.0, energy = 0.0;
+  for (int k = 0; k < n; ++k) {
+    const bool top = k < ntop;
+    const int b = top ? s.top_candidates[std::size_t(k)] : s.bottom_candidates[std::size_t(k - ntop)];
+    const Workspace::PlatenForce& f = out[k];
+    auto& fs_hist = top ? s.top_fs : s.bottom_fs;
+    if (!f.touching) {
+      if (c.advance) fs_hist[std::size_t(b)] = 0.0;
+      continue;
+    }
+    if (c.advance) s.e_friction += f.friction, fs_hist[std::size_t(b)] = f.fs;
+    w.cfx[b] += f.fx, w.cfy[b] += f.fy, w.cm[b] += f.m;
+    (top ? top_total : bottom_total) += f.fn;
+    energy += f.energy;
   }
   if (!c.advance) return;
   s.top_force = top_total, s.bottom_force = bottom_total, s.platen_energy = energy;

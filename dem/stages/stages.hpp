@@ -39,13 +39,39 @@ struct Workspace {
   std::size_t damaged = 0;                            // intact bonds past their strength (softening)
   std::vector<int> flag;                              // per bond: the failure test held this step
   std::vector<std::vector<int>> flagged;              // per thread: bonds whose failure test held, in bond order
+  struct EventForces {
+    double fn, fs, m, px, py;                         // undamaged parallel-bond forces and the bond point
+  };
+  std::vector<int> events;                            // the flagged bonds of a step, in bond order
+  std::vector<EventForces> event_forces;              // and their forces
   std::vector<double> cfx, cfy, cm;                   // per block: contact and boundary forces of this step
   struct PairForce {
     double fx, fy, mi, mj, friction;                  // force on j, moments on i and j, friction work
   };
   std::vector<PairForce> pair_force;                  // per contact pair
-  std::vector<double> ext_fx, ext_fy, ext_m;          // per block: constant external loads (tests)
+  struct PlatenForce {
+    double fx, fy, m, fn, fs, energy, friction;       // on the block; normal and shear force; elastic energy,
+    bool touching;                                    // friction work
+  };
+  std::vector<PlatenForce> platen_force;              // per platen candidate (top, then bottom)
+  struct ExternalLoad {
+    int block;
+    double fx, fy, m;
+  };
+  std::vector<ExternalLoad> external;                 // constant external loads (tests), by block, each once
   std::vector<std::uint8_t> touching;                 // per block: in a contact that carries force (the jacket)
+
+  // How a step's bond stage and block stage share the bonds and the blocks among its threads: contiguous ranges in
+  // index order, equal block counts, and each thread's bonds those numbered from its blocks (a bond is numbered from
+  // its lower block), so that a thread reads mostly the blocks it moved itself. Block boundaries are multiples of
+  // kBlockGrain: the damping work, summed per grain and then in grain order, is the same at any thread count.
+  struct Partition {
+    static constexpr int kBlockGrain = 64;
+    int threads = 0;
+    std::vector<int> block, bond;                     // threads + 1 boundaries each
+  };
+  Partition part;
+  std::vector<double> damping_work;                   // per block grain: the damping work of the step (J)
 };
 
 struct StepContext {
@@ -59,13 +85,19 @@ namespace stages {
 // cos and sin of every block's rotation.
 void update_rotations(const ModelState& s, Workspace& w, int threads);
 
+// The partition for `threads` threads (set up again when the thread count changed; the bond stage and the
+// integrator call it).
+void partition(const Model& m, Workspace& w, int threads);
+
 // The bond stage: slots of every bond (zero for broken ones) and, when advancing with breakage on, the bonds whose
-// failure test held in w.flagged.
+// failure test held in w.flagged. Runs on the partition's bond ranges.
 void bond_forces(const Model& m, ModelState& s, Workspace& w, const StepContext& c);
 // Bond events in bond order: softening bonds advance their damage, bonds past their strength break (slot zeroed,
 // free faces marked, the pair's contact takes over the linear shear force, crack logged, on_crack called).
 // Returns the number of bonds that broke.
-int bond_events(const Model& m, ModelState& s, Workspace& w, const std::function<void(const Crack&)>& on_crack);
+// The flagged bonds' forces are evaluated first, on `threads` threads; the events then run serially.
+int bond_events(const Model& m, ModelState& s, Workspace& w, const std::function<void(const Crack&)>& on_crack,
+                int threads);
 // The damage factor of every bond from its drive (after a restore or an edit).
 void refresh_keep(const Model& m, const ModelState& s, Workspace& w);
 
@@ -77,18 +109,26 @@ struct DetectionOptions {
 };
 // The broad phase, when a block or the platen moved half a skin since the last rebuild or a bond broke.
 void detect_contacts(const Model& m, ModelState& s, const DetectionOptions& o, int threads);
-// Narrow phase and contact law per pair, summed in pair order into w.cfx, w.cfy, w.cm (which it first zeroes).
+// The per-block accumulators w.cfx, w.cfy, w.cm of the contact and boundary forces are zero between steps: the
+// stages below add to them and whoever reads them (integrate, gather_forces) resets them, each thread its own
+// blocks, so no serial pass clears them and no block's accumulator changes cores (docs/performance.md).
+void clear_accumulators(Workspace& w);
+// Narrow phase and contact law per pair, summed in pair order into w.cfx, w.cfy, w.cm.
 void contact_forces(const Model& m, ModelState& s, Workspace& w, const StepContext& c);
 // The two platens: half-plane contacts of the candidate blocks, added to w.cfx, w.cfy, w.cm.
 void platen_forces(const Model& m, ModelState& s, Workspace& w, double platen_friction, bool platens,
                    const StepContext& c);
 // The confining pressure on the jacket edges (follower forces), added to w.cfx, w.cfy, w.cm; after contact_forces.
 void jacket_forces(const Model& m, ModelState& s, Workspace& w, const StepContext& c);
-// Gather in fixed CSR order, Cundall local damping alpha, central difference. Throws InstabilityError when a
-// position becomes non-finite.
+// The constant external loads, added to w.cfx, w.cfy, w.cm; last before the gather.
+void external_forces(Workspace& w);
+// Gather in fixed CSR order (resetting the accumulators), Cundall local damping alpha, central difference, and
+// then, on the same thread and block range, the new rotations' cos and sin (update_rotations). Runs on the
+// partition's block ranges. Throws InstabilityError when a position becomes non-finite.
 void integrate(const Model& m, ModelState& s, Workspace& w, double damping, int threads);
-// The total generalized force on every block without damping (the same gather as integrate()).
-void gather_forces(const Model& m, const ModelState& s, const Workspace& w, std::vector<double>& fx,
+// The total generalized force on every block without damping (the same gather as integrate(), resetting the
+// accumulators too).
+void gather_forces(const Model& m, const ModelState& s, Workspace& w, std::vector<double>& fx,
                    std::vector<double>& fy, std::vector<double>& moment);
 
 // The vertices of block b at its current position (x0, y0, x1, y1, x2, y2).
