@@ -13,6 +13,16 @@
 #include <fmt/format.h>
 
 namespace rbdem {
+namespace {
+class RowOperator;
+}  // namespace
+}  // namespace rbdem
+
+// The operator below enters Eigen's products as a sparse matrix (Eigen's "matrix-free solvers" pattern).
+template <>
+struct Eigen::internal::traits<rbdem::RowOperator> : public Eigen::internal::traits<Eigen::SparseMatrix<double>> {};
+
+namespace rbdem {
 
 namespace {
 
@@ -199,7 +209,83 @@ class FactorPreconditioner {
   const Ldlt* factor_ = nullptr;
 };
 
+// K_full as the operator of BiCGSTAB: the same matrix stored by rows, so that its product with a vector runs row
+// by row on several threads. Each row adds its entries in column order onto the destination's entry, which is the
+// order in which the column-major product adds them, so the result is the same to the bit at any thread count.
+class RowOperator : public Eigen::EigenBase<RowOperator> {
+ public:
+  using Scalar = double;
+  using RealScalar = double;
+  using StorageIndex = int;
+  enum { ColsAtCompileTime = Eigen::Dynamic, MaxColsAtCompileTime = Eigen::Dynamic, IsRowMajor = false };
+
+  // The row layout of `pattern` (column-major): where each of its entries goes.
+  explicit RowOperator(const SpMat& pattern) : n_(pattern.rows()) {
+    const long nnz = pattern.nonZeros();
+    outer_.assign(std::size_t(n_) + 1, 0), inner_.resize(std::size_t(nnz)), to_row_.resize(std::size_t(nnz));
+    values_.assign(std::size_t(nnz), 0.0);
+    const int* co = pattern.outerIndexPtr();
+    const int* ci = pattern.innerIndexPtr();
+    for (long k = 0; k < nnz; ++k) ++outer_[std::size_t(ci[k]) + 1];
+    for (long i = 0; i < n_; ++i) outer_[std::size_t(i) + 1] += outer_[std::size_t(i)];
+    std::vector<int> next(outer_.begin(), outer_.end() - 1);
+    for (long j = 0; j < pattern.cols(); ++j)  // columns in order: each row's entries in column order
+      for (int k = co[j]; k < co[j + 1]; ++k) {
+        const int at = next[std::size_t(ci[k])]++;
+        inner_[std::size_t(at)] = int(j), to_row_[std::size_t(k)] = at;
+      }
+  }
+  // The values of `full` (on the pattern given to the constructor), and the threads of the next products.
+  void set(const SpMat& full, int threads) {
+    const double* v = full.valuePtr();
+    for (std::size_t k = 0; k < to_row_.size(); ++k) values_[std::size_t(to_row_[k])] = v[k];
+    threads_ = threads;
+  }
+
+  Eigen::Index rows() const { return n_; }
+  Eigen::Index cols() const { return n_; }
+  // A default product, as for a sparse matrix: BiCGSTAB's "rhs - A x" then takes the same path (rhs, minus the
+  // product added entry by entry).
+  template <typename Rhs>
+  Eigen::Product<RowOperator, Rhs> operator*(const Eigen::MatrixBase<Rhs>& x) const {
+    return Eigen::Product<RowOperator, Rhs>(*this, x.derived());
+  }
+
+  // dst += alpha A x, entry by entry as the column-major product computes it.
+  template <typename Dest, typename Rhs>
+  void add_product(Dest& dst, const Rhs& x, double alpha) const {
+    const Eigen::VectorXd xv = x;
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
+    for (long i = 0; i < n_; ++i) {
+      double acc = dst.coeff(i);
+      for (int k = outer_[std::size_t(i)]; k < outer_[std::size_t(i) + 1]; ++k)
+        acc += values_[std::size_t(k)] * (alpha * xv[inner_[std::size_t(k)]]);
+      dst.coeffRef(i) = acc;
+    }
+  }
+
+ private:
+  long n_;
+  std::vector<int> outer_, inner_, to_row_;
+  std::vector<double> values_;
+  int threads_ = 1;
+};
+
 }  // namespace
+}  // namespace rbdem
+
+namespace Eigen::internal {
+template <typename Rhs>
+struct generic_product_impl<rbdem::RowOperator, Rhs, SparseShape, DenseShape, GemvProduct>
+    : generic_product_impl_base<rbdem::RowOperator, Rhs, generic_product_impl<rbdem::RowOperator, Rhs>> {
+  template <typename Dest>
+  static void scaleAndAddTo(Dest& dst, const rbdem::RowOperator& lhs, const Rhs& rhs, const double& alpha) {
+    lhs.add_product(dst, rhs, alpha);
+  }
+};
+}  // namespace Eigen::internal
+
+namespace rbdem {
 
 StaticResult solve_static(const Engine& e, const StaticOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -257,11 +343,13 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
       throw std::runtime_error("static solve: the bonded-block stiffness is singular (a block without bonds or "
                                "platen contact? check the mesh)");
   };
-  Eigen::BiCGSTAB<SpMat, FactorPreconditioner> krylov;
+  RowOperator K_rows(stiffness.pattern());
+  Eigen::BiCGSTAB<RowOperator, FactorPreconditioner> krylov;
   krylov.setTolerance(options.krylov_tolerance);
   krylov.setMaxIterations(100);
   auto iterate = [&](Eigen::VectorXd& x) {
-    krylov.compute(K_full);
+    K_rows.set(K_full, options.threads ? std::max(options.threads->load(std::memory_order_relaxed), 1) : 1);
+    krylov.compute(K_rows);
     krylov.preconditioner().use(factor);
     x = krylov.solveWithGuess(f, x);
     r.krylov_iterations += int(krylov.iterations());

@@ -16,6 +16,7 @@
 // the 1 mm paper specimen.
 #pragma once
 
+#include <atomic>
 #include <vector>
 
 #include "dem/engine.hpp"
@@ -58,6 +59,9 @@ struct StaticOptions {
   // blocks whose three dofs get a weak spring against the rigid-body modes (the loads must have no resultant).
   bool platens = true;
   std::vector<int> anchors;
+  // Threads for BiCGSTAB's products with the stiffness, read at each solve (null: one). The results do not depend
+  // on it. A run sets it to its threads once the stability limit beside the static start is done.
+  const std::atomic<int>* threads = nullptr;
 };
 
 // Static solve for the engine's current (reference) configuration; uses its bonds, materials and platens.

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstring>
 #include <mutex>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -234,9 +235,19 @@ class Writer {
     std::vector<Job> jobs;
     for (std::size_t d = 0; d < pending_.size(); ++d)
       for (hsize_t r = 0; r < pending_[d].rows; r += pending_[d].chunk_rows) jobs.push_back({d, r, {}});
+    // The largest chunks first, so that no thread is left compressing a big one while the others wait.
+    std::vector<std::size_t> order(jobs.size());
+    std::iota(order.begin(), order.end(), std::size_t(0));
+    auto chunk_bytes = [&](std::size_t j) {
+      const Pending& p = pending_[jobs[j].dataset];
+      return std::min<std::size_t>(p.chunk_rows, p.rows - jobs[j].first_row) * (p.bytes.size() / p.rows);
+    };
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return chunk_bytes(a) > chunk_bytes(b); });
     std::atomic<bool> failed{false};
 #pragma omp parallel for schedule(dynamic) num_threads(threads_) if (threads_ > 1 && jobs.size() > 1)
-    for (std::size_t j = 0; j < jobs.size(); ++j) {
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      const std::size_t j = order[k];
       const Pending& p = pending_[jobs[j].dataset];
       const std::size_t row = p.bytes.size() / p.rows, bytes = p.chunk_rows * row;
       const std::size_t have = std::min<std::size_t>(p.chunk_rows, p.rows - jobs[j].first_row) * row;

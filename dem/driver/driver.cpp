@@ -42,11 +42,16 @@ class TestRun {
       engine_.restore(resume->engine);
     } else {
       // The protocol's static solves on this thread while a second one (when the run has two) computes the
-      // stability limit: both only read the engine at rest.
+      // stability limit: both only read the engine at rest. The solves' products take the run's threads once the
+      // limit is done.
       const bool overlap = protocol_.prepares() && engine_.threads() > 1;
-      auto limit = std::async(overlap ? std::launch::async : std::launch::deferred,
-                              [this, overlap] { return stability_limit(engine_, 300, overlap ? 1 : 0); });
-      protocol_.prepare(engine_);
+      std::atomic<int> static_threads{overlap ? 1 : engine_.threads()};
+      auto limit = std::async(overlap ? std::launch::async : std::launch::deferred, [this, overlap, &static_threads] {
+        const double l = stability_limit(engine_, 300, overlap ? 1 : 0);
+        static_threads = engine_.threads();
+        return l;
+      });
+      protocol_.prepare(engine_, static_threads);
       choose_time_step(limit.get());
       engine_.set_dt(rec_.dt);
       rec_.sample_every = std::max(1L, protocol_.max_steps(engine_, rec_) / std::max(options_.curve_points, 1));

@@ -10,6 +10,7 @@
 // checkpoints and the summary are shared.
 #pragma once
 
+#include <atomic>
 #include <string>
 
 #include "dem/driver/record.hpp"
@@ -58,8 +59,10 @@ class LoadingProtocol {
   // (when it has one) while prepare() runs.
   virtual bool prepares() const { return false; }
   // Before start() of a fresh run, with the engine at rest: the static solves start() needs, kept for it. It must
-  // only read the engine; start() does the same solves itself when prepare() was not called.
-  virtual void prepare(const Engine& engine) { (void)engine; }
+  // only read the engine; start() does the same solves itself when prepare() was not called. `threads`: the
+  // threads the solves may use, read at each solve (StaticOptions::threads; it grows when the stability limit
+  // beside them is done).
+  virtual void prepare(const Engine& engine, const std::atomic<int>& threads) { (void)engine, (void)threads; }
   // The reading after a step.
   virtual Reading read(const Engine& engine) const = 0;
   // The most explicit steps the run may take (the max_strain limit).

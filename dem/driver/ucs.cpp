@@ -34,14 +34,15 @@ long UcsProtocol::max_steps(const Engine& engine, const TestRecord& record) cons
   return long(std::ceil((scene_.loading.max_strain - record.elastic_start_strain) * H / (v * record.dt)));
 }
 
-StaticResult UcsProtocol::closure_solve(const Engine& engine) const {
+StaticResult UcsProtocol::closure_solve(const Engine& engine, const std::atomic<int>* threads) const {
   StaticOptions so;
+  so.threads = threads;
   so.platen_displacement = 1e-6 * engine.model().height;
   return solve_static(engine, so);
 }
 
-void UcsProtocol::prepare(const Engine& engine) {
-  if (scene_.numerics.elastic_start) prepared_closure_ = closure_solve(engine);
+void UcsProtocol::prepare(const Engine& engine, const std::atomic<int>& threads) {
+  if (scene_.numerics.elastic_start) prepared_closure_ = closure_solve(engine, &threads);
 }
 
 void UcsProtocol::start(Engine& engine, TestRecord& record) {
@@ -107,13 +108,15 @@ bool UcsProtocol::stop(const Engine& engine, const Reading& reading, const TestR
 
 // --- confined compression -------------------------------------------------------------------------------------
 
-StaticResult TriaxialProtocol::isotropic_state(const Engine& engine, double p) {
+StaticResult TriaxialProtocol::isotropic_state(const Engine& engine, double p, const std::atomic<int>* threads) {
   const Model& m = engine.model();
   const double target = p * m.width * m.thickness;  // N: the platen force of sigma_1 = p
   StaticOptions pressure;
   pressure.platen_displacement = 0.0;
   pressure.load = jacket_load(engine, p);
+  pressure.threads = threads;
   StaticOptions closure;
+  closure.threads = threads;
   closure.platen_displacement = 1e-6 * m.height;
   const StaticResult a = solve_static(engine, pressure);  // the jacket's pressure between fixed platens
   const StaticResult b = solve_static(engine, closure);   // a platen closure alone
@@ -135,14 +138,14 @@ StaticResult TriaxialProtocol::isotropic_state(const Engine& engine, double p) {
 bool TriaxialProtocol::prepares() const { return scene_.loading.confining_pressure > 0.0 || UcsProtocol::prepares(); }
 
 // The static solves do not depend on the engine's confining pressure (the jacket's load is an input of each).
-void TriaxialProtocol::prepare(const Engine& engine) {
+void TriaxialProtocol::prepare(const Engine& engine, const std::atomic<int>& threads) {
   const double p = scene_.loading.confining_pressure;
   if (!(p > 0.0)) {
-    UcsProtocol::prepare(engine);
+    UcsProtocol::prepare(engine, threads);
     return;
   }
-  prepared_isotropic_ = isotropic_state(engine, p);
-  prepared_closure_ = closure_solve(engine);
+  prepared_isotropic_ = isotropic_state(engine, p, &threads);
+  prepared_closure_ = closure_solve(engine, &threads);
 }
 
 void TriaxialProtocol::start(Engine& engine, TestRecord& record) {
@@ -195,8 +198,8 @@ void TriaxialProtocol::finish(const Engine& engine, const TestRecord& record, Te
 BrazilianProtocol::BrazilianProtocol(const Scene& scene, const Topology& topo, int curve_points)
     : UcsProtocol(scene, topo, curve_points), topo_(topo) {}
 
-void BrazilianProtocol::prepare(const Engine& engine) {
-  if (scene_.specimen.contact_arc_deg > 0.0) UcsProtocol::prepare(engine);
+void BrazilianProtocol::prepare(const Engine& engine, const std::atomic<int>& threads) {
+  if (scene_.specimen.contact_arc_deg > 0.0) UcsProtocol::prepare(engine, threads);
 }
 
 void BrazilianProtocol::start(Engine& engine, TestRecord& record) {

@@ -36,7 +36,7 @@ class UcsProtocol : public LoadingProtocol {
       : scene_(scene), curve_points_(curve_points), gauge_(topo) {}
   std::string name() const override { return "ucs"; }
   bool prepares() const override { return scene_.numerics.elastic_start; }
-  void prepare(const Engine& engine) override;
+  void prepare(const Engine& engine, const std::atomic<int>& threads) override;
   void start(Engine& engine, TestRecord& record) override;
   Reading read(const Engine& engine) const override;
   long max_steps(const Engine& engine, const TestRecord& record) const override;
@@ -57,7 +57,7 @@ class UcsProtocol : public LoadingProtocol {
                   std::string& reason) const;
 
   // The static solve of the uniaxial elastic start: the platen closure alone, from rest.
-  StaticResult closure_solve(const Engine& engine) const;
+  StaticResult closure_solve(const Engine& engine, const std::atomic<int>* threads = nullptr) const;
 
   const Scene& scene_;
   int curve_points_;
@@ -70,7 +70,7 @@ class TriaxialProtocol : public UcsProtocol {
   using UcsProtocol::UcsProtocol;
   std::string name() const override { return "triaxial"; }
   bool prepares() const override;
-  void prepare(const Engine& engine) override;
+  void prepare(const Engine& engine, const std::atomic<int>& threads) override;
   void start(Engine& engine, TestRecord& record) override;
   bool stop(const Engine& engine, const Reading& reading, const TestRecord& record, std::string& reason) const override;
   void finish(const Engine& engine, const TestRecord& record, TestResult& result) const override;
@@ -78,7 +78,8 @@ class TriaxialProtocol : public UcsProtocol {
   // The static isotropic state sigma_1 = sigma_3 = p: the pressure on the jacket and the platen closure that makes
   // the platen stress p, found by superposing the two linear solutions (and re-solved until the linear parts'
   // states agree).
-  static StaticResult isotropic_state(const Engine& engine, double pressure);
+  static StaticResult isotropic_state(const Engine& engine, double pressure,
+                                      const std::atomic<int>* threads = nullptr);
 
  private:
   std::optional<StaticResult> prepared_isotropic_;  // prepare()'s isotropic_state, taken by start()
@@ -89,7 +90,7 @@ class BrazilianProtocol : public UcsProtocol {
   BrazilianProtocol(const Scene& scene, const Topology& topo, int curve_points = 2000);
   std::string name() const override { return "brazilian"; }
   bool prepares() const override { return scene_.specimen.contact_arc_deg > 0.0 && UcsProtocol::prepares(); }
-  void prepare(const Engine& engine) override;
+  void prepare(const Engine& engine, const std::atomic<int>& threads) override;
   void start(Engine& engine, TestRecord& record) override;
   Reading read(const Engine& engine) const override;
   void finish(const Engine& engine, const TestRecord& record, TestResult& result) const override;

@@ -176,7 +176,7 @@ void contact_forces(const Model& m, ModelState& s, Workspace& w, const StepConte
     const bool intact = C.bond[p] >= 0 && !s.broken[std::size_t(C.bond[p])];
     if (!touching || intact) {
       if (advance) C.fs[p] = 0.0, C.fn[p] = 0.0, C.chord[p] = 0.0;
-      out[p] = Workspace::PairForce{0, 0, 0, 0, 0};
+      out[p] = Workspace::PairForce{0, 0, 0, 0, 0, false};
       continue;
     }
     const double nx = -ov.nx, ny = -ov.ny;  // from i to j, as for bonds
@@ -191,10 +191,11 @@ void contact_forces(const Model& m, ModelState& s, Workspace& w, const StepConte
     const double friction = C.law[p].update_shear(fn, ov.chord, vt, dt, fs) ? std::abs(fs * vt * dt) : 0.0;
     if (advance) C.fs[p] = fs, C.fn[p] = fn, C.chord[p] = ov.chord;
     const double fx = fn * nx + fs * tx, fy = fn * ny + fs * ty;  // on j
-    out[p] = Workspace::PairForce{fx, fy, cross(cix, ciy, fx, fy), cross(cjx, cjy, fx, fy), friction};
+    out[p] = Workspace::PairForce{fx, fy, cross(cix, ciy, fx, fy), cross(cjx, cjy, fx, fy), friction, true};
   }
   for (int p = 0; p < n; ++p) {
     const Workspace::PairForce& f = out[p];
+    if (!f.touching) continue;  // most pairs of free-face blocks do not touch: nothing to add
     const int i = C.i[p], j = C.j[p];
     w.cfx[j] += f.fx, w.cfy[j] += f.fy, w.cm[j] += f.mj;
     w.cfx[i] -= f.fx, w.cfy[i] -= f.fy, w.cm[i] -= f.mi;

@@ -47,6 +47,7 @@ struct Workspace {
   std::vector<double> cfx, cfy, cm;                   // per block: contact and boundary forces of this step
   struct PairForce {
     double fx, fy, mi, mj, friction;                  // force on j, moments on i and j, friction work
+    bool touching;                                    // false: all zero
   };
   std::vector<PairForce> pair_force;                  // per contact pair
   struct PlatenForce {
