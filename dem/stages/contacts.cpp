@@ -130,21 +130,29 @@ void detect_contacts(const Model& m, ModelState& s, const DetectionOptions& o, i
   next.law.resize(std::size_t(n)), next.fs.resize(std::size_t(n));
   next.fn.assign(std::size_t(n), 0.0), next.chord.assign(std::size_t(n), 0.0);
   next.key = keys;
-#pragma omp parallel for schedule(static) num_threads(threads) if (n > 256)
-  for (int p = 0; p < n; ++p) {
-    const std::uint64_t key = keys[std::size_t(p)];
-    const int i = int(key >> 32), j = int(key & 0xffffffffu);
-    int bond = -1;
-    for (int e = m.csr_offset[i]; e < m.csr_offset[i + 1]; ++e) {
-      const int bb = m.csr_entry[e] >> 1;
-      if (m.bi[bb] == j || m.bj[bb] == j) bond = bb;
+  // Each thread takes a contiguous range of the sorted keys and walks the old (sorted) list beside it.
+#pragma omp parallel num_threads(threads) if (n > 256)
+  {
+    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+    const int lo = int(std::int64_t(n) * t / nt), hi = int(std::int64_t(n) * (t + 1) / nt);
+    std::size_t at = lo < hi ? std::size_t(std::lower_bound(old.key.begin(), old.key.end(), keys[std::size_t(lo)]) -
+                                           old.key.begin())
+                             : 0;
+    for (int p = lo; p < hi; ++p) {
+      const std::uint64_t key = keys[std::size_t(p)];
+      const int i = int(key >> 32), j = int(key & 0xffffffffu);
+      while (at < old.key.size() && old.key[at] < key) ++at;
+      int bond = -1;
+      for (int e = m.csr_offset[i]; e < m.csr_offset[i + 1]; ++e) {
+        const int bb = m.csr_entry[e] >> 1;
+        if (m.bi[bb] == j || m.bj[bb] == j) bond = bb;
+      }
+      double fs = 0.0;
+      if (at < old.key.size() && old.key[at] == key) fs = old.fs[at];
+      else if (bond >= 0) fs = s.fs_lin[std::size_t(bond)];  // a bond that just broke hands over its linear shear
+      const std::size_t q = std::size_t(p);
+      next.i[q] = i, next.j[q] = j, next.bond[q] = bond, next.law[q] = m.pair_law(i, j, bond), next.fs[q] = fs;
     }
-    const auto at = std::lower_bound(old.key.begin(), old.key.end(), key);
-    double fs = 0.0;
-    if (at != old.key.end() && *at == key) fs = old.fs[std::size_t(at - old.key.begin())];
-    else if (bond >= 0) fs = s.fs_lin[std::size_t(bond)];  // a bond that just broke hands over its linear shear force
-    const std::size_t q = std::size_t(p);
-    next.i[q] = i, next.j[q] = j, next.bond[q] = bond, next.law[q] = m.pair_law(i, j, bond), next.fs[q] = fs;
   }
   s.contacts = std::move(next);
 }
