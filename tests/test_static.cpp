@@ -62,6 +62,28 @@ TEST(Static, KrylovAndDirectFallbackAgree) {
   EXPECT_EQ(direct.open_bonds, krylov.open_bonds);
 }
 
+// BiCGSTAB's products on several threads (StaticOptions::threads) give the very solution of one thread: each row
+// adds its entries in the order of the column-major product. The case goes through the Krylov path (sliding
+// bonds, later active-set states).
+TEST(Static, KrylovProductsOnThreadsAreBitIdentical) {
+  Scene scene = unbreakable_scene();
+  scene.rock.slip_when_bonded = scene.joint.slip_when_bonded = true;
+  scene.mesh.size = 0.004;
+  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  const Engine engine(topo, scene, EngineOptions::from_scene(scene));
+  const StaticResult one = solve_static(engine);
+  const std::atomic<int> three{3};
+  StaticOptions threaded;
+  threaded.threads = &three;
+  const StaticResult many = solve_static(engine, threaded);
+  ASSERT_GT(one.krylov_iterations, 0);
+  EXPECT_EQ(many.krylov_iterations, one.krylov_iterations);
+  EXPECT_EQ(many.ux, one.ux);
+  EXPECT_EQ(many.uy, one.uy);
+  EXPECT_EQ(many.rotation, one.rotation);
+  EXPECT_EQ(many.fs_lin, one.fs_lin);
+}
+
 // The active set settles: on the paper specimen at 60 deg (2 mm) a few dozen linear parts near the open/closed
 // boundary used to cycle until max_iterations. A linear part that has changed state twice now keeps it, so the
 // iteration stops within a few solves, holding under 1 % of the bonds, with a modulus between 95 % of the linear

@@ -1,11 +1,13 @@
 // The stages of one explicit step, each with one job (docs/architecture.md):
-//   rotations    cos and sin of every block's rotation                       (integrator.cpp)
+//   rotations    cos and sin of every block's rotation: at the end of the integrator, and after a restore
+//                or an edit                                                  (integrator.cpp)
 //   bonds        every intact bond's parallel bond and linear part -> one force slot per bond, and the bonds whose
 //                failure test held                                           (bonds.cpp)
 //   bond events  softening and breakage in bond order, the crack log         (bonds.cpp)
 //   detection    the broad phase: candidate pairs among free-face blocks     (contacts.cpp)
 //   contacts     narrow phase and the linear contact law per pair            (contacts.cpp)
-//   boundaries   the platens (platens.cpp) and the confining pressure on the jacket (jacket.cpp)
+//   boundaries   the platens (platens.cpp), the confining pressure on the jacket (jacket.cpp), constant
+//                external loads (integrator.cpp)
 //   integrator   per-block gather in a fixed order, local damping, central difference (integrator.cpp)
 // Every stage reads the constant Model, reads or writes the ModelState and the engine's Workspace, and runs on at
 // most `threads` OpenMP threads. Each bond and each contact pair writes into its own slot; the per-block gather
