@@ -251,10 +251,11 @@ class RowOperator : public Eigen::EigenBase<RowOperator> {
     return Eigen::Product<RowOperator, Rhs>(*this, x.derived());
   }
 
-  // dst += alpha A x, entry by entry as the column-major product computes it.
+  // dst += alpha A x, entry by entry as the column-major product computes it (x is read in place when it is a
+  // plain vector, as it is in BiCGSTAB).
   template <typename Dest, typename Rhs>
   void add_product(Dest& dst, const Rhs& x, double alpha) const {
-    const Eigen::VectorXd xv = x;
+    const Eigen::Ref<const Eigen::VectorXd> xv(x);
 #pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
     for (long i = 0; i < n_; ++i) {
       double acc = dst.coeff(i);

@@ -229,28 +229,26 @@ class Writer {
   // last chunk of a dataset padded with the fill value 0 as HDF5 pads it.
   void write_pending() const {
     struct Job {
-      std::size_t dataset, first_row;
+      std::size_t dataset, first_row, have;  // have: the chunk's bytes of data (less than a chunk at the end)
       std::string compressed;
     };
     std::vector<Job> jobs;
-    for (std::size_t d = 0; d < pending_.size(); ++d)
-      for (hsize_t r = 0; r < pending_[d].rows; r += pending_[d].chunk_rows) jobs.push_back({d, r, {}});
+    for (std::size_t d = 0; d < pending_.size(); ++d) {
+      const Pending& p = pending_[d];
+      for (hsize_t r = 0; r < p.rows; r += p.chunk_rows)
+        jobs.push_back({d, r, std::min<std::size_t>(p.chunk_rows, p.rows - r) * (p.bytes.size() / p.rows), {}});
+    }
     // The largest chunks first, so that no thread is left compressing a big one while the others wait.
     std::vector<std::size_t> order(jobs.size());
     std::iota(order.begin(), order.end(), std::size_t(0));
-    auto chunk_bytes = [&](std::size_t j) {
-      const Pending& p = pending_[jobs[j].dataset];
-      return std::min<std::size_t>(p.chunk_rows, p.rows - jobs[j].first_row) * (p.bytes.size() / p.rows);
-    };
     std::stable_sort(order.begin(), order.end(),
-                     [&](std::size_t a, std::size_t b) { return chunk_bytes(a) > chunk_bytes(b); });
+                     [&](std::size_t a, std::size_t b) { return jobs[a].have > jobs[b].have; });
     std::atomic<bool> failed{false};
 #pragma omp parallel for schedule(dynamic) num_threads(threads_) if (threads_ > 1 && jobs.size() > 1)
     for (std::size_t k = 0; k < order.size(); ++k) {
       const std::size_t j = order[k];
       const Pending& p = pending_[jobs[j].dataset];
-      const std::size_t row = p.bytes.size() / p.rows, bytes = p.chunk_rows * row;
-      const std::size_t have = std::min<std::size_t>(p.chunk_rows, p.rows - jobs[j].first_row) * row;
+      const std::size_t row = p.bytes.size() / p.rows, bytes = p.chunk_rows * row, have = jobs[j].have;
       const unsigned char* in = p.bytes.data() + jobs[j].first_row * row;
       std::vector<unsigned char> padded, shuffled(bytes);
       if (have < bytes) {  // the last chunk, partial: padded with the fill value

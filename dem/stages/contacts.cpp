@@ -129,17 +129,18 @@ void detect_contacts(const Model& m, ModelState& s, const DetectionOptions& o, i
   next.i.resize(std::size_t(n)), next.j.resize(std::size_t(n)), next.bond.resize(std::size_t(n));
   next.law.resize(std::size_t(n)), next.fs.resize(std::size_t(n));
   next.fn.assign(std::size_t(n), 0.0), next.chord.assign(std::size_t(n), 0.0);
-  next.key = keys;
+  next.key = std::move(keys);
+  const std::vector<std::uint64_t>& sorted = next.key;
   // Each thread takes a contiguous range of the sorted keys and walks the old (sorted) list beside it.
 #pragma omp parallel num_threads(threads) if (n > 256)
   {
     const int t = omp_get_thread_num(), nt = omp_get_num_threads();
     const int lo = int(std::int64_t(n) * t / nt), hi = int(std::int64_t(n) * (t + 1) / nt);
-    std::size_t at = lo < hi ? std::size_t(std::lower_bound(old.key.begin(), old.key.end(), keys[std::size_t(lo)]) -
+    std::size_t at = lo < hi ? std::size_t(std::lower_bound(old.key.begin(), old.key.end(), sorted[std::size_t(lo)]) -
                                            old.key.begin())
                              : 0;
     for (int p = lo; p < hi; ++p) {
-      const std::uint64_t key = keys[std::size_t(p)];
+      const std::uint64_t key = sorted[std::size_t(p)];
       const int i = int(key >> 32), j = int(key & 0xffffffffu);
       while (at < old.key.size() && old.key[at] < key) ++at;
       int bond = -1;

@@ -25,6 +25,14 @@ inline void add_slot(int e, const Workspace& w, double& fx, double& fy, double& 
   fx += sign * s.fx, fy += sign * s.fy, m += is_j ? s.mj : s.mi;
 }
 
+// Block b's force and moment: its contact and boundary accumulators, which it resets, plus its bond slots in CSR
+// order. integrate() and gather_forces() both read the blocks through this.
+inline void take_block_forces(const Model& m, Workspace& w, int b, double& fx, double& fy, double& mz) {
+  fx = w.cfx[b], fy = w.cfy[b], mz = w.cm[b];
+  w.cfx[b] = w.cfy[b] = w.cm[b] = 0.0;
+  for (int o = m.csr_offset[b]; o < m.csr_offset[b + 1]; ++o) add_slot(m.csr_entry[o], w, fx, fy, mz);
+}
+
 // cos and sin of the blocks [lo, hi). Blocks rotate by well under 0.01 rad until they break free; there the
 // Taylor series are exact to round-off (the first omitted terms are below 3e-18 relative) and far cheaper than sin
 // and cos.
@@ -75,8 +83,6 @@ void partition(const Model& m, Workspace& w, int threads) {
 
 void integrate(const Model& m, ModelState& s, Workspace& w, double damping, int threads) {
   partition(m, w, threads);
-  const int* offset = m.csr_offset.data();
-  const int* entry = m.csr_entry.data();
   const double dt = s.dt, alpha = damping;
   const int grain = Workspace::Partition::kBlockGrain;
   const Workspace::Partition& part = w.part;
@@ -89,9 +95,8 @@ void integrate(const Model& m, ModelState& s, Workspace& w, double damping, int 
       const int g1 = std::min(g0 + grain, hi);
       double e_damp = 0.0;
       for (int b = g0; b < g1; ++b) {
-        double fx = w.cfx[b], fy = w.cfy[b], mz = w.cm[b];
-        w.cfx[b] = w.cfy[b] = w.cm[b] = 0.0;
-        for (int o = offset[b]; o < offset[b + 1]; ++o) add_slot(entry[o], w, fx, fy, mz);
+        double fx, fy, mz;
+        take_block_forces(m, w, b, fx, fy, mz);
         s.fx[b] = fx, s.fy[b] = fy, s.moment[b] = mz;
         if (m.fixed[b]) continue;
         double &vx = s.vx[b], &vy = s.vy[b], &om = s.omega[b];
@@ -141,12 +146,7 @@ void gather_forces(const Model& m, const ModelState& s, Workspace& w, std::vecto
   (void)s;
   const std::size_t n = m.num_blocks();
   fx.resize(n), fy.resize(n), moment.resize(n);
-  for (std::size_t b = 0; b < n; ++b) {
-    double f_x = w.cfx[b], f_y = w.cfy[b], mz = w.cm[b];
-    w.cfx[b] = w.cfy[b] = w.cm[b] = 0.0;
-    for (int o = m.csr_offset[b]; o < m.csr_offset[b + 1]; ++o) add_slot(m.csr_entry[o], w, f_x, f_y, mz);
-    fx[b] = f_x, fy[b] = f_y, moment[b] = mz;
-  }
+  for (std::size_t b = 0; b < n; ++b) take_block_forces(m, w, int(b), fx[b], fy[b], moment[b]);
 }
 
 }  // namespace rbdem::stages
