@@ -21,6 +21,11 @@ namespace {
 
 std::uint64_t pair_key(int i, int j) { return (std::uint64_t(std::uint32_t(i)) << 32) | std::uint32_t(j); }
 
+// The first pair whose lower block is b or above.
+int first_pair_of(const ContactPairs& C, int b) {
+  return int(std::lower_bound(C.key.begin(), C.key.end(), std::uint64_t(std::uint32_t(b)) << 32) - C.key.begin());
+}
+
 bool needs_rebuild(const Model& m, const ModelState& s, int threads) {
   if (s.rebuild) return true;
   if (std::abs(s.top_y - s.ref_top) > 0.5 * m.skin) return true;
@@ -167,8 +172,19 @@ void contact_forces(const Model& m, ModelState& s, Workspace& w, const StepConte
   const int n = int(C.size());
   w.pair_force.resize(C.size());
   Workspace::PairForce* out = w.pair_force.data();
-#pragma omp parallel for schedule(static) num_threads(c.threads) if (n > 64)
-  for (int p = 0; p < n; ++p) {
+  partition(m, w, c.threads);
+  if (int(w.in_contact.size()) < c.threads) w.in_contact.resize(std::size_t(c.threads));
+  for (auto& v : w.in_contact) v.clear();
+  const Workspace::Partition& part = w.part;
+#pragma omp parallel num_threads(c.threads) if (n > 64)
+  {
+  // Each thread takes the pairs whose lower block it integrates (the keys are sorted by it): it reads the blocks
+  // it moved itself. The ranges are contiguous and in thread order.
+  const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+  const int lo = nt == 1 ? 0 : first_pair_of(C, part.block[std::size_t(t)]);
+  const int hi = nt == 1 ? n : first_pair_of(C, part.block[std::size_t(t) + 1]);
+  std::vector<int>& mine = w.in_contact[std::size_t(t)];
+  for (int p = lo; p < hi; ++p) {
     const int i = C.i[p], j = C.j[p];
     const double ex = s.x[j] - s.x[i], ey = s.y[j] - s.y[i];
     const double rr = m.radius[i] + m.radius[j];
@@ -201,15 +217,19 @@ void contact_forces(const Model& m, ModelState& s, Workspace& w, const StepConte
     if (advance) C.fs[p] = fs, C.fn[p] = fn, C.chord[p] = ov.chord;
     const double fx = fn * nx + fs * tx, fy = fn * ny + fs * ty;  // on j
     out[p] = Workspace::PairForce{fx, fy, cross(cix, ciy, fx, fy), cross(cjx, cjy, fx, fy), friction, true};
+    mine.push_back(p);
   }
-  for (int p = 0; p < n; ++p) {
-    const Workspace::PairForce& f = out[p];
-    if (!f.touching) continue;  // most pairs of free-face blocks do not touch: nothing to add
-    const int i = C.i[p], j = C.j[p];
-    w.cfx[j] += f.fx, w.cfy[j] += f.fy, w.cm[j] += f.mj;
-    w.cfx[i] -= f.fx, w.cfy[i] -= f.fy, w.cm[i] -= f.mi;
-    if (advance) s.e_friction += f.friction;
   }
+  // Most pairs of free-face blocks do not touch: only those that do are summed, the lists in thread order, which
+  // is pair order.
+  for (const std::vector<int>& list : w.in_contact)
+    for (int p : list) {
+      const Workspace::PairForce& f = out[p];
+      const int i = C.i[p], j = C.j[p];
+      w.cfx[j] += f.fx, w.cfy[j] += f.fy, w.cm[j] += f.mj;
+      w.cfx[i] -= f.fx, w.cfy[i] -= f.fy, w.cm[i] -= f.mi;
+      if (advance) s.e_friction += f.friction;
+    }
 }
 
 }  // namespace rbdem::stages

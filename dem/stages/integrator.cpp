@@ -91,31 +91,48 @@ void integrate(const Model& m, ModelState& s, Workspace& w, double damping, int 
   {
     const int t = omp_get_thread_num();
     const int lo = part.block[std::size_t(t)], hi = part.block[std::size_t(t) + 1];
+    // Local pointers: the stores below must not make the loop reload every array's address from memory.
+    double *__restrict cfx = w.cfx.data(), *__restrict cfy = w.cfy.data(), *__restrict cm = w.cm.data();
+    double *__restrict sfx = s.fx.data(), *__restrict sfy = s.fy.data(), *__restrict smz = s.moment.data();
+    double *__restrict vxs = s.vx.data(), *__restrict vys = s.vy.data(), *__restrict oms = s.omega.data();
+    double *__restrict xs = s.x.data(), *__restrict ys = s.y.data(), *__restrict ths = s.theta.data();
+    const double *__restrict inv_mass = m.inv_mass.data(), *__restrict inertia = m.inertia.data();
+    const std::uint8_t* __restrict fixed = m.fixed.data();
+    const int *__restrict offset = m.csr_offset.data(), *__restrict entry = m.csr_entry.data();
+    const Workspace::Slot* __restrict slot = w.slot.data();
+    bool ok = true;
     for (int g0 = lo; g0 < hi; g0 += grain) {
       const int g1 = std::min(g0 + grain, hi);
       double e_damp = 0.0;
       for (int b = g0; b < g1; ++b) {
-        double fx, fy, mz;
-        take_block_forces(m, w, b, fx, fy, mz);
-        s.fx[b] = fx, s.fy[b] = fy, s.moment[b] = mz;
-        if (m.fixed[b]) continue;
-        double &vx = s.vx[b], &vy = s.vy[b], &om = s.omega[b];
+        double fx = cfx[b], fy = cfy[b], mz = cm[b];
+        cfx[b] = cfy[b] = cm[b] = 0.0;
+        for (int o = offset[b]; o < offset[b + 1]; ++o) {
+          const int e = entry[o];
+          const Workspace::Slot& q = slot[e >> 1];
+          const bool is_j = e & 1;
+          const double sign = is_j ? 1.0 : -1.0;
+          fx += sign * q.fx, fy += sign * q.fy, mz += is_j ? q.mj : q.mi;
+        }
+        sfx[b] = fx, sfy[b] = fy, smz[b] = mz;
+        if (fixed[b]) continue;
+        double vx = vxs[b], vy = vys[b], om = oms[b];
         // Cundall local damping: F_d = -alpha |F| sign(v), per degree of freedom.
         const double dfx = -alpha * std::abs(fx) * double((vx > 0) - (vx < 0));
         const double dfy = -alpha * std::abs(fy) * double((vy > 0) - (vy < 0));
         const double dm = -alpha * std::abs(mz) * double((om > 0) - (om < 0));
         e_damp -= (dfx * vx + dfy * vy + dm * om) * dt;
-        const double inv_m = m.inv_mass[b];
-        vx += dt * (fx + dfx) * inv_m;
-        vy += dt * (fy + dfy) * inv_m;
-        om += dt * (mz + dm) / m.inertia[b];
-        s.x[b] += dt * vx;
-        s.y[b] += dt * vy;
-        s.theta[b] += dt * om;
-        finite = finite && std::isfinite(s.x[b]) && std::isfinite(s.y[b]) && std::isfinite(s.theta[b]);
+        vx += dt * (fx + dfx) * inv_mass[b];
+        vy += dt * (fy + dfy) * inv_mass[b];
+        om += dt * (mz + dm) / inertia[b];
+        vxs[b] = vx, vys[b] = vy, oms[b] = om;
+        const double x = xs[b] + dt * vx, y = ys[b] + dt * vy, th = ths[b] + dt * om;
+        xs[b] = x, ys[b] = y, ths[b] = th;
+        ok &= std::isfinite(x) & std::isfinite(y) & std::isfinite(th);
       }
       w.damping_work[std::size_t(g0 / grain)] = e_damp;
     }
+    finite = ok;
     rotations_of(s.theta.data(), w.cos_t.data(), w.sin_t.data(), lo, hi);
   }
   double e_damp = 0.0;

@@ -21,10 +21,11 @@ void jacket_forces(const Model& m, ModelState& s, Workspace& w, const StepContex
   // Blocks in a contact that carries force this step (the contact stage's records).
   const std::size_t nb = m.num_blocks();
   w.touching.assign(nb, 0);
-  for (std::size_t p = 0; p < s.contacts.size(); ++p) {
-    const Workspace::PairForce& f = w.pair_force[p];
-    if (f.fx != 0.0 || f.fy != 0.0) w.touching[std::size_t(s.contacts.i[p])] = w.touching[std::size_t(s.contacts.j[p])] = 1;
-  }
+  for (const std::vector<int>& list : w.in_contact)
+    for (int p : list) {
+      const Workspace::PairForce& f = w.pair_force[std::size_t(p)];
+      if (f.fx != 0.0 || f.fy != 0.0) w.touching[std::size_t(s.contacts.i[p])] = w.touching[std::size_t(s.contacts.j[p])] = 1;
+    }
   const double pt = s.confining_pressure * m.thickness;
   int lost = 0;
   double work = 0.0;

@@ -1,7 +1,10 @@
 // The platens: two rigid walls, the top one at ModelState::top_y closing at platen_velocity, the bottom one fixed
 // at the specimen's lowest point. Each acts on the candidate blocks as a half-plane with the linear contact law
 // (dem/laws/linear_contact.hpp), k_n from the block's mirror image (d = 2 x inradius). See stages.hpp.
+#include <algorithm>
 #include <cmath>
+
+#include <omp.h>
 
 #include "dem/contact_geometry.hpp"
 #include "dem/stages/bond_kernel.hpp"
@@ -18,8 +21,7 @@ void platen_forces(const Model& m, ModelState& s, Workspace& w, double platen_fr
   const int ntop = int(s.top_candidates.size()), n = ntop + int(s.bottom_candidates.size());
   w.platen_force.resize(std::size_t(n));
   Workspace::PlatenForce* out = w.platen_force.data();
-#pragma omp parallel for schedule(static) num_threads(c.threads) if (n > 64)
-  for (int k = 0; k < n; ++k) {
+  auto contact = [&](int k) {
     const bool top = k < ntop;
     const int b = top ? s.top_candidates[std::size_t(k)] : s.bottom_candidates[std::size_t(k - ntop)];
     const double wy = top ? s.top_y : m.ymin;
@@ -28,9 +30,11 @@ void platen_forces(const Model& m, ModelState& s, Workspace& w, double platen_fr
     double v[6];
     block_vertices(m, s, w, b, v);
     Overlap ov;
+    double& fs_hist = (top ? s.top_fs : s.bottom_fs)[std::size_t(b)];  // each block once per platen
     if (!overlap_halfplane(v, 3, 0.0, wy, 0.0, my, ov)) {
-      out[k] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, false};
-      continue;
+      out[k] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, false};
+      if (c.advance) fs_hist = 0.0;
+      return;
     }
     const LinearContact law = m.platen_law(b, platen_friction);
     const double fn = law.normal_force(ov.area, ov.chord);
@@ -39,22 +43,38 @@ void platen_forces(const Model& m, ModelState& s, Workspace& w, double platen_fr
     const double rx = ov.px - s.x[b], ry = ov.py - s.y[b];
     const double vrx = s.vx[b] - s.omega[b] * ry, vry = s.vy[b] + s.omega[b] * rx - wall_vy;
     const double vt = vrx * tx + vry * ty;
-    double fs = (top ? s.top_fs : s.bottom_fs)[std::size_t(b)];
+    double fs = fs_hist;
     const double friction = law.update_shear(fn, ov.chord, vt, c.dt, fs) ? std::abs(fs * vt * c.dt) : 0.0;
+    if (c.advance) fs_hist = fs;
     const double fx = -fn * nx + fs * tx, fy = -fn * ny + fs * ty;
-    out[k] = {fx, fy, cross(rx, ry, fx, fy), fn, fs, law.strain_energy(fn, fs, ov.chord), friction, true};
+    out[k] = {fx, fy, cross(rx, ry, fx, fy), fn, law.strain_energy(fn, fs, ov.chord), friction, true};
+  };
+  partition(m, w, c.threads);
+  const Workspace::Partition& part = w.part;
+#pragma omp parallel num_threads(c.threads) if (n > 64)
+  {
+    // Each thread takes the candidates among the blocks it integrates (the lists are sorted by block): it reads the
+    // blocks it moved itself.
+    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+    auto mine = [&](const std::vector<int>& list, int& lo, int& hi) {
+      lo = 0, hi = int(list.size());
+      if (nt == 1) return;
+      lo = int(std::lower_bound(list.begin(), list.end(), part.block[std::size_t(t)]) - list.begin());
+      hi = int(std::lower_bound(list.begin(), list.end(), part.block[std::size_t(t) + 1]) - list.begin());
+    };
+    int lo, hi;
+    mine(s.top_candidates, lo, hi);
+    for (int k = lo; k < hi; ++k) contact(k);
+    mine(s.bottom_candidates, lo, hi);
+    for (int k = lo; k < hi; ++k) contact(ntop + k);
   }
   double top_total = 0.0, bottom_total = 0.0, energy = 0.0;
   for (int k = 0; k < n; ++k) {
     const bool top = k < ntop;
     const int b = top ? s.top_candidates[std::size_t(k)] : s.bottom_candidates[std::size_t(k - ntop)];
     const Workspace::PlatenForce& f = out[k];
-    auto& fs_hist = top ? s.top_fs : s.bottom_fs;
-    if (!f.touching) {
-      if (c.advance) fs_hist[std::size_t(b)] = 0.0;
-      continue;
-    }
-    if (c.advance) s.e_friction += f.friction, fs_hist[std::size_t(b)] = f.fs;
+    if (!f.touching) continue;
+    if (c.advance) s.e_friction += f.friction;
     w.cfx[b] += f.fx, w.cfy[b] += f.fy, w.cm[b] += f.m;
     (top ? top_total : bottom_total) += f.fn;
     energy += f.energy;

@@ -52,9 +52,10 @@ struct Workspace {
     bool touching;                                    // false: all zero
   };
   std::vector<PairForce> pair_force;                  // per contact pair
+  std::vector<std::vector<int>> in_contact;           // per thread: the pairs that touch this step, in pair order
   struct PlatenForce {
-    double fx, fy, m, fn, fs, energy, friction;       // on the block; normal and shear force; elastic energy,
-    bool touching;                                    // friction work
+    double fx, fy, m, fn, energy, friction;           // on the block; normal force; elastic energy, friction work
+    bool touching;
   };
   std::vector<PlatenForce> platen_force;              // per platen candidate (top, then bottom)
   struct ExternalLoad {
