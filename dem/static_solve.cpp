@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include <omp.h>
+
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
@@ -193,6 +195,169 @@ class Stiffness {
   SpMat pattern_;
 };
 
+// The solve with an LDLT factorisation (P^T L D L^T P) on several threads, equal to the bit to Ldlt::solve.
+//
+// The columns of L form the elimination tree (a column's first entry below the diagonal is its parent; every entry
+// of column j lies on the path from j to the root). Disjoint subtrees do not meet in either triangular solve, so
+// each thread takes whole subtrees, and one thread does the nodes above them (the "top", ancestors only). Every
+// unknown gets the same operations in the same order as in Eigen's sequential solves:
+// - L y = b, which Eigen runs by columns (column j, once y_j is final and if it is not zero, subtracts y_j L_ij
+//   from each y_i below): a thread runs its subtrees' columns in ascending order but updates only the rows of the
+//   same subtree; a top row i then subtracts y_j L_ij, j ascending, for each of its entries with y_j not zero;
+// - L^T x = z, which Eigen runs by rows of L^T (x_i = z_i - sum of L_ki x_k, k ascending along column i): the top
+//   rows first, in descending order, then each thread its subtrees' rows in descending order.
+// The permutations and D^-1 are Eigen's own expressions.
+class ParallelLdltSolve {
+ public:
+  // The subtrees for `threads` threads on the pattern of `factor` (unchanged by later factorisations that keep
+  // the symbolic analysis).
+  void plan(const Ldlt& factor, int threads) {
+    threads_ = threads;
+    if (threads <= 1) return;
+    const SpMat& L = factor.matrixL().nestedExpression();
+    const int n = int(L.cols());
+    const int* Lp = L.outerIndexPtr();
+    const int* Li = L.innerIndexPtr();
+    const std::size_t N = std::size_t(n);
+    std::vector<int> parent(N, -1);
+    std::vector<double> work(N);  // of a subtree: the entries of its columns, plus one per column
+    for (int j = 0; j < n; ++j) {
+      for (int p = Lp[j]; p < Lp[j + 1]; ++p)
+        if (Li[p] > j) {
+          parent[std::size_t(j)] = Li[p];
+          break;
+        }
+      work[std::size_t(j)] += double(Lp[j + 1] - Lp[j] + 1);
+      if (parent[std::size_t(j)] >= 0) work[std::size_t(parent[std::size_t(j)])] += work[std::size_t(j)];
+    }
+    std::vector<std::vector<int>> children(N);
+    std::vector<int> frontier;  // the roots of the subtrees below the top
+    for (int j = 0; j < n; ++j)
+      (parent[std::size_t(j)] >= 0 ? children[std::size_t(parent[std::size_t(j)])] : frontier).push_back(j);
+    // Subtrees packed heaviest first onto the least loaded thread; the heaviest load.
+    std::vector<int> owner(N, -2);
+    auto pack = [&](std::vector<int> roots, bool assign) {
+      std::stable_sort(roots.begin(), roots.end(),
+                       [&](int a, int b) { return work[std::size_t(a)] > work[std::size_t(b)]; });
+      std::vector<double> load(std::size_t(threads), 0.0);
+      for (int r : roots) {
+        const auto t = std::size_t(std::min_element(load.begin(), load.end()) - load.begin());
+        load[t] += work[std::size_t(r)];
+        if (assign) owner[std::size_t(r)] = int(t);
+      }
+      return *std::max_element(load.begin(), load.end());
+    };
+    // Split the heaviest subtree (its root joins the top) while that may shorten the estimate, the top's work
+    // plus the heaviest thread's; keep the best split seen.
+    std::vector<int> top_nodes;
+    double top_work = 0.0, best = pack(frontier, false);
+    std::size_t best_splits = 0;
+    while (!frontier.empty() && frontier.size() <= 256 && top_work < best) {
+      const auto heaviest = std::max_element(frontier.begin(), frontier.end(), [&](int a, int b) {
+        return work[std::size_t(a)] < work[std::size_t(b)];
+      });
+      const int r = *heaviest;
+      frontier.erase(heaviest);
+      top_nodes.push_back(r);
+      top_work += double(Lp[r + 1] - Lp[r] + 1);
+      for (int c : children[std::size_t(r)]) frontier.push_back(c);
+      const double e = top_work + pack(frontier, false);
+      if (e < best) best = e, best_splits = top_nodes.size();
+    }
+    std::vector<std::uint8_t> in_top(N, 0);
+    for (std::size_t k = 0; k < best_splits; ++k) in_top[std::size_t(top_nodes[k])] = 1;
+    std::vector<int> roots;
+    for (int j = 0; j < n; ++j)
+      if (!in_top[std::size_t(j)] && (parent[std::size_t(j)] < 0 || in_top[std::size_t(parent[std::size_t(j)])]))
+        roots.push_back(j);
+    pack(roots, true);
+    for (int j = 0; j < n; ++j)
+      if (in_top[std::size_t(j)]) owner[std::size_t(j)] = -1;
+    root_.assign(N, -1);
+    for (int r : roots) root_[std::size_t(r)] = r;
+    for (int j = n - 1; j >= 0; --j)
+      if (owner[std::size_t(j)] == -2) {
+        const int pj = parent[std::size_t(j)];
+        owner[std::size_t(j)] = owner[std::size_t(pj)];
+        root_[std::size_t(j)] = root_[std::size_t(pj)];
+      }
+    columns_.assign(std::size_t(threads), {});
+    top_.clear();
+    for (int j = 0; j < n; ++j)
+      (owner[std::size_t(j)] >= 0 ? columns_[std::size_t(owner[std::size_t(j)])] : top_).push_back(j);
+    // The top rows' entries (column, position in L), each row's in ascending column order.
+    std::vector<int> slot_of(N, -1);
+    for (std::size_t k = 0; k < top_.size(); ++k) slot_of[std::size_t(top_[k])] = int(k);
+    top_offset_.assign(top_.size() + 1, 0);
+    for (int j = 0; j < n; ++j)
+      for (int p = Lp[j]; p < Lp[j + 1]; ++p)
+        if (Li[p] > j && slot_of[std::size_t(Li[p])] >= 0) ++top_offset_[std::size_t(slot_of[std::size_t(Li[p])]) + 1];
+    for (std::size_t k = 0; k < top_.size(); ++k) top_offset_[k + 1] += top_offset_[k];
+    top_col_.resize(std::size_t(top_offset_.back())), top_pos_.resize(std::size_t(top_offset_.back()));
+    std::vector<int> next(top_offset_.begin(), top_offset_.end() - 1);
+    for (int j = 0; j < n; ++j)
+      for (int p = Lp[j]; p < Lp[j + 1]; ++p)
+        if (Li[p] > j && slot_of[std::size_t(Li[p])] >= 0) {
+          const int at = next[std::size_t(slot_of[std::size_t(Li[p])])]++;
+          top_col_[std::size_t(at)] = j, top_pos_[std::size_t(at)] = p;
+        }
+  }
+  int threads() const { return threads_; }
+
+  Eigen::VectorXd solve(const Ldlt& factor, const Eigen::VectorXd& b) const {
+    if (threads_ <= 1 || factor.info() != Eigen::Success) return factor.solve(b);
+    const SpMat& L = factor.matrixL().nestedExpression();
+    const int* Lp = L.outerIndexPtr();
+    const int* Li = L.innerIndexPtr();
+    const double* Lx = L.valuePtr();
+    Eigen::VectorXd x = factor.permutationP() * b;
+    double* y = x.data();
+#pragma omp parallel num_threads(threads_)
+    {
+      const std::vector<int>& mine = columns_[std::size_t(omp_get_thread_num())];
+      for (int j : mine) {  // L y = b in my subtrees
+        const double yj = y[j];
+        if (yj == 0.0) continue;
+        const int r = root_[std::size_t(j)];
+        for (int p = Lp[j]; p < Lp[j + 1] && Li[p] <= r; ++p)
+          if (Li[p] > j) y[Li[p]] -= yj * Lx[p];
+      }
+#pragma omp barrier
+#pragma omp master
+      {
+        for (std::size_t k = 0; k < top_.size(); ++k) {  // L y = b in the top rows
+          double yi = y[top_[k]];
+          for (int q = top_offset_[k]; q < top_offset_[k + 1]; ++q) {
+            const double yj = y[top_col_[std::size_t(q)]];
+            if (yj != 0.0) yi -= yj * Lx[top_pos_[std::size_t(q)]];
+          }
+          y[top_[k]] = yi;
+        }
+        x = factor.vectorD().asDiagonal().inverse() * x;
+        for (std::size_t k = top_.size(); k-- > 0;) y[top_[k]] = backward_row(top_[k], Lp, Li, Lx, y);
+      }
+#pragma omp barrier
+      for (auto j = mine.rbegin(); j != mine.rend(); ++j) y[*j] = backward_row(*j, Lp, Li, Lx, y);
+    }
+    return factor.permutationPinv() * x;
+  }
+
+ private:
+  // Row i of L^T x = z: x_i = z_i - sum of L_ki x_k over column i's entries below the diagonal, in their order.
+  static double backward_row(int i, const int* Lp, const int* Li, const double* Lx, const double* x) {
+    double xi = x[i];
+    for (int p = Lp[i]; p < Lp[i + 1]; ++p)
+      if (Li[p] > i) xi -= Lx[p] * x[Li[p]];
+    return xi;
+  }
+
+  int threads_ = 0;
+  std::vector<std::vector<int>> columns_;  // per thread: the columns of its subtrees, ascending
+  std::vector<int> root_;                  // per column in a subtree: that subtree's root
+  std::vector<int> top_;                   // the top's columns, ascending
+  std::vector<int> top_offset_, top_col_, top_pos_;  // the top rows' entries of L: column and position
+};
+
 // A preconditioner for Eigen's Krylov solvers that applies an existing factorisation of K_sym.
 class FactorPreconditioner {
  public:
@@ -201,12 +366,13 @@ class FactorPreconditioner {
   template <typename M> FactorPreconditioner& analyzePattern(const M&) { return *this; }
   template <typename M> FactorPreconditioner& factorize(const M&) { return *this; }
   template <typename M> FactorPreconditioner& compute(const M&) { return *this; }
-  template <typename Rhs> Eigen::VectorXd solve(const Rhs& b) const { return factor_->solve(b); }
+  template <typename Rhs> Eigen::VectorXd solve(const Rhs& b) const { return solver_->solve(*factor_, b); }
   Eigen::ComputationInfo info() const { return Eigen::Success; }
-  void use(const Ldlt& factor) { factor_ = &factor; }
+  void use(const Ldlt& factor, const ParallelLdltSolve& solver) { factor_ = &factor, solver_ = &solver; }
 
  private:
   const Ldlt* factor_ = nullptr;
+  const ParallelLdltSolve* solver_ = nullptr;
 };
 
 // K_full as the operator of BiCGSTAB: the same matrix stored by rows, so that its product with a vector runs row
@@ -344,6 +510,13 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
       throw std::runtime_error("static solve: the bonded-block stiffness is singular (a block without bonds or "
                                "platen contact? check the mesh)");
   };
+  // The triangular solves on the threads the products have (planned again when that changes).
+  ParallelLdltSolve solves;
+  auto solver = [&]() -> const ParallelLdltSolve& {
+    const int threads = options.threads ? std::max(options.threads->load(std::memory_order_relaxed), 1) : 1;
+    if (solves.threads() != threads) solves.plan(factor, threads);
+    return solves;
+  };
   RowOperator K_rows(stiffness.pattern());
   Eigen::BiCGSTAB<RowOperator, FactorPreconditioner> krylov;
   krylov.setTolerance(options.krylov_tolerance);
@@ -351,7 +524,7 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
   auto iterate = [&](Eigen::VectorXd& x) {
     K_rows.set(K_full, options.threads ? std::max(options.threads->load(std::memory_order_relaxed), 1) : 1);
     krylov.compute(K_rows);
-    krylov.preconditioner().use(factor);
+    krylov.preconditioner().use(factor, solver());
     x = krylov.solveWithGuess(f, x);
     r.krylov_iterations += int(krylov.iterations());
     return krylov.info() == Eigen::Success;
@@ -369,7 +542,7 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
     stiffness.assemble(r.linear_state, K_sym, &K_full);
     if (it == 0) {
       factorise();
-      u = factor.solve(f);
+      u = solver().solve(factor, f);
     } else if (const Eigen::VectorXd guess = u; !iterate(u)) {
       factorise();
       u = guess;
