@@ -31,6 +31,7 @@
 #include "apps/cli_common.hpp"
 #include "apps/commands.hpp"
 #include "compare/gate/gate_cache.hpp"
+#include "dem/mesh_cache.hpp"
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
 #include "dem/driver/ucs.hpp"
@@ -157,12 +158,14 @@ int run_test_command(const TestCommandOptions& opt) {
   // The gate checks the scene's materials; a disc is checked as the rectangular specimen of the same materials.
   if (scene.mesh.file.empty()) check_cost(scene, opt.test, 1, opt.scene.force, opt.scene.quiet);
   if (!opt.resume && !opt.skip_elastic_gate && !compare::require_elastic_gate(gate_scene(scene))) return check_failed;
-  const TriMesh mesh = make_mesh(scene);
+  bool mesh_cached = false;
+  const TriMesh mesh = make_mesh_cached(scene, &mesh_cached);
   const Topology topo = build_topology(mesh, scene.specimen.thickness, scene.rock.density);
-  fmt::print("{}: {} blocks, {} bonds ({} joint), beta = {} deg{}\n", opt.test, topo.blocks.size(), topo.bonds.size(),
-             topo.count(BondKind::joint), scene.joint_set.dip_deg,
+  fmt::print("{}: {} blocks, {} bonds ({} joint), beta = {} deg{}{}\n", opt.test, topo.blocks.size(),
+             topo.bonds.size(), topo.count(BondKind::joint), scene.joint_set.dip_deg,
              opt.test == "triaxial" ? fmt::format(", sigma_3 = {:.4g} MPa", scene.loading.confining_pressure / 1e6)
-                                    : std::string());
+                                    : std::string(),
+             mesh_cached ? ", mesh from the cache" : "");
   std::fflush(stdout);
   RunOptions uo;
   ProgressPrinter progress(scene, isatty(fileno(stdout)) && isatty(fileno(stderr)), opt.progress_seconds);

@@ -27,6 +27,7 @@
 #include "compare/gate/gate_cache.hpp"
 #include "compare/verify/verify.hpp"
 #include "dem/driver/ucs.hpp"
+#include "dem/mesh_cache.hpp"
 #include "dem/scene.hpp"
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
@@ -239,7 +240,7 @@ py::dict run(const std::string& test, const std::string& file, const std::vector
   TestResult r;
   try {
     py::gil_scoped_release release;
-    mesh = make_mesh(scene);
+    mesh = make_mesh_cached(scene);
     topo = build_topology(mesh, scene.specimen.thickness, scene.rock.density);
     r = run_test(test, scene, topo, uo);
     if (!out.empty()) io::write_run(out, scene, mesh, topo, r, r.threads);

@@ -11,10 +11,13 @@
 #include <set>
 #include <tuple>
 
+#include <unistd.h>
+
 #include <omp.h>
 
 #include "dem/driver/summary.hpp"
 #include "dem/materials.hpp"
+#include "dem/mesh_cache.hpp"
 #include "dem/model.hpp"
 #include "dem/scene.hpp"
 #include "dem/specimen_mesh.hpp"
@@ -673,4 +676,59 @@ TEST(JointSets, JointDipIsReadFromTheJointEdges) {
 }
 
 }  // namespace
+// The mesh cache (dem/mesh_cache.hpp) gives back the mesh gmsh made, every value equal; a damaged file is
+// ignored and written anew; strength seeds share a mesh, another dip does not; a user mesh is never cached.
+TEST(MeshCache, GivesBackTheSameMeshAndIgnoresDamagedFiles) {
+  const auto dir = std::filesystem::temp_directory_path() / ("rbdem-mesh-cache-test-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  ::setenv("RBDEM_CACHE_DIR", dir.c_str(), 1);
+  ::setenv("RBDEM_MESH_CACHE", "on", 1);
+  Scene scene;
+  scene.mesh.size = 0.004;
+  auto equal = [](const TriMesh& a, const TriMesh& b) {
+    bool same = a.nodes == b.nodes && a.triangles == b.triangles && a.layer == b.layer &&
+                a.layer_names == b.layer_names && a.notes == b.notes && a.interfaces.size() == b.interfaces.size();
+    for (std::size_t k = 0; same && k < a.interfaces.size(); ++k)
+      same = a.interfaces[k].name == b.interfaces[k].name && a.interfaces[k].edges == b.interfaces[k].edges;
+    return same;
+  };
+  const TriMesh fresh = make_mesh(scene);
+  bool cached = true;
+  EXPECT_TRUE(equal(make_mesh_cached(scene, &cached), fresh));
+  EXPECT_FALSE(cached);
+  const auto file = mesh_cache_file(scene);
+  ASSERT_TRUE(std::filesystem::exists(file));
+  EXPECT_TRUE(equal(make_mesh_cached(scene, &cached), fresh));
+  EXPECT_TRUE(cached);
+
+  Scene other_seed = scene;
+  other_seed.mesh.strength_seed = 7;  // strengths, not the mesh
+  EXPECT_EQ(mesh_cache_file(other_seed), file);
+  Scene other_dip = scene;
+  other_dip.joint_set.dip_deg = 30.0;
+  EXPECT_NE(mesh_cache_file(other_dip), file);
+
+  {  // one byte changed in the middle: the checksum fails, the mesh is made again and the file rewritten
+    std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(std::streamoff(std::filesystem::file_size(file) / 2));
+    f.put('\x5a');
+  }
+  EXPECT_TRUE(equal(make_mesh_cached(scene, &cached), fresh));
+  EXPECT_FALSE(cached);
+  EXPECT_TRUE(equal(make_mesh_cached(scene, &cached), fresh));
+  EXPECT_TRUE(cached);
+  std::filesystem::resize_file(file, 100);  // cut short
+  EXPECT_TRUE(equal(make_mesh_cached(scene, &cached), fresh));
+  EXPECT_FALSE(cached);
+
+  Scene user = scene;
+  user.mesh.file = "any.msh";
+  EXPECT_TRUE(mesh_cache_file(user).empty());
+  ::setenv("RBDEM_MESH_CACHE", "off", 1);
+  EXPECT_TRUE(mesh_cache_file(scene).empty());
+  ::unsetenv("RBDEM_MESH_CACHE");
+  ::unsetenv("RBDEM_CACHE_DIR");
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace rbdem

@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include "dem/mesh_cache.hpp"
 #include "io/results.hpp"
 #include "dem/version.hpp"
 
@@ -70,12 +71,7 @@ std::string elastic_gate_key_text(const Scene& scene) {
 
 std::string elastic_gate_key(const Scene& scene) { return fmt::format("{:016x}", fnv1a(elastic_gate_key_text(scene))); }
 
-std::filesystem::path elastic_gate_cache_dir() {
-  if (const char* d = std::getenv("RBDEM_CACHE_DIR"); d && *d) return d;
-  if (const char* d = std::getenv("XDG_CACHE_HOME"); d && *d) return std::filesystem::path(d) / "rbdem";
-  if (const char* d = std::getenv("HOME"); d && *d) return std::filesystem::path(d) / ".cache" / "rbdem";
-  return {};
-}
+std::filesystem::path elastic_gate_cache_dir() { return cache_dir(); }
 
 std::filesystem::path store_elastic_gate(const Scene& scene, const ElasticReport& report) {
   const auto dir = elastic_gate_cache_dir();
