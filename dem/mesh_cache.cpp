@@ -2,12 +2,13 @@
 //
 // A cache file holds a header line, the key text, the mesh's arrays as raw bytes and, last, a 64-bit FNV-1a
 // checksum of everything before it. A file that does not read back whole, or whose key text differs from the
-// scene's, is ignored and written anew. Writers of the same key (the runs of a sweep) each write a file of their
-// own and rename it into place, so a reader never sees a file half written.
+// scene's, is ignored and written anew. Writers of the same key (runs side by side) each write a file of their own
+// and rename it into place, so a reader never sees a file half written.
 #include "dem/mesh_cache.hpp"
 
 #include <unistd.h>
 
+#include <atomic>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -190,7 +191,9 @@ TriMesh make_mesh_cached(const Scene& scene, bool* from_cache) {
   // The cache only saves time: a folder that cannot be written leaves the run as it is.
   std::error_code ec;
   std::filesystem::create_directories(file.parent_path(), ec);
-  const std::filesystem::path mine = file.string() + "." + std::to_string(::getpid());
+  // A name of this writer's own: the runs of a sweep are threads of one process.
+  static std::atomic<unsigned> writers{0};
+  const std::filesystem::path mine = fmt::format("{}.{}.{}", file.string(), ::getpid(), writers++);
   {
     std::ofstream out(mine, std::ios::binary | std::ios::trunc);
     const std::string bytes = encode(key_text, mesh);

@@ -21,6 +21,7 @@
 
 #include "theory/elasticity.hpp"
 #include "dem/laws/parallel_bond.hpp"
+#include "dem/mesh_cache.hpp"
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
 #include "io/results.hpp"
@@ -227,7 +228,7 @@ CaseResult run_one(const Case& c, const std::filesystem::path& dir, const std::a
   std::filesystem::create_directories(dir);
   Scene scene = c.scene;
   scene.numerics.threads = max_threads;  // cases run side by side, each with the threads it is given (`threads`)
-  const TriMesh mesh = make_mesh(scene);
+  const TriMesh mesh = make_mesh_cached(scene);
   const Topology topo = build_topology(mesh, scene.specimen.thickness, scene.rock.density);
   rbdem::RunOptions uo;
   uo.cancel = cancel;
