@@ -301,6 +301,15 @@ class ParallelLdltSolve {
           const int at = next[std::size_t(slot_of[std::size_t(Li[p])])]++;
           top_col_[std::size_t(at)] = j, top_pos_[std::size_t(at)] = p;
         }
+    take_values(factor);
+  }
+  // The top rows' values of a new factorisation on the planned pattern: gathered once, so that each solve reads
+  // them in order rather than scattered over L.
+  void take_values(const Ldlt& factor) {
+    if (threads_ <= 1) return;
+    const double* Lx = factor.matrixL().nestedExpression().valuePtr();
+    top_val_.resize(top_pos_.size());
+    for (std::size_t q = 0; q < top_pos_.size(); ++q) top_val_[q] = Lx[top_pos_[q]];
   }
   int threads() const { return threads_; }
 
@@ -329,7 +338,7 @@ class ParallelLdltSolve {
           double yi = y[top_[k]];
           for (int q = top_offset_[k]; q < top_offset_[k + 1]; ++q) {
             const double yj = y[top_col_[std::size_t(q)]];
-            if (yj != 0.0) yi -= yj * Lx[top_pos_[std::size_t(q)]];
+            if (yj != 0.0) yi -= yj * top_val_[std::size_t(q)];
           }
           y[top_[k]] = yi;
         }
@@ -356,6 +365,7 @@ class ParallelLdltSolve {
   std::vector<int> root_;                  // per column in a subtree: that subtree's root
   std::vector<int> top_;                   // the top's columns, ascending
   std::vector<int> top_offset_, top_col_, top_pos_;  // the top rows' entries of L: column and position
+  std::vector<double> top_val_;                      // and value
 };
 
 // A preconditioner for Eigen's Krylov solvers that applies an existing factorisation of K_sym.
@@ -504,14 +514,14 @@ StaticResult solve_static(const Engine& e, const StaticOptions& options) {
   SpMat K_sym, K_full;
   Ldlt factor;
   factor.analyzePattern(stiffness.pattern());
+  ParallelLdltSolve solves;  // the triangular solves on the threads the products have (planned when that changes)
   auto factorise = [&]() {
     factor.factorize(K_sym);
     if (factor.info() != Eigen::Success)
       throw std::runtime_error("static solve: the bonded-block stiffness is singular (a block without bonds or "
                                "platen contact? check the mesh)");
+    solves.take_values(factor);
   };
-  // The triangular solves on the threads the products have (planned again when that changes).
-  ParallelLdltSolve solves;
   auto solver = [&]() -> const ParallelLdltSolve& {
     const int threads = options.threads ? std::max(options.threads->load(std::memory_order_relaxed), 1) : 1;
     if (solves.threads() != threads) solves.plan(factor, threads);
