@@ -2,6 +2,8 @@
 // sliding, the bond-to-contact hand-over, and numerical stability at and above the computed time step.
 #include <gtest/gtest.h>
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -229,10 +231,9 @@ TEST(BondKernel, VectorisedKernelEqualsTheScalarBondEvaluationBitForBit) {
   RecordProperty("flagged", std::to_string(flagged));
 }
 
-// The jacket pushes on every outer edge with p t L along its inward normal; a block that lost every bond and every
-// contact (a fragment that broke off) gets no pressure and is counted (the rule in dem/stages/jacket.cpp).
 // The threads share the blocks and bonds in ranges (Workspace::Partition); everything a step computes, the damping
-// work summed per block grain included, is the same to the bit at 1, 2 and 3 threads, here through breakage.
+// work summed per block grain included, is the same to the bit at 1, 2 and 3 threads, here through breakage, and
+// when the stages get smaller teams than asked (inside another parallel region).
 TEST(Engine, StepsAndEnergiesAreBitIdenticalAtOneTwoAndThreeThreads) {
   Scene scene;
   scene.mesh.size = 0.003;
@@ -248,10 +249,25 @@ TEST(Engine, StepsAndEnergiesAreBitIdenticalAtOneTwoAndThreeThreads) {
     end.push_back(e.state());
     energy.push_back(e.energies());
   }
+  {  // 2 threads asked for inside another parallel region: the stages get teams of one, which must still do it all
+    scene.numerics.threads = 2;
+    Engine e(topo, scene, EngineOptions::from_scene(scene));
+    e.set_dt(0.5 * stability_limit(e));
+    const int levels = omp_get_max_active_levels();
+    omp_set_max_active_levels(1);
+#pragma omp parallel num_threads(2)
+    {
+#pragma omp single
+      e.run(1500);
+    }
+    omp_set_max_active_levels(levels);
+    end.push_back(e.state());
+    energy.push_back(e.energies());
+  }
   ASSERT_GT(end[0].cracks.size(), 0u);
   ASSERT_GT(energy[0].damping, 0.0);
   for (std::size_t k = 1; k < end.size(); ++k) {
-    SCOPED_TRACE(testing::Message() << k + 1 << " threads");
+    SCOPED_TRACE(testing::Message() << (k < 3 ? k + 1 : 2) << " threads" << (k < 3 ? "" : ", nested"));
     EXPECT_EQ(end[k].x, end[0].x);
     EXPECT_EQ(end[k].theta, end[0].theta);
     EXPECT_EQ(end[k].vx, end[0].vx);
@@ -265,6 +281,8 @@ TEST(Engine, StepsAndEnergiesAreBitIdenticalAtOneTwoAndThreeThreads) {
   }
 }
 
+// The jacket pushes on every outer edge with p t L along its inward normal; a block that lost every bond and every
+// contact (a fragment that broke off) gets no pressure and is counted (the rule in dem/stages/jacket.cpp).
 TEST(Jacket, PressurePushesConnectedEdgesAndLeavesALooseFragmentAlone) {
   Scene scene;
   scene.mesh.size = 0.004;

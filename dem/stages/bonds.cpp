@@ -74,7 +74,7 @@ void bond_kernel(const Model& m, ModelState& s, Workspace& w, const StepContext&
   {
     // Contiguous ranges in thread order: the flagged lists, read in thread order, are in bond order.
     const int t = omp_get_thread_num();
-    const int lo = part.bond[std::size_t(t)], hi = part.bond[std::size_t(t) + 1];
+    const auto [lo, hi] = w.share(part.bond, t, omp_get_num_threads());
     const BondFrames& f = m.frame;
     const KernelRange range{a, f.tension_limit.data(), f.cohesion_A.data(), f.tan_phi.data(), f.beta_m.data(),
                             f.inv_L.data(), s.drive.data(), w.keep.data(), s.fs_lin.data(), w.slot.data(),

@@ -180,10 +180,9 @@ void contact_forces(const Model& m, ModelState& s, Workspace& w, const StepConte
   {
   // Each thread takes the pairs whose lower block it integrates (the keys are sorted by it): it reads the blocks
   // it moved itself. The ranges are contiguous and in thread order.
-  const int t = omp_get_thread_num(), nt = omp_get_num_threads();
-  const int lo = nt == 1 ? 0 : first_pair_of(C, part.block[std::size_t(t)]);
-  const int hi = nt == 1 ? n : first_pair_of(C, part.block[std::size_t(t) + 1]);
-  std::vector<int>& mine = w.in_contact[std::size_t(t)];
+  const auto [b0, b1] = w.share(part.block, omp_get_thread_num(), omp_get_num_threads());
+  const int lo = first_pair_of(C, b0), hi = first_pair_of(C, b1);
+  std::vector<int>& mine = w.in_contact[std::size_t(omp_get_thread_num())];
   for (int p = lo; p < hi; ++p) {
     const int i = C.i[p], j = C.j[p];
     const double ex = s.x[j] - s.x[i], ey = s.y[j] - s.y[i];

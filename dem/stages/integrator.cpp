@@ -90,7 +90,7 @@ void integrate(const Model& m, ModelState& s, Workspace& w, double damping, int 
 #pragma omp parallel num_threads(threads) reduction(&& : finite)
   {
     const int t = omp_get_thread_num();
-    const int lo = part.block[std::size_t(t)], hi = part.block[std::size_t(t) + 1];
+    const auto [lo, hi] = w.share(part.block, t, omp_get_num_threads());
     // Local pointers: the stores below must not make the loop reload every array's address from memory.
     double *__restrict cfx = w.cfx.data(), *__restrict cfy = w.cfy.data(), *__restrict cm = w.cm.data();
     double *__restrict sfx = s.fx.data(), *__restrict sfy = s.fy.data(), *__restrict smz = s.moment.data();

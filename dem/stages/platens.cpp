@@ -55,12 +55,10 @@ void platen_forces(const Model& m, ModelState& s, Workspace& w, double platen_fr
   {
     // Each thread takes the candidates among the blocks it integrates (the lists are sorted by block): it reads the
     // blocks it moved itself.
-    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+    const auto [b0, b1] = w.share(part.block, omp_get_thread_num(), omp_get_num_threads());
     auto mine = [&](const std::vector<int>& list, int& lo, int& hi) {
-      lo = 0, hi = int(list.size());
-      if (nt == 1) return;
-      lo = int(std::lower_bound(list.begin(), list.end(), part.block[std::size_t(t)]) - list.begin());
-      hi = int(std::lower_bound(list.begin(), list.end(), part.block[std::size_t(t) + 1]) - list.begin());
+      lo = int(std::lower_bound(list.begin(), list.end(), b0) - list.begin());
+      hi = int(std::lower_bound(list.begin(), list.end(), b1) - list.begin());
     };
     int lo, hi;
     mine(s.top_candidates, lo, hi);

@@ -18,6 +18,7 @@
 // compare/reference_integrator.hpp): one code path serves both.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -75,6 +76,13 @@ struct Workspace {
     std::vector<int> block, bond;                     // threads + 1 boundaries each
   };
   Partition part;
+  // The share [lo, hi) of `bounds` (one of the partition's boundary lists) for thread t of a team of nt threads:
+  // its own range when the team has the partition's size, else everything on thread 0 (a team smaller than asked,
+  // as inside another parallel region, still computes every item).
+  std::array<int, 2> share(const std::vector<int>& bounds, int t, int nt) const {
+    if (nt == part.threads) return {bounds[std::size_t(t)], bounds[std::size_t(t) + 1]};
+    return {t == 0 ? bounds.front() : bounds.back(), bounds.back()};
+  }
   std::vector<double> damping_work;                   // per block grain: the damping work of the step (J)
 };
 
