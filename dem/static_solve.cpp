@@ -323,14 +323,19 @@ class ParallelLdltSolve {
     double* y = x.data();
 #pragma omp parallel num_threads(threads_)
     {
-      const std::vector<int>& mine = columns_[std::size_t(omp_get_thread_num())];
-      for (int j : mine) {  // L y = b in my subtrees
-        const double yj = y[j];
-        if (yj == 0.0) continue;
-        const int r = root_[std::size_t(j)];
-        for (int p = Lp[j]; p < Lp[j + 1] && Li[p] <= r; ++p)
-          if (Li[p] > j) y[Li[p]] -= yj * Lx[p];
-      }
+      // My subtrees' columns; all of them on the first thread of a team smaller than planned (as inside another
+      // parallel region): the subtrees are independent, so any order of them gives the same numbers.
+      const int t = omp_get_thread_num();
+      const bool planned = omp_get_num_threads() == threads_;
+      const int first = planned ? t : (t == 0 ? 0 : threads_), end = planned ? t + 1 : threads_;
+      for (int k = first; k < end; ++k)
+        for (int j : columns_[std::size_t(k)]) {  // L y = b in the subtrees
+          const double yj = y[j];
+          if (yj == 0.0) continue;
+          const int r = root_[std::size_t(j)];
+          for (int p = Lp[j]; p < Lp[j + 1] && Li[p] <= r; ++p)
+            if (Li[p] > j) y[Li[p]] -= yj * Lx[p];
+        }
 #pragma omp barrier
 #pragma omp master
       {
@@ -346,7 +351,9 @@ class ParallelLdltSolve {
         for (std::size_t k = top_.size(); k-- > 0;) y[top_[k]] = backward_row(top_[k], Lp, Li, Lx, y);
       }
 #pragma omp barrier
-      for (auto j = mine.rbegin(); j != mine.rend(); ++j) y[*j] = backward_row(*j, Lp, Li, Lx, y);
+      for (int k = first; k < end; ++k)
+        for (auto j = columns_[std::size_t(k)].rbegin(); j != columns_[std::size_t(k)].rend(); ++j)
+          y[*j] = backward_row(*j, Lp, Li, Lx, y);
     }
     return factor.permutationPinv() * x;
   }

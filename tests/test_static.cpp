@@ -2,6 +2,8 @@
 // (docs/theory.md, sections 3, 5).
 #include <gtest/gtest.h>
 
+#include <omp.h>
+
 #include <cmath>
 #include <cstdio>
 #include <numeric>
@@ -85,6 +87,21 @@ TEST(Static, KrylovProductsAndTriangularSolvesOnThreadsAreBitIdentical) {
     EXPECT_EQ(many.rotation, one.rotation) << n << " threads";
     EXPECT_EQ(many.fs_lin, one.fs_lin) << n << " threads";
   }
+  // 2 threads asked for inside another parallel region: the solves get a team of one, which must do every subtree.
+  const std::atomic<int> two{2};
+  StaticOptions nested;
+  nested.threads = &two;
+  StaticResult inner;
+  const int levels = omp_get_max_active_levels();
+  omp_set_max_active_levels(1);
+#pragma omp parallel num_threads(2)
+  {
+#pragma omp single
+    inner = solve_static(engine, nested);
+  }
+  omp_set_max_active_levels(levels);
+  EXPECT_EQ(inner.ux, one.ux);
+  EXPECT_EQ(inner.rotation, one.rotation);
 }
 
 // The active set settles: on the paper specimen at 60 deg (2 mm) a few dozen linear parts near the open/closed

@@ -178,46 +178,46 @@ void contact_forces(const Model& m, ModelState& s, Workspace& w, const StepConte
   const Workspace::Partition& part = w.part;
 #pragma omp parallel num_threads(c.threads) if (n > 64)
   {
-  // Each thread takes the pairs whose lower block it integrates (the keys are sorted by it): it reads the blocks
-  // it moved itself. The ranges are contiguous and in thread order.
-  const auto [b0, b1] = w.share(part.block, omp_get_thread_num(), omp_get_num_threads());
-  const int lo = first_pair_of(C, b0), hi = first_pair_of(C, b1);
-  std::vector<int>& mine = w.in_contact[std::size_t(omp_get_thread_num())];
-  for (int p = lo; p < hi; ++p) {
-    const int i = C.i[p], j = C.j[p];
-    const double ex = s.x[j] - s.x[i], ey = s.y[j] - s.y[i];
-    const double rr = m.radius[i] + m.radius[j];
-    Overlap ov;
-    double vi[6], vj[6];
-    bool touching = false;
-    if (ex * ex + ey * ey < rr * rr) {
-      block_vertices(m, s, w, i, vi);
-      block_vertices(m, s, w, j, vj);
-      touching = overlap_polygons(vi, 3, vj, 3, ov);
+    // Each thread takes the pairs whose lower block it integrates (the keys are sorted by it): it reads the blocks
+    // it moved itself. The ranges are contiguous and in thread order.
+    const auto [b0, b1] = w.share(part.block, omp_get_thread_num(), omp_get_num_threads());
+    const int lo = first_pair_of(C, b0), hi = first_pair_of(C, b1);
+    std::vector<int>& mine = w.in_contact[std::size_t(omp_get_thread_num())];
+    for (int p = lo; p < hi; ++p) {
+      const int i = C.i[p], j = C.j[p];
+      const double ex = s.x[j] - s.x[i], ey = s.y[j] - s.y[i];
+      const double rr = m.radius[i] + m.radius[j];
+      Overlap ov;
+      double vi[6], vj[6];
+      bool touching = false;
+      if (ex * ex + ey * ey < rr * rr) {
+        block_vertices(m, s, w, i, vi);
+        block_vertices(m, s, w, j, vj);
+        touching = overlap_polygons(vi, 3, vj, 3, ov);
+      }
+      // A pair still joined by its bond (listed only with skip_bonded_pairs = false): the bond's linear part is its
+      // contact, so the narrow phase above was the whole of its cost.
+      const bool intact = C.bond[p] >= 0 && !s.broken[std::size_t(C.bond[p])];
+      if (!touching || intact) {
+        if (advance) C.fs[p] = 0.0, C.fn[p] = 0.0, C.chord[p] = 0.0;
+        out[p] = Workspace::PairForce{0, 0, 0, 0, 0, false};
+        continue;
+      }
+      const double nx = -ov.nx, ny = -ov.ny;  // from i to j, as for bonds
+      const double tx = -ny, ty = nx;
+      const double fn = C.law[p].normal_force(ov.area, ov.chord);
+      const double cix = ov.px - s.x[i], ciy = ov.py - s.y[i];
+      const double cjx = ov.px - s.x[j], cjy = ov.py - s.y[j];
+      const double vrx = (s.vx[j] - s.omega[j] * cjy) - (s.vx[i] - s.omega[i] * ciy);
+      const double vry = (s.vy[j] + s.omega[j] * cjx) - (s.vy[i] + s.omega[i] * cix);
+      const double vt = vrx * tx + vry * ty;
+      double fs = C.fs[p];
+      const double friction = C.law[p].update_shear(fn, ov.chord, vt, dt, fs) ? std::abs(fs * vt * dt) : 0.0;
+      if (advance) C.fs[p] = fs, C.fn[p] = fn, C.chord[p] = ov.chord;
+      const double fx = fn * nx + fs * tx, fy = fn * ny + fs * ty;  // on j
+      out[p] = Workspace::PairForce{fx, fy, cross(cix, ciy, fx, fy), cross(cjx, cjy, fx, fy), friction, true};
+      mine.push_back(p);
     }
-    // A pair still joined by its bond (listed only with skip_bonded_pairs = false): the bond's linear part is its
-    // contact, so the narrow phase above was the whole of its cost.
-    const bool intact = C.bond[p] >= 0 && !s.broken[std::size_t(C.bond[p])];
-    if (!touching || intact) {
-      if (advance) C.fs[p] = 0.0, C.fn[p] = 0.0, C.chord[p] = 0.0;
-      out[p] = Workspace::PairForce{0, 0, 0, 0, 0, false};
-      continue;
-    }
-    const double nx = -ov.nx, ny = -ov.ny;  // from i to j, as for bonds
-    const double tx = -ny, ty = nx;
-    const double fn = C.law[p].normal_force(ov.area, ov.chord);
-    const double cix = ov.px - s.x[i], ciy = ov.py - s.y[i];
-    const double cjx = ov.px - s.x[j], cjy = ov.py - s.y[j];
-    const double vrx = (s.vx[j] - s.omega[j] * cjy) - (s.vx[i] - s.omega[i] * ciy);
-    const double vry = (s.vy[j] + s.omega[j] * cjx) - (s.vy[i] + s.omega[i] * cix);
-    const double vt = vrx * tx + vry * ty;
-    double fs = C.fs[p];
-    const double friction = C.law[p].update_shear(fn, ov.chord, vt, dt, fs) ? std::abs(fs * vt * dt) : 0.0;
-    if (advance) C.fs[p] = fs, C.fn[p] = fn, C.chord[p] = ov.chord;
-    const double fx = fn * nx + fs * tx, fy = fn * ny + fs * ty;  // on j
-    out[p] = Workspace::PairForce{fx, fy, cross(cix, ciy, fx, fy), cross(cjx, cjy, fx, fy), friction, true};
-    mine.push_back(p);
-  }
   }
   // Most pairs of free-face blocks do not touch: only those that do are summed, the lists in thread order, which
   // is pair order.

@@ -16,21 +16,31 @@ namespace rbdem::stages {
 
 namespace {
 
-// Adds the slot of one CSR entry (2 bond + 1 if the block is the bond's j) to a block's force and moment. Without
-// branches: a block's role in its bonds follows no pattern, so an `if` mispredicts, and x + (-1) a is x - a exactly.
-inline void add_slot(int e, const Workspace& w, double& fx, double& fy, double& m) {
-  const Workspace::Slot& s = w.slot[std::size_t(e >> 1)];
-  const bool is_j = e & 1;
-  const double sign = is_j ? 1.0 : -1.0;
-  fx += sign * s.fx, fy += sign * s.fy, m += is_j ? s.mj : s.mi;
-}
+// What the per-block gather reads: the contact and boundary accumulators, which it resets, and the bond slots in
+// CSR order. Plain pointers, so that the stores of the integration loop do not make it reload them.
+struct GatherArrays {
+  double *cfx, *cfy, *cm;
+  const int *offset, *entry;
+  const Workspace::Slot* slot;
+  GatherArrays(const Model& m, Workspace& w)
+      : cfx(w.cfx.data()), cfy(w.cfy.data()), cm(w.cm.data()), offset(m.csr_offset.data()),
+        entry(m.csr_entry.data()), slot(w.slot.data()) {}
+};
 
-// Block b's force and moment: its contact and boundary accumulators, which it resets, plus its bond slots in CSR
-// order. integrate() and gather_forces() both read the blocks through this.
-inline void take_block_forces(const Model& m, Workspace& w, int b, double& fx, double& fy, double& mz) {
-  fx = w.cfx[b], fy = w.cfy[b], mz = w.cm[b];
-  w.cfx[b] = w.cfy[b] = w.cm[b] = 0.0;
-  for (int o = m.csr_offset[b]; o < m.csr_offset[b + 1]; ++o) add_slot(m.csr_entry[o], w, fx, fy, mz);
+// Block b's force and moment: its accumulators, which it resets, plus its bond slots in CSR order. Each CSR entry
+// (2 bond + 1 if the block is the bond's j) adds its slot without a branch: a block's role in its bonds follows no
+// pattern, so an `if` mispredicts, and x + (-1) a is x - a exactly. integrate() and gather_forces() both read the
+// blocks through this.
+inline void take_block_forces(const GatherArrays& a, int b, double& fx, double& fy, double& mz) {
+  fx = a.cfx[b], fy = a.cfy[b], mz = a.cm[b];
+  a.cfx[b] = a.cfy[b] = a.cm[b] = 0.0;
+  for (int o = a.offset[b]; o < a.offset[b + 1]; ++o) {
+    const int e = a.entry[o];
+    const Workspace::Slot& q = a.slot[e >> 1];
+    const bool is_j = e & 1;
+    const double sign = is_j ? 1.0 : -1.0;
+    fx += sign * q.fx, fy += sign * q.fy, mz += is_j ? q.mj : q.mi;
+  }
 }
 
 // cos and sin of the blocks [lo, hi). Blocks rotate by well under 0.01 rad until they break free; there the
@@ -92,28 +102,19 @@ void integrate(const Model& m, ModelState& s, Workspace& w, double damping, int 
     const int t = omp_get_thread_num();
     const auto [lo, hi] = w.share(part.block, t, omp_get_num_threads());
     // Local pointers: the stores below must not make the loop reload every array's address from memory.
-    double *__restrict cfx = w.cfx.data(), *__restrict cfy = w.cfy.data(), *__restrict cm = w.cm.data();
+    const GatherArrays gather(m, w);
     double *__restrict sfx = s.fx.data(), *__restrict sfy = s.fy.data(), *__restrict smz = s.moment.data();
     double *__restrict vxs = s.vx.data(), *__restrict vys = s.vy.data(), *__restrict oms = s.omega.data();
     double *__restrict xs = s.x.data(), *__restrict ys = s.y.data(), *__restrict ths = s.theta.data();
     const double *__restrict inv_mass = m.inv_mass.data(), *__restrict inertia = m.inertia.data();
     const std::uint8_t* __restrict fixed = m.fixed.data();
-    const int *__restrict offset = m.csr_offset.data(), *__restrict entry = m.csr_entry.data();
-    const Workspace::Slot* __restrict slot = w.slot.data();
     bool ok = true;
     for (int g0 = lo; g0 < hi; g0 += grain) {
       const int g1 = std::min(g0 + grain, hi);
       double e_damp = 0.0;
       for (int b = g0; b < g1; ++b) {
-        double fx = cfx[b], fy = cfy[b], mz = cm[b];
-        cfx[b] = cfy[b] = cm[b] = 0.0;
-        for (int o = offset[b]; o < offset[b + 1]; ++o) {
-          const int e = entry[o];
-          const Workspace::Slot& q = slot[e >> 1];
-          const bool is_j = e & 1;
-          const double sign = is_j ? 1.0 : -1.0;
-          fx += sign * q.fx, fy += sign * q.fy, mz += is_j ? q.mj : q.mi;
-        }
+        double fx, fy, mz;
+        take_block_forces(gather, b, fx, fy, mz);
         sfx[b] = fx, sfy[b] = fy, smz[b] = mz;
         if (fixed[b]) continue;
         double vx = vxs[b], vy = vys[b], om = oms[b];
@@ -163,7 +164,8 @@ void gather_forces(const Model& m, const ModelState& s, Workspace& w, std::vecto
   (void)s;
   const std::size_t n = m.num_blocks();
   fx.resize(n), fy.resize(n), moment.resize(n);
-  for (std::size_t b = 0; b < n; ++b) take_block_forces(m, w, int(b), fx[b], fy[b], moment[b]);
+  const GatherArrays gather(m, w);
+  for (std::size_t b = 0; b < n; ++b) take_block_forces(gather, int(b), fx[b], fy[b], moment[b]);
 }
 
 }  // namespace rbdem::stages
