@@ -129,7 +129,7 @@ void integrate(const Model& m, ModelState& s, Workspace& w, double damping, int 
         vxs[b] = vx, vys[b] = vy, oms[b] = om;
         const double x = xs[b] + dt * vx, y = ys[b] + dt * vy, th = ths[b] + dt * om;
         xs[b] = x, ys[b] = y, ths[b] = th;
-        ok &= std::isfinite(x) & std::isfinite(y) & std::isfinite(th);
+        ok = ok && std::isfinite(x) && std::isfinite(y) && std::isfinite(th);
       }
       w.damping_work[std::size_t(g0 / grain)] = e_damp;
     }

@@ -2,6 +2,7 @@
 // at the specimen's lowest point. Each acts on the candidate blocks as a half-plane with the linear contact law
 // (dem/laws/linear_contact.hpp), k_n from the block's mirror image (d = 2 x inradius). See stages.hpp.
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <omp.h>
@@ -55,7 +56,8 @@ void platen_forces(const Model& m, ModelState& s, Workspace& w, double platen_fr
   {
     // Each thread takes the candidates among the blocks it integrates (the lists are sorted by block): it reads the
     // blocks it moved itself.
-    const auto [b0, b1] = w.share(part.block, omp_get_thread_num(), omp_get_num_threads());
+    const std::array<int, 2> blocks = w.share(part.block, omp_get_thread_num(), omp_get_num_threads());
+    const int b0 = blocks[0], b1 = blocks[1];
     auto mine = [&](const std::vector<int>& list, int& lo, int& hi) {
       lo = int(std::lower_bound(list.begin(), list.end(), b0) - list.begin());
       hi = int(std::lower_bound(list.begin(), list.end(), b1) - list.begin());
