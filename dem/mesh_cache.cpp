@@ -31,12 +31,6 @@ namespace {
 // Bumped whenever the file layout or the meaning of a cached mesh changes.
 constexpr std::string_view header = "rbdem-mesh-cache-1\n";
 
-std::uint64_t fnv1a(std::string_view s) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
-  return h;
-}
-
 bool starts_with(std::string_view s, std::string_view prefix) { return s.substr(0, prefix.size()) == prefix; }
 
 bool cache_enabled() {
@@ -146,6 +140,12 @@ std::optional<TriMesh> decode(const std::string& key_text, std::string_view file
 
 }  // namespace
 
+std::uint64_t fnv1a(std::string_view s) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
+  return h;
+}
+
 std::filesystem::path cache_dir() {
   if (const char* d = std::getenv("RBDEM_CACHE_DIR"); d && *d) return d;
   if (const char* d = std::getenv("XDG_CACHE_HOME"); d && *d) return std::filesystem::path(d) / "rbdem";
@@ -165,18 +165,23 @@ std::string mesh_cache_key_text(const Scene& scene) {
   return text;
 }
 
-std::filesystem::path mesh_cache_file(const Scene& scene) {
+namespace {
+// The cache file of a scene whose key text is `key_text` ("" when the cache does not apply).
+std::filesystem::path cache_file(const Scene& scene, const std::string& key_text) {
   if (!scene.mesh.file.empty() || !cache_enabled()) return {};
   const std::filesystem::path dir = cache_dir();
   if (dir.empty()) return {};
-  return dir / fmt::format("mesh-{:016x}.bin", fnv1a(mesh_cache_key_text(scene)));
+  return dir / fmt::format("mesh-{:016x}.bin", fnv1a(key_text));
 }
+}  // namespace
+
+std::filesystem::path mesh_cache_file(const Scene& scene) { return cache_file(scene, mesh_cache_key_text(scene)); }
 
 TriMesh make_mesh_cached(const Scene& scene, bool* from_cache) {
   if (from_cache) *from_cache = false;
-  const std::filesystem::path file = mesh_cache_file(scene);
-  if (file.empty()) return make_mesh(scene);
   const std::string key_text = mesh_cache_key_text(scene);
+  const std::filesystem::path file = cache_file(scene, key_text);
+  if (file.empty()) return make_mesh(scene);
   {
     std::ifstream in(file, std::ios::binary);
     if (in) {

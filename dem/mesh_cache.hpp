@@ -8,16 +8,21 @@
 // name ("-dirty", or outside git) always meshes. User meshes (mesh.file) are read as before.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 #include "dem/scene.hpp"
 #include "mesh/trimesh.hpp"
 
 namespace rbdem {
 
-// The folder of rbdem's caches: RBDEM_CACHE_DIR, else $XDG_CACHE_HOME/rbdem, else ~/.cache/rbdem ("" without any).
+// The folder of rbdem's caches (this one and the elastic gate's): RBDEM_CACHE_DIR, else $XDG_CACHE_HOME/rbdem,
+// else ~/.cache/rbdem ("" without any).
 std::filesystem::path cache_dir();
+// The 64-bit FNV-1a hash the caches name their files by (and check their contents with).
+std::uint64_t fnv1a(std::string_view s);
 
 // make_mesh(scene), through the cache when it applies (see above). RBDEM_MESH_CACHE = off turns the cache off;
 // on turns it on for any build.
