@@ -84,27 +84,60 @@ void prescan_msh(const std::filesystem::path& path) {
     return SceneError(fmt::format("mesh file '{}' is malformed: {}; export the mesh from gmsh again", path.string(),
                                   what));
   };
+  // gmsh reads a line in pieces of 255 (MSH 2) or 1023 (MSH 4) characters when it looks for the next section, so a
+  // piece of a longer line that starts with '$' would open a section this scan never saw.
+  const std::size_t longest = v4 ? 1000 : 250;
+  auto check_length = [&] {
+    if (line.size() > longest)
+      throw bad(fmt::format("a line holds {} characters, more than the {} gmsh reads at once", line.size(), longest));
+  };
   std::set<long long> nodes;
-  bool have_nodes = false;
   auto read_line = [&](std::istringstream& ls, const char* section) {
     if (!std::getline(in, line)) throw bad(fmt::format("the {} section ends early", section));
+    check_length();
     ls.clear();
     ls.str(line);
   };
   std::istringstream ls;
-  bool have_elements = false;
+  std::set<std::string> headers;
   while (std::getline(in, line)) {
+    check_length();
     while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t')) line.pop_back();
-    // gmsh takes a section by the start of its header line ("$ElementsX" is read as $Elements, "$NOD" and "$ELM"
-    // as MSH 1 nodes and elements; found by tests/fuzz/fuzz_msh): only the exact headers, once each, get past.
-    auto starts = [&](const char* key) { return line.rfind(key, 0) == 0; };
-    const bool nodes_like = starts("$NO") || starts("$Nodes") || starts("$ParametricNodes");
-    const bool elements_like = starts("$ELM") || starts("$Elements");
-    if ((nodes_like && (line != "$Nodes" || have_nodes)) || (elements_like && (line != "$Elements" || have_elements)))
-      throw bad(fmt::format("the section header `{}` is not a single $Nodes or $Elements",
-                            line.substr(0, std::min<std::size_t>(line.size(), 40))));
+    // gmsh opens a section at any line that starts with '$' and runs the reader whose name begins the line
+    // ("$ElementsX" is read as $Elements, "$NOD" and "$ELM" as MSH 1; found by tests/fuzz/fuzz_msh), and a second
+    // $MeshFormat would switch it to binary: only the exact headers of a plain mesh, each once, get past.
+    if (!line.empty() && line[0] == '$') {
+      static const std::set<std::string> known = {"$MeshFormat", "$EndMeshFormat", "$PhysicalNames",
+                                                  "$EndPhysicalNames", "$Entities", "$EndEntities",
+                                                  "$Nodes", "$EndNodes", "$Elements", "$EndElements"};
+      if (!known.count(line) || line == "$MeshFormat" || !headers.insert(line).second)
+        throw SceneError(fmt::format("mesh file '{}': the section header `{}` is not one rbdem reads or appears "
+                                     "twice; rbdem reads $MeshFormat, then $PhysicalNames, $Entities, $Nodes and "
+                                     "$Elements once each: export the mesh alone from gmsh (File > Export > .msh, no "
+                                     "views or data)",
+                                     path.string(), line.substr(0, std::min<std::size_t>(line.size(), 40))));
+    }
+    if (line == "$PhysicalNames") {
+      // gmsh 4.8 keeps one position per dimension and indexes it by the dimension read from the file (a dimension
+      // outside 0-3 crashed it, found by tests/fuzz/fuzz_msh): every name line is `dim tag "name"` with dim 0-3.
+      long long count = 0;
+      read_line(ls, "$PhysicalNames");
+      std::string extra;
+      if (!(ls >> count) || count < 0 || (ls >> extra)) throw bad("the $PhysicalNames count is not a number");
+      for (long long k = 0; k < count; ++k) {
+        long long dim = 2, tag = 0;
+        read_line(ls, "$PhysicalNames");
+        if (version > 2.0 && !(ls >> dim)) throw bad("a physical name's dimension is not a number");
+        if (dim < 0 || dim > 3) throw bad(fmt::format("a physical name has dimension {}, not 0 to 3", dim));
+        if (!(ls >> tag) || tag < -2147483647 || tag > 2147483647)
+          throw bad("a physical name's tag is not an integer");
+        std::string name;
+        std::getline(ls >> std::ws, name);
+        if (name.size() < 2 || name.front() != '"' || name.find('"', 1) == std::string::npos)
+          throw bad("a physical name is not in double quotes");
+      }
+    }
     if (line == "$Nodes") {
-      have_nodes = true;
       long long blocks = 1, count = 0;
       read_line(ls, "$Nodes");
       if (v4 ? !(ls >> blocks >> count) : !(ls >> count)) throw bad("the $Nodes header is not numbers");
@@ -143,7 +176,6 @@ void prescan_msh(const std::filesystem::path& path) {
           }
       }
     } else if (line == "$Elements") {
-      have_elements = true;
       long long blocks = 1, count = 0;
       read_line(ls, "$Elements");
       if (v4 ? !(ls >> blocks >> count) : !(ls >> count)) throw bad("the $Elements header is not numbers");
