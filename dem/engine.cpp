@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 
 #include <omp.h>
 
@@ -66,18 +67,77 @@ void Engine::refresh() {
 }
 
 void Engine::step() {
+  // One parallel region per step (docs/performance.md, "One region per step"): the threads meet at barriers
+  // between the stages instead of starting a team for each. A step with bond events or a contact rebuild leaves the
+  // region after the bond stage, runs those as before (each on its own team), and opens a second region for the
+  // block stages. Every stage does the same work in the same order either way, so the numbers are the same.
   const StepContext c = context(true);
-  stages::bond_forces(model_, state_, work_, c);
-  stages::bond_events(model_, state_, work_, on_crack, c.threads);
-  stages::detect_contacts(model_, state_, detection_, c.threads);
-  stages::contact_forces(model_, state_, work_, c);
-  stages::platen_forces(model_, state_, work_, options_.platen_friction, options_.platens, c);
-  stages::jacket_forces(model_, state_, work_, c);
-  stages::external_forces(work_);
-  stages::integrate(model_, state_, work_, options_.damping, c.threads);  // and the new rotations
-  state_.top_y -= state_.platen_velocity * state_.dt;
-  state_.time += state_.dt;
-  ++state_.steps;
+  ModelState& s = state_;
+  Workspace& w = work_;
+  stages::bond_forces_begin(model_, w, c);
+  stages::rebalance(w);
+  stages::rebuild_check_begin(w, c.threads);
+  bool finite = true, serial = false;
+  std::exception_ptr error;
+  // The block stages on thread t of nt: contacts and platens into their records, their sums, the jacket and the
+  // external loads on the first thread, then the integrator. Returns false when a position is not finite.
+  Workspace::Partition& part = w.part;
+  const auto block_stages = [&](int t, int nt) {
+    const bool timed = nt == part.threads;
+    double t0 = omp_get_wtime();
+    stages::contact_forces_share(model_, s, w, c, t, nt);
+    stages::platen_forces_share(model_, s, w, options_.platen_friction, options_.platens, c, t, nt);
+    double busy = omp_get_wtime() - t0;
+#pragma omp barrier
+#pragma omp master
+    try {
+      stages::contact_forces_end(s, w, c);
+      stages::platen_forces_end(s, w, options_.platens, c);
+      stages::jacket_forces(model_, s, w, c);
+      stages::external_forces(w);
+    } catch (...) {
+      error = std::current_exception();
+    }
+#pragma omp barrier
+    if (error) return true;
+    t0 = omp_get_wtime();
+    const bool ok = stages::integrate_share(model_, s, w, options_.damping, t, nt);
+    busy += omp_get_wtime() - t0;
+    if (timed) part.block_seconds[std::size_t(t)] += busy;
+    return ok;
+  };
+  const auto begin_block_stages = [&] {
+    stages::contact_forces_begin(model_, s, w, c);
+    stages::platen_forces_begin(model_, s, w, c);
+  };
+#pragma omp parallel num_threads(c.threads) reduction(&& : finite)
+  {
+    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+    const double t0 = omp_get_wtime();
+    stages::bond_forces_share(model_, s, w, c, t, nt);
+    if (nt == part.threads) part.bond_seconds[std::size_t(t)] += omp_get_wtime() - t0;
+    stages::rebuild_check_share(model_, s, w, t, nt);
+#pragma omp barrier
+#pragma omp master
+    {
+      serial = stages::events_pending(w) || stages::rebuild_due(model_, s, w);
+      if (!serial) begin_block_stages();
+    }
+#pragma omp barrier
+    if (!serial) finite = block_stages(t, nt);
+  }
+  if (serial) {
+    stages::bond_events(model_, s, w, on_crack, c.threads);
+    stages::detect_contacts(model_, s, detection_, c.threads);
+    begin_block_stages();
+#pragma omp parallel num_threads(c.threads) reduction(&& : finite)
+    finite = block_stages(omp_get_thread_num(), omp_get_num_threads());
+  }
+  if (error) std::rethrow_exception(error);
+  stages::integrate_end(s, w, finite);  // throws when the run diverged
+  s.top_y -= s.platen_velocity * s.dt;
+  s.time += s.dt;
+  ++s.steps;
 }
 
 void Engine::evaluate_forces(std::vector<double>& fx, std::vector<double>& fy, std::vector<double>& moment) {

@@ -118,6 +118,9 @@ class Engine {
     return options_.thread_budget ? std::clamp(options_.thread_budget->load(std::memory_order_relaxed), 1, nthreads_)
                                   : nthreads_;
   }
+  // How the bonds and blocks are split among the threads. The split follows the threads' measured speed and no
+  // result depends on it; tests move it to check that.
+  Workspace::Partition& partition() { return work_.part; }
   bool has_platens() const { return options_.platens; }
   double platen_friction() const { return options_.platen_friction; }
 

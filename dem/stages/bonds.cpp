@@ -63,40 +63,36 @@ template <bool Damaged>
   bond_range_body<true>(r);
 }
 
-template <bool Damaged>
-void bond_kernel(const Model& m, ModelState& s, Workspace& w, const StepContext& c) {
-  const int n = int(m.num_bonds());
-  const bool test = c.advance && s.breakage;
-  const BondArrays a(m, s, w);
-  w.flag.resize(std::size_t(n));
-  const Workspace::Partition& part = w.part;
-#pragma omp parallel num_threads(c.threads)
-  {
-    // Contiguous ranges in thread order: the flagged lists, read in thread order, are in bond order.
-    const int t = omp_get_thread_num();
-    const auto [lo, hi] = w.share(part.bond, t, omp_get_num_threads());
-    const BondFrames& f = m.frame;
-    const KernelRange range{a, f.tension_limit.data(), f.cohesion_A.data(), f.tan_phi.data(), f.beta_m.data(),
-                            f.inv_L.data(), s.drive.data(), w.keep.data(), s.fs_lin.data(), w.slot.data(),
-                            w.flag.data(), c.dt, int(c.advance), int(test), lo, hi};
-    if (Damaged) bond_range_damaged(range);
-    else bond_range_intact(range);
-    if (test) {
-      auto& mine = w.flagged[std::size_t(t)];
-      for (int b = lo; b < hi; ++b)
-        if (w.flag[std::size_t(b)]) mine.push_back(b);
-    }
-  }
-}
-
 }  // namespace
 
-void bond_forces(const Model& m, ModelState& s, Workspace& w, const StepContext& c) {
+void bond_forces_begin(const Model& m, Workspace& w, const StepContext& c) {
   partition(m, w, c.threads);
   if (int(w.flagged.size()) < c.threads) w.flagged.resize(std::size_t(c.threads));
   for (auto& v : w.flagged) v.clear();
-  if (w.damaged > 0) bond_kernel<true>(m, s, w, c);
-  else bond_kernel<false>(m, s, w, c);
+  w.flag.resize(m.num_bonds());
+}
+
+void bond_forces_share(const Model& m, ModelState& s, Workspace& w, const StepContext& c, int t, int nt) {
+  // Contiguous ranges in thread order: the flagged lists, read in thread order, are in bond order.
+  const bool test = c.advance && s.breakage;
+  const auto [lo, hi] = w.share(w.part.bond, t, nt);
+  const BondFrames& f = m.frame;
+  const KernelRange range{BondArrays(m, s, w), f.tension_limit.data(), f.cohesion_A.data(), f.tan_phi.data(),
+                          f.beta_m.data(), f.inv_L.data(), s.drive.data(), w.keep.data(), s.fs_lin.data(),
+                          w.slot.data(), w.flag.data(), c.dt, int(c.advance), int(test), lo, hi};
+  if (w.damaged > 0) bond_range_damaged(range);
+  else bond_range_intact(range);
+  if (test) {
+    auto& mine = w.flagged[std::size_t(t)];
+    for (int b = lo; b < hi; ++b)
+      if (w.flag[std::size_t(b)]) mine.push_back(b);
+  }
+}
+
+void bond_forces(const Model& m, ModelState& s, Workspace& w, const StepContext& c) {
+  bond_forces_begin(m, w, c);
+#pragma omp parallel num_threads(c.threads)
+  bond_forces_share(m, s, w, c, omp_get_thread_num(), omp_get_num_threads());
 }
 
 void refresh_keep(const Model& m, const ModelState& s, Workspace& w) {

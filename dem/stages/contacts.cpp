@@ -8,6 +8,7 @@
 // numerics.skip_bonded_pairs).
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include <omp.h>
 
@@ -51,6 +52,26 @@ void block_vertices(const Model& m, const ModelState& s, const Workspace& w, int
     out[2 * v] = s.x[k] + c * sh[2 * v] - sn * sh[2 * v + 1];
     out[2 * v + 1] = s.y[k] + sn * sh[2 * v] + c * sh[2 * v + 1];
   }
+}
+
+void rebuild_check_begin(Workspace& w, int threads) { w.moved.assign(std::size_t(std::max(threads, 1)), 0); }
+
+void rebuild_check_share(const Model& m, const ModelState& s, Workspace& w, int t, int nt) {
+  const double lim2 = 0.25 * m.skin * m.skin;
+  const int ne = int(s.eligible.size());
+  const int lo = int(std::int64_t(ne) * t / nt), hi = int(std::int64_t(ne) * (t + 1) / nt);
+  bool moved = false;
+  for (int k = lo; k < hi; ++k) {
+    const std::size_t b = std::size_t(s.eligible[std::size_t(k)]);
+    const double dx = s.x[b] - s.ref_x[std::size_t(k)], dy = s.y[b] - s.ref_y[std::size_t(k)];
+    moved = moved || dx * dx + dy * dy > lim2;
+  }
+  w.moved[std::size_t(t)] = moved;
+}
+
+bool rebuild_due(const Model& m, const ModelState& s, const Workspace& w) {
+  if (s.rebuild || std::abs(s.top_y - s.ref_top) > 0.5 * m.skin) return true;
+  return std::any_of(w.moved.begin(), w.moved.end(), [](std::uint8_t v) { return v != 0; });
 }
 
 void detect_contacts(const Model& m, ModelState& s, const DetectionOptions& o, int threads) {
@@ -165,70 +186,82 @@ void detect_contacts(const Model& m, ModelState& s, const DetectionOptions& o, i
 
 // Each pair's narrow phase and contact law run in parallel into the pair's own record; the records are then
 // summed into the contact accumulators serially in pair order, so the sums do not depend on the thread count.
-void contact_forces(const Model& m, ModelState& s, Workspace& w, const StepContext& c) {
-  auto& C = s.contacts;
-  const double dt = c.dt;
-  const bool advance = c.advance;
-  const int n = int(C.size());
-  w.pair_force.resize(C.size());
-  Workspace::PairForce* out = w.pair_force.data();
+void contact_forces_begin(const Model& m, ModelState& s, Workspace& w, const StepContext& c) {
+  w.pair_force.resize(s.contacts.size());
   partition(m, w, c.threads);
   if (int(w.in_contact.size()) < c.threads) w.in_contact.resize(std::size_t(c.threads));
   for (auto& v : w.in_contact) v.clear();
-  const Workspace::Partition& part = w.part;
-#pragma omp parallel num_threads(c.threads) if (n > 64)
-  {
-    // Each thread takes the pairs whose lower block it integrates (the keys are sorted by it): it reads the blocks
-    // it moved itself. The ranges are contiguous and in thread order.
-    const auto [b0, b1] = w.share(part.block, omp_get_thread_num(), omp_get_num_threads());
-    const int lo = first_pair_of(C, b0), hi = first_pair_of(C, b1);
-    std::vector<int>& mine = w.in_contact[std::size_t(omp_get_thread_num())];
-    for (int p = lo; p < hi; ++p) {
-      const int i = C.i[p], j = C.j[p];
-      const double ex = s.x[j] - s.x[i], ey = s.y[j] - s.y[i];
-      const double rr = m.radius[i] + m.radius[j];
-      Overlap ov;
-      double vi[6], vj[6];
-      bool touching = false;
-      if (ex * ex + ey * ey < rr * rr) {
-        block_vertices(m, s, w, i, vi);
-        block_vertices(m, s, w, j, vj);
-        touching = overlap_polygons(vi, 3, vj, 3, ov);
-      }
-      // A pair still joined by its bond (listed only with skip_bonded_pairs = false): the bond's linear part is its
-      // contact, so the narrow phase above was the whole of its cost.
-      const bool intact = C.bond[p] >= 0 && !s.broken[std::size_t(C.bond[p])];
-      if (!touching || intact) {
-        if (advance) C.fs[p] = 0.0, C.fn[p] = 0.0, C.chord[p] = 0.0;
-        out[p] = Workspace::PairForce{0, 0, 0, 0, 0, false};
-        continue;
-      }
-      const double nx = -ov.nx, ny = -ov.ny;  // from i to j, as for bonds
-      const double tx = -ny, ty = nx;
-      const double fn = C.law[p].normal_force(ov.area, ov.chord);
-      const double cix = ov.px - s.x[i], ciy = ov.py - s.y[i];
-      const double cjx = ov.px - s.x[j], cjy = ov.py - s.y[j];
-      const double vrx = (s.vx[j] - s.omega[j] * cjy) - (s.vx[i] - s.omega[i] * ciy);
-      const double vry = (s.vy[j] + s.omega[j] * cjx) - (s.vy[i] + s.omega[i] * cix);
-      const double vt = vrx * tx + vry * ty;
-      double fs = C.fs[p];
-      const double friction = C.law[p].update_shear(fn, ov.chord, vt, dt, fs) ? std::abs(fs * vt * dt) : 0.0;
-      if (advance) C.fs[p] = fs, C.fn[p] = fn, C.chord[p] = ov.chord;
-      const double fx = fn * nx + fs * tx, fy = fn * ny + fs * ty;  // on j
-      out[p] = Workspace::PairForce{fx, fy, cross(cix, ciy, fx, fy), cross(cjx, cjy, fx, fy), friction, true};
-      mine.push_back(p);
+}
+
+void contact_forces_share(const Model& m, ModelState& s, Workspace& w, const StepContext& c, int t, int nt) {
+  auto& C = s.contacts;
+  const double dt = c.dt;
+  const bool advance = c.advance;
+  Workspace::PairForce* out = w.pair_force.data();
+  // Each thread takes the pairs whose lower block it integrates (the keys are sorted by it): it reads the blocks it
+  // moved itself. The ranges are contiguous and in thread order.
+  const auto [b0, b1] = w.share(w.part.block, t, nt);
+  const int lo = first_pair_of(C, b0), hi = first_pair_of(C, b1);
+  std::vector<int>& mine = w.in_contact[std::size_t(t)];
+  for (int p = lo; p < hi; ++p) {
+    const int i = C.i[p], j = C.j[p];
+    const double ex = s.x[j] - s.x[i], ey = s.y[j] - s.y[i];
+    const double rr = m.radius[i] + m.radius[j];
+    Overlap ov;
+    double vi[6], vj[6];
+    bool touching = false;
+    if (ex * ex + ey * ey < rr * rr) {
+      block_vertices(m, s, w, i, vi);
+      block_vertices(m, s, w, j, vj);
+      touching = overlap_polygons(vi, 3, vj, 3, ov);
     }
+    // A pair still joined by its bond (listed only with skip_bonded_pairs = false): the bond's linear part is its
+    // contact, so the narrow phase above was the whole of its cost.
+    const bool intact = C.bond[p] >= 0 && !s.broken[std::size_t(C.bond[p])];
+    if (!touching || intact) {
+      if (advance) C.fs[p] = 0.0, C.fn[p] = 0.0, C.chord[p] = 0.0;
+      out[p] = Workspace::PairForce{0, 0, 0, 0, 0, false};
+      continue;
+    }
+    const double nx = -ov.nx, ny = -ov.ny;  // from i to j, as for bonds
+    const double tx = -ny, ty = nx;
+    const double fn = C.law[p].normal_force(ov.area, ov.chord);
+    const double cix = ov.px - s.x[i], ciy = ov.py - s.y[i];
+    const double cjx = ov.px - s.x[j], cjy = ov.py - s.y[j];
+    const double vrx = (s.vx[j] - s.omega[j] * cjy) - (s.vx[i] - s.omega[i] * ciy);
+    const double vry = (s.vy[j] + s.omega[j] * cjx) - (s.vy[i] + s.omega[i] * cix);
+    const double vt = vrx * tx + vry * ty;
+    double fs = C.fs[p];
+    const double friction = C.law[p].update_shear(fn, ov.chord, vt, dt, fs) ? std::abs(fs * vt * dt) : 0.0;
+    if (advance) C.fs[p] = fs, C.fn[p] = fn, C.chord[p] = ov.chord;
+    const double fx = fn * nx + fs * tx, fy = fn * ny + fs * ty;  // on j
+    out[p] = Workspace::PairForce{fx, fy, cross(cix, ciy, fx, fy), cross(cjx, cjy, fx, fy), friction, true};
+    mine.push_back(p);
   }
+}
+
+void contact_forces_end(ModelState& s, Workspace& w, const StepContext& c) {
   // Most pairs of free-face blocks do not touch: only those that do are summed, the lists in thread order, which
   // is pair order.
+  const auto& C = s.contacts;
+  const Workspace::PairForce* out = w.pair_force.data();
   for (const std::vector<int>& list : w.in_contact)
     for (int p : list) {
       const Workspace::PairForce& f = out[p];
       const int i = C.i[p], j = C.j[p];
       w.cfx[j] += f.fx, w.cfy[j] += f.fy, w.cm[j] += f.mj;
       w.cfx[i] -= f.fx, w.cfy[i] -= f.fy, w.cm[i] -= f.mi;
-      if (advance) s.e_friction += f.friction;
+      if (c.advance) s.e_friction += f.friction;
     }
+}
+
+// Each pair's narrow phase and contact law run in parallel into the pair's own record; the records are then
+// summed into the contact accumulators serially in pair order, so the sums do not depend on the thread count.
+void contact_forces(const Model& m, ModelState& s, Workspace& w, const StepContext& c) {
+  contact_forces_begin(m, s, w, c);
+#pragma omp parallel num_threads(c.threads) if (s.contacts.size() > 64)
+  contact_forces_share(m, s, w, c, omp_get_thread_num(), omp_get_num_threads());
+  contact_forces_end(s, w, c);
 }
 
 }  // namespace rbdem::stages

@@ -89,53 +89,88 @@ void partition(const Model& m, Workspace& w, int threads) {
     p.bond[std::size_t(t)] = int(std::lower_bound(m.bi.begin(), m.bi.end(), b) - m.bi.begin());
   }
   w.damping_work.assign(std::size_t((nb + grain - 1) / grain), 0.0);
+  p.bond_seconds.assign(std::size_t(threads), 0.0), p.block_seconds.assign(std::size_t(threads), 0.0);
+  p.steps = 0;
 }
 
-void integrate(const Model& m, ModelState& s, Workspace& w, double damping, int threads) {
-  partition(m, w, threads);
+namespace {
+
+// Moves the boundaries `bounds` (over `total` items, multiples of `grain`) half way to where the threads' measured
+// times `seconds` would have been equal, at each thread's own rate; no thread gets less than half or more than
+// one and a half times an equal share.
+void shift_bounds(std::vector<int>& bounds, const std::vector<double>& seconds, int grain) {
+  const std::size_t nt = seconds.size();
+  const int total = bounds.back();
+  std::vector<double> rate(nt);
+  double sum = 0.0;
+  for (std::size_t t = 0; t < nt; ++t) {
+    const int n = bounds[t + 1] - bounds[t];
+    if (!(seconds[t] > 0.0) || n <= 0) return;  // nothing measured: keep the split
+    rate[t] = n / seconds[t], sum += rate[t];
+  }
+  const double equal = double(total) / double(nt);
+  double at = 0.0;
+  for (std::size_t t = 0; t + 1 < nt; ++t) {
+    const double now = bounds[t + 1] - bounds[t], balanced = total * rate[t] / sum;
+    at += std::clamp(0.5 * (now + balanced), 0.5 * equal, 1.5 * equal);
+    const int b = int(std::lround(at / grain)) * grain;
+    bounds[t + 1] = std::clamp(b, bounds[t], total);
+  }
+}
+
+}  // namespace
+
+void rebalance(Workspace& w) {
+  Workspace::Partition& p = w.part;
+  if (p.threads < 2 || ++p.steps < Workspace::Partition::kRebalanceSteps) return;
+  shift_bounds(p.bond, p.bond_seconds, 1);
+  shift_bounds(p.block, p.block_seconds, Workspace::Partition::kBlockGrain);
+  std::fill(p.bond_seconds.begin(), p.bond_seconds.end(), 0.0);
+  std::fill(p.block_seconds.begin(), p.block_seconds.end(), 0.0);
+  p.steps = 0;
+}
+
+bool integrate_share(const Model& m, ModelState& s, Workspace& w, double damping, int t, int nt) {
   const double dt = s.dt, alpha = damping;
   const int grain = Workspace::Partition::kBlockGrain;
-  const Workspace::Partition& part = w.part;
-  bool finite = true;
-#pragma omp parallel num_threads(threads) reduction(&& : finite)
-  {
-    const int t = omp_get_thread_num();
-    const auto [lo, hi] = w.share(part.block, t, omp_get_num_threads());
-    // Local pointers: the stores below must not make the loop reload every array's address from memory.
-    const GatherArrays gather(m, w);
-    double *__restrict sfx = s.fx.data(), *__restrict sfy = s.fy.data(), *__restrict smz = s.moment.data();
-    double *__restrict vxs = s.vx.data(), *__restrict vys = s.vy.data(), *__restrict oms = s.omega.data();
-    double *__restrict xs = s.x.data(), *__restrict ys = s.y.data(), *__restrict ths = s.theta.data();
-    const double *__restrict inv_mass = m.inv_mass.data(), *__restrict inertia = m.inertia.data();
-    const std::uint8_t* __restrict fixed = m.fixed.data();
-    bool ok = true;
-    for (int g0 = lo; g0 < hi; g0 += grain) {
-      const int g1 = std::min(g0 + grain, hi);
-      double e_damp = 0.0;
-      for (int b = g0; b < g1; ++b) {
-        double fx, fy, mz;
-        take_block_forces(gather, b, fx, fy, mz);
-        sfx[b] = fx, sfy[b] = fy, smz[b] = mz;
-        if (fixed[b]) continue;
-        double vx = vxs[b], vy = vys[b], om = oms[b];
-        // Cundall local damping: F_d = -alpha |F| sign(v), per degree of freedom.
-        const double dfx = -alpha * std::abs(fx) * double((vx > 0) - (vx < 0));
-        const double dfy = -alpha * std::abs(fy) * double((vy > 0) - (vy < 0));
-        const double dm = -alpha * std::abs(mz) * double((om > 0) - (om < 0));
-        e_damp -= (dfx * vx + dfy * vy + dm * om) * dt;
-        vx += dt * (fx + dfx) * inv_mass[b];
-        vy += dt * (fy + dfy) * inv_mass[b];
-        om += dt * (mz + dm) / inertia[b];
-        vxs[b] = vx, vys[b] = vy, oms[b] = om;
-        const double x = xs[b] + dt * vx, y = ys[b] + dt * vy, th = ths[b] + dt * om;
-        xs[b] = x, ys[b] = y, ths[b] = th;
-        ok = ok && std::isfinite(x) && std::isfinite(y) && std::isfinite(th);
-      }
-      w.damping_work[std::size_t(g0 / grain)] = e_damp;
+  const auto [lo, hi] = w.share(w.part.block, t, nt);
+  // Local pointers: the stores below must not make the loop reload every array's address from memory.
+  const GatherArrays gather(m, w);
+  double *__restrict sfx = s.fx.data(), *__restrict sfy = s.fy.data(), *__restrict smz = s.moment.data();
+  double *__restrict vxs = s.vx.data(), *__restrict vys = s.vy.data(), *__restrict oms = s.omega.data();
+  double *__restrict xs = s.x.data(), *__restrict ys = s.y.data(), *__restrict ths = s.theta.data();
+  const double *__restrict inv_mass = m.inv_mass.data(), *__restrict inertia = m.inertia.data();
+  const std::uint8_t* __restrict fixed = m.fixed.data();
+  bool ok = true;
+  for (int g0 = lo; g0 < hi; g0 += grain) {
+    const int g1 = std::min(g0 + grain, hi);
+    double e_damp = 0.0;
+    for (int b = g0; b < g1; ++b) {
+      double fx, fy, mz;
+      take_block_forces(gather, b, fx, fy, mz);
+      sfx[b] = fx, sfy[b] = fy, smz[b] = mz;
+      if (fixed[b]) continue;
+      double vx = vxs[b], vy = vys[b], om = oms[b];
+      // Cundall local damping: F_d = -alpha |F| sign(v), per degree of freedom.
+      const double dfx = -alpha * std::abs(fx) * double((vx > 0) - (vx < 0));
+      const double dfy = -alpha * std::abs(fy) * double((vy > 0) - (vy < 0));
+      const double dm = -alpha * std::abs(mz) * double((om > 0) - (om < 0));
+      e_damp -= (dfx * vx + dfy * vy + dm * om) * dt;
+      vx += dt * (fx + dfx) * inv_mass[b];
+      vy += dt * (fy + dfy) * inv_mass[b];
+      om += dt * (mz + dm) / inertia[b];
+      vxs[b] = vx, vys[b] = vy, oms[b] = om;
+      const double x = xs[b] + dt * vx, y = ys[b] + dt * vy, th = ths[b] + dt * om;
+      xs[b] = x, ys[b] = y, ths[b] = th;
+      ok = ok && std::isfinite(x) && std::isfinite(y) && std::isfinite(th);
     }
-    finite = ok;
-    rotations_of(s.theta.data(), w.cos_t.data(), w.sin_t.data(), lo, hi);
+    w.damping_work[std::size_t(g0 / grain)] = e_damp;
   }
+  rotations_of(s.theta.data(), w.cos_t.data(), w.sin_t.data(), lo, hi);
+  return ok;
+}
+
+void integrate_end(ModelState& s, Workspace& w, bool finite) {
   double e_damp = 0.0;
   for (double e : w.damping_work) e_damp += e;
   s.e_damping += e_damp;
@@ -144,6 +179,14 @@ void integrate(const Model& m, ModelState& s, Workspace& w, double damping, int 
         "the run diverged at step {} (t = {:.4g} s): positions are no longer finite. The time step {:.4g} s is too "
         "large for this scene; lower numerics.dt or numerics.dt_safety",
         s.steps, s.time, s.dt));
+}
+
+void integrate(const Model& m, ModelState& s, Workspace& w, double damping, int threads) {
+  partition(m, w, threads);
+  bool finite = true;
+#pragma omp parallel num_threads(threads) reduction(&& : finite)
+  finite = integrate_share(m, s, w, damping, omp_get_thread_num(), omp_get_num_threads());
+  integrate_end(s, w, finite);
 }
 
 void external_forces(Workspace& w) {

@@ -70,10 +70,16 @@ struct Workspace {
   // index order, equal block counts, and each thread's bonds those numbered from its blocks (a bond is numbered from
   // its lower block), so that a thread reads mostly the blocks it moved itself. Block boundaries are multiples of
   // kBlockGrain: the damping work, summed per grain and then in grain order, is the same at any thread count.
+  // No result depends on where the boundaries lie (every item's work and every sum's order are fixed), so they
+  // follow the threads' measured speed: every kRebalanceSteps steps, rebalance() moves them towards equal times
+  // (docs/performance.md, "Balance by measured time").
   struct Partition {
     static constexpr int kBlockGrain = 64;
+    static constexpr int kRebalanceSteps = 64;
     int threads = 0;
     std::vector<int> block, bond;                     // threads + 1 boundaries each
+    std::vector<double> bond_seconds, block_seconds;  // per thread: time in its share since the last rebalance
+    int steps = 0;                                    // steps since the last rebalance
   };
   Partition part;
   // The share [lo, hi) of `bounds` (one of the partition's boundary lists) for thread t of a team of nt threads:
@@ -84,6 +90,7 @@ struct Workspace {
     return {t == 0 ? bounds.front() : bounds.back(), bounds.back()};
   }
   std::vector<double> damping_work;                   // per block grain: the damping work of the step (J)
+  std::vector<std::uint8_t> moved;                    // per thread: one of its eligible blocks moved half a skin
 };
 
 struct StepContext {
@@ -100,10 +107,24 @@ void update_rotations(const ModelState& s, Workspace& w, int threads);
 // The partition for `threads` threads (set up again when the thread count changed; the bond stage and the
 // integrator call it).
 void partition(const Model& m, Workspace& w, int threads);
+// Counts a step; every Partition::kRebalanceSteps steps, moves the boundaries towards equal measured times.
+void rebalance(Workspace& w);
+
+// Each stage below that runs on threads is also given in parts, for a team its caller has opened already (the
+// engine's step runs its stages in one parallel region): X_begin once before the team, X_share(t, nt) on each
+// thread t of the team of nt, X_end once after every share. X itself is the three in a region of its own.
 
 // The bond stage: slots of every bond (zero for broken ones) and, when advancing with breakage on, the bonds whose
 // failure test held in w.flagged. Runs on the partition's bond ranges.
 void bond_forces(const Model& m, ModelState& s, Workspace& w, const StepContext& c);
+void bond_forces_begin(const Model& m, Workspace& w, const StepContext& c);
+void bond_forces_share(const Model& m, ModelState& s, Workspace& w, const StepContext& c, int t, int nt);
+// Whether any bond is flagged for bond_events.
+inline bool events_pending(const Workspace& w) {
+  for (const auto& list : w.flagged)
+    if (!list.empty()) return true;
+  return false;
+}
 // Bond events in bond order: softening bonds advance their damage, bonds past their strength break (slot zeroed,
 // free faces marked, the pair's contact takes over the linear shear force, crack logged, on_crack called).
 // Returns the number of bonds that broke.
@@ -121,15 +142,26 @@ struct DetectionOptions {
 };
 // The broad phase, when a block or the platen moved half a skin since the last rebuild or a bond broke.
 void detect_contacts(const Model& m, ModelState& s, const DetectionOptions& o, int threads);
+// The same test by a team (rebuild_due after every share): true when detect_contacts would rebuild.
+void rebuild_check_begin(Workspace& w, int threads);
+void rebuild_check_share(const Model& m, const ModelState& s, Workspace& w, int t, int nt);
+bool rebuild_due(const Model& m, const ModelState& s, const Workspace& w);
 // The per-block accumulators w.cfx, w.cfy, w.cm of the contact and boundary forces are zero between steps: the
 // stages below add to them and whoever reads them (integrate, gather_forces) resets them, each thread its own
 // blocks, so no serial pass clears them and no block's accumulator changes cores (docs/performance.md).
 void clear_accumulators(Workspace& w);
 // Narrow phase and contact law per pair, summed in pair order into w.cfx, w.cfy, w.cm.
 void contact_forces(const Model& m, ModelState& s, Workspace& w, const StepContext& c);
+void contact_forces_begin(const Model& m, ModelState& s, Workspace& w, const StepContext& c);
+void contact_forces_share(const Model& m, ModelState& s, Workspace& w, const StepContext& c, int t, int nt);
+void contact_forces_end(ModelState& s, Workspace& w, const StepContext& c);
 // The two platens: half-plane contacts of the candidate blocks, added to w.cfx, w.cfy, w.cm.
 void platen_forces(const Model& m, ModelState& s, Workspace& w, double platen_friction, bool platens,
                    const StepContext& c);
+void platen_forces_begin(const Model& m, ModelState& s, Workspace& w, const StepContext& c);
+void platen_forces_share(const Model& m, ModelState& s, Workspace& w, double platen_friction, bool platens,
+                         const StepContext& c, int t, int nt);
+void platen_forces_end(ModelState& s, Workspace& w, bool platens, const StepContext& c);
 // The confining pressure on the jacket edges (follower forces), added to w.cfx, w.cfy, w.cm; after contact_forces.
 void jacket_forces(const Model& m, ModelState& s, Workspace& w, const StepContext& c);
 // The constant external loads, added to w.cfx, w.cfy, w.cm; last before the gather.
@@ -138,6 +170,10 @@ void external_forces(Workspace& w);
 // then, on the same thread and block range, the new rotations' cos and sin (update_rotations). Runs on the
 // partition's block ranges. Throws InstabilityError when a position becomes non-finite.
 void integrate(const Model& m, ModelState& s, Workspace& w, double damping, int threads);
+// integrate_share returns false when a position of its blocks is not finite; integrate_end throws then. The begin
+// is partition().
+bool integrate_share(const Model& m, ModelState& s, Workspace& w, double damping, int t, int nt);
+void integrate_end(ModelState& s, Workspace& w, bool finite);
 // The total generalized force on every block without damping (the same gather as integrate(), resetting the
 // accumulators too).
 void gather_forces(const Model& m, const ModelState& s, Workspace& w, std::vector<double>& fx,
