@@ -67,7 +67,7 @@ void Engine::refresh() {
 }
 
 void Engine::step() {
-  // One parallel region per step (docs/performance.md, "One region per step"): the threads meet at barriers
+  // One parallel region per step (docs/performance.md, "A fourth round"): the threads meet at barriers
   // between the stages instead of starting a team for each. A step with bond events or a contact rebuild leaves the
   // region after the bond stage, runs those as before (each on its own team), and opens a second region for the
   // block stages. Every stage does the same work in the same order either way, so the numbers are the same.

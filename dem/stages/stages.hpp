@@ -67,12 +67,12 @@ struct Workspace {
   std::vector<std::uint8_t> touching;                 // per block: in a contact that carries force (the jacket)
 
   // How a step's bond stage and block stage share the bonds and the blocks among its threads: contiguous ranges in
-  // index order, equal block counts, and each thread's bonds those numbered from its blocks (a bond is numbered from
-  // its lower block), so that a thread reads mostly the blocks it moved itself. Block boundaries are multiples of
-  // kBlockGrain: the damping work, summed per grain and then in grain order, is the same at any thread count.
-  // No result depends on where the boundaries lie (every item's work and every sum's order are fixed), so they
-  // follow the threads' measured speed: every kRebalanceSteps steps, rebalance() moves them towards equal times
-  // (docs/performance.md, "Balance by measured time").
+  // index order. They start with equal block counts and each thread's bonds those numbered from its blocks (a bond
+  // is numbered from its lower block), so that a thread reads mostly the blocks it moved itself. No result depends
+  // on where the boundaries lie (every item's work and every sum's order are fixed), so they then follow the
+  // threads' measured speed: every kRebalanceSteps steps, rebalance() moves the bond and the block boundaries
+  // towards equal times (docs/performance.md, "A fourth round"). Block boundaries stay multiples of kBlockGrain:
+  // the damping work, summed per grain and then in grain order, is the same at any thread count and split.
   struct Partition {
     static constexpr int kBlockGrain = 64;
     static constexpr int kRebalanceSteps = 64;
