@@ -27,18 +27,31 @@ int first_pair_of(const ContactPairs& C, int b) {
   return int(std::lower_bound(C.key.begin(), C.key.end(), std::uint64_t(std::uint32_t(b)) << 32) - C.key.begin());
 }
 
-bool needs_rebuild(const Model& m, const ModelState& s, int threads) {
-  if (s.rebuild) return true;
-  if (std::abs(s.top_y - s.ref_top) > 0.5 * m.skin) return true;
+// A rebuild regardless of the blocks: a bond broke, or the top platen moved half a skin.
+bool rebuild_forced(const Model& m, const ModelState& s) {
+  return s.rebuild || std::abs(s.top_y - s.ref_top) > 0.5 * m.skin;
+}
+
+// Whether one of thread t's share (of nt, contiguous in eligible order) of the eligible blocks moved half a skin
+// since the last rebuild.
+bool moved_half_skin(const Model& m, const ModelState& s, int t, int nt) {
   const double lim2 = 0.25 * m.skin * m.skin;
   const int ne = int(s.eligible.size());
+  const int lo = int(std::int64_t(ne) * t / nt), hi = int(std::int64_t(ne) * (t + 1) / nt);
   bool moved = false;
-#pragma omp parallel for schedule(static) num_threads(threads) reduction(|| : moved) if (ne > 1024)
-  for (int k = 0; k < ne; ++k) {
+  for (int k = lo; k < hi; ++k) {
     const std::size_t b = std::size_t(s.eligible[std::size_t(k)]);
     const double dx = s.x[b] - s.ref_x[std::size_t(k)], dy = s.y[b] - s.ref_y[std::size_t(k)];
     moved = moved || dx * dx + dy * dy > lim2;
   }
+  return moved;
+}
+
+bool needs_rebuild(const Model& m, const ModelState& s, int threads) {
+  if (rebuild_forced(m, s)) return true;
+  bool moved = false;
+#pragma omp parallel num_threads(threads) reduction(|| : moved) if (s.eligible.size() > 1024)
+  moved = moved_half_skin(m, s, omp_get_thread_num(), omp_get_num_threads());
   return moved;
 }
 
@@ -57,21 +70,11 @@ void block_vertices(const Model& m, const ModelState& s, const Workspace& w, int
 void rebuild_check_begin(Workspace& w, int threads) { w.moved.assign(std::size_t(std::max(threads, 1)), 0); }
 
 void rebuild_check_share(const Model& m, const ModelState& s, Workspace& w, int t, int nt) {
-  const double lim2 = 0.25 * m.skin * m.skin;
-  const int ne = int(s.eligible.size());
-  const int lo = int(std::int64_t(ne) * t / nt), hi = int(std::int64_t(ne) * (t + 1) / nt);
-  bool moved = false;
-  for (int k = lo; k < hi; ++k) {
-    const std::size_t b = std::size_t(s.eligible[std::size_t(k)]);
-    const double dx = s.x[b] - s.ref_x[std::size_t(k)], dy = s.y[b] - s.ref_y[std::size_t(k)];
-    moved = moved || dx * dx + dy * dy > lim2;
-  }
-  w.moved[std::size_t(t)] = moved;
+  w.moved[std::size_t(t)] = moved_half_skin(m, s, t, nt);
 }
 
 bool rebuild_due(const Model& m, const ModelState& s, const Workspace& w) {
-  if (s.rebuild || std::abs(s.top_y - s.ref_top) > 0.5 * m.skin) return true;
-  return std::any_of(w.moved.begin(), w.moved.end(), [](std::uint8_t v) { return v != 0; });
+  return rebuild_forced(m, s) || std::any_of(w.moved.begin(), w.moved.end(), [](std::uint8_t v) { return v != 0; });
 }
 
 void detect_contacts(const Model& m, ModelState& s, const DetectionOptions& o, int threads) {
