@@ -41,7 +41,7 @@ Engine::Engine(const Topology& topo, const Scene& scene, const EngineOptions& op
   s.rebuild = true;
 
   Workspace& w = work_;
-  w.slot.assign(nbond, Workspace::Slot{0.0, 0.0, 0.0, 0.0});
+  w.slot.assign(nbond);
   w.cfx.assign(nb, 0.0), w.cfy.assign(nb, 0.0), w.cm.assign(nb, 0.0);
 
   detection_.contacts = options_.contacts;

@@ -160,6 +160,15 @@ Model build_model(const Topology& topo, const Scene& scene, double mass_scaling)
       const int bond = topo.bond_of[std::size_t(o)];
       m.csr_entry[std::size_t(o)] = 2 * bond + (N.j[std::size_t(bond)] == int(b) ? 1 : 0);
     }
+  m.gather3.assign(3 * nb, 2 * int(m.num_bonds()) + 1);
+  for (std::size_t b = 0; b < nb; ++b) {
+    const int n = m.csr_offset[b + 1] - m.csr_offset[b];
+    if (n > 3) {
+      m.gather3.clear();
+      break;
+    }
+    for (int k = 0; k < n; ++k) m.gather3[3 * b + std::size_t(k)] = m.csr_entry[std::size_t(m.csr_offset[b] + k)];
+  }
 
   // Platen stiffness: the platen acts as the mirror image of the block, d = 2 x inradius.
   m.platen_kn.resize(nb);

@@ -64,7 +64,8 @@ struct Model {
   std::vector<std::array<double, 6>> shape;     // body-frame vertices (m), counter-clockwise
   std::vector<int> layer;
   std::vector<std::uint8_t> block_material;     // material id per block (rock or rock2)
-  std::vector<std::uint8_t> fixed;              // kinematically fixed (tests, the reference studies)
+  std::vector<int> fixed;  // kinematically fixed (tests, the reference studies); int, not a byte: the integrator
+                           // reads it in vector lanes beside doubles, and the vectoriser takes no byte flags there
   std::size_t num_blocks() const { return mass.size(); }
 
   // bonds
@@ -76,6 +77,10 @@ struct Model {
   std::size_t num_bonds() const { return bi.size(); }
   // CSR of the force gather: entries csr_entry[csr_offset[b] .. csr_offset[b+1]) are 2 bond + (1 if b is j).
   std::vector<int> csr_offset, csr_entry;
+  // The same entries, three per block (a triangle has at most three bonds) and padded with 2 num_bonds() + 1, the
+  // always-zero slot after the last bond's: the integrator's loop then has no inner loop of varying length. Empty
+  // when some block has more than three bonds (the CSR is used then).
+  std::vector<int> gather3;
 
   // platens: the half-plane contact of each block (k_n from the block's mirror image, d = 2 inradius)
   std::vector<double> platen_kn;    // Pa/m

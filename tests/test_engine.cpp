@@ -202,7 +202,7 @@ TEST(BondKernel, VectorisedKernelEqualsTheScalarBondEvaluationBitForBit) {
   for (std::size_t k = 3; k < m.num_bonds(); k += 11) s.broken[k] = 1;
   for (std::size_t k = 0; k < m.num_bonds(); ++k) s.fs_lin[k] = 1e-3 * double(k % 13);
   Workspace w;
-  w.slot.assign(m.num_bonds(), Workspace::Slot{0, 0, 0, 0});
+  w.slot.assign(m.num_bonds());
   stages::update_rotations(s, w, 1);
   stages::refresh_keep(m, s, w);
   ASSERT_GT(w.damaged, 0u);
@@ -215,15 +215,15 @@ TEST(BondKernel, VectorisedKernelEqualsTheScalarBondEvaluationBitForBit) {
     const int b = int(k);
     const stages::BondEval ev = stages::eval_bond(m, before, w, b, c.dt, before.fs_lin[k], w.keep[k]);
     if (before.broken[k]) {
-      EXPECT_EQ(w.slot[k].fx, 0.0) << b;
+      EXPECT_EQ(w.slot.fx[k], 0.0) << b;
       EXPECT_EQ(s.fs_lin[k], before.fs_lin[k]) << b;
       continue;
     }
     compressed += ev.fnl > 0.0;
-    EXPECT_EQ(w.slot[k].fx, ev.fx) << b;
-    EXPECT_EQ(w.slot[k].fy, ev.fy) << b;
-    EXPECT_EQ(w.slot[k].mi, ev.mi) << b;
-    EXPECT_EQ(w.slot[k].mj, ev.mj) << b;
+    EXPECT_EQ(w.slot.fx[k], ev.fx) << b;
+    EXPECT_EQ(w.slot.fy[k], ev.fy) << b;
+    EXPECT_EQ(w.slot.m[2 * k], ev.mi) << b;
+    EXPECT_EQ(w.slot.m[2 * k + 1], ev.mj) << b;
     EXPECT_EQ(s.fs_lin[k], ev.fsl) << b;
   }
   EXPECT_GT(compressed, 0u);

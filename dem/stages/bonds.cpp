@@ -23,7 +23,7 @@ struct KernelRange {
   const double *tension_limit, *cohesion_A, *tan_phi, *beta_m, *inv_L;  // the strength in force units
   const double *drive, *keep;
   double* fs_lin;
-  Workspace::Slot* slot;
+  double *slot_fx, *slot_fy, *slot_m;
   int* flag;
   double dt;
   int advance, test;  // 0 or 1 (int, not bool: the vectoriser does not take one-bit values from memory)
@@ -32,35 +32,40 @@ struct KernelRange {
 
 // The kernel over the bonds [lo, hi): no branches, so `omp simd` vectorises it; broken bonds compute too and write
 // a zero slot. `Damaged`: some bond carries only part of its elastic forces (a softening bond past its strength),
-// else every factor is 1 and the kernel skips the multiplications. flag[b] = 1 where the failure test held.
+// else every factor is 1 and the kernel skips the multiplications. flag[b] = 1 where the failure test held;
+// returns whether it held anywhere.
 template <bool Damaged>
-[[gnu::always_inline]] inline void bond_range_body(const KernelRange& range) {
+[[gnu::always_inline]] inline bool bond_range_body(const KernelRange& range) {
   // A local copy: the stores must not make the loop reload its array pointers from memory.
   const KernelRange r = range;
-#pragma omp simd
+  int any = 0;
+#pragma omp simd reduction(| : any)
   for (int b = r.lo; b < r.hi; ++b) {
     const double factor = r.keep[b];  // read always: a read under a condition would not vectorise
     const bool alive = factor >= 0.0;  // broken bonds are marked -1 (refresh_keep)
     const BondEval ev = eval_bond(r.a, b, r.dt, r.fs_lin[b], Damaged ? factor : 1.0);
-    r.slot[b].fx = alive ? ev.fx : 0.0;
-    r.slot[b].fy = alive ? ev.fy : 0.0;
-    r.slot[b].mi = alive ? ev.mi : 0.0;
-    r.slot[b].mj = alive ? ev.mj : 0.0;
+    r.slot_fx[b] = alive ? ev.fx : 0.0;
+    r.slot_fy[b] = alive ? ev.fy : 0.0;
+    r.slot_m[2 * b] = alive ? ev.mi : 0.0;
+    r.slot_m[2 * b + 1] = alive ? ev.mj : 0.0;
     r.fs_lin[b] = (alive & (r.advance != 0)) ? ev.fsl : r.fs_lin[b];
     const BondLoad q = BondLoad::of(r.tension_limit[b], r.cohesion_A[b], r.tan_phi[b], r.beta_m[b], ev.fnb, ev.fsb,
                                     ev.mb, r.inv_L[b]);
     const double scale = r.drive[b] > 0.0 ? r.drive[b] : 1.0;
-    r.flag[b] = (r.test != 0) & alive & ((q.tension >= scale * q.tension_limit) | (q.shear >= scale * q.shear_limit));
+    const int flag = (r.test != 0) & alive & ((q.tension >= scale * q.tension_limit) | (q.shear >= scale * q.shear_limit));
+    r.flag[b] = flag;
+    any |= flag;
   }
+  return any != 0;
 }
 
 // The kernel compiled for AVX-512, AVX2 and the baseline instruction set, one chosen when the program starts. The
 // arithmetic is the same in each (no fused multiply-add, no reassociation: dem/CMakeLists.txt), so are the numbers.
-[[gnu::target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")]] void bond_range_intact(const KernelRange& r) {
-  bond_range_body<false>(r);
+[[gnu::target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")]] bool bond_range_intact(const KernelRange& r) {
+  return bond_range_body<false>(r);
 }
-[[gnu::target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")]] void bond_range_damaged(const KernelRange& r) {
-  bond_range_body<true>(r);
+[[gnu::target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")]] bool bond_range_damaged(const KernelRange& r) {
+  return bond_range_body<true>(r);
 }
 
 }  // namespace
@@ -79,10 +84,9 @@ void bond_forces_share(const Model& m, ModelState& s, Workspace& w, const StepCo
   const BondFrames& f = m.frame;
   const KernelRange range{BondArrays(m, s, w), f.tension_limit.data(), f.cohesion_A.data(), f.tan_phi.data(),
                           f.beta_m.data(), f.inv_L.data(), s.drive.data(), w.keep.data(), s.fs_lin.data(),
-                          w.slot.data(), w.flag.data(), c.dt, int(c.advance), int(test), lo, hi};
-  if (w.damaged > 0) bond_range_damaged(range);
-  else bond_range_intact(range);
-  if (test) {
+                          w.slot.fx.data(), w.slot.fy.data(), w.slot.m.data(), w.flag.data(), c.dt, int(c.advance), int(test), lo, hi};
+  const bool flagged = w.damaged > 0 ? bond_range_damaged(range) : bond_range_intact(range);
+  if (flagged) {
     auto& mine = w.flagged[std::size_t(t)];
     for (int b = lo; b < hi; ++b)
       if (w.flag[std::size_t(b)]) mine.push_back(b);
@@ -141,7 +145,7 @@ int bond_events(const Model& m, ModelState& s, Workspace& w, const std::function
     if (s.drive[k] > 0.0) --w.damaged;
     s.broken[k] = 1;
     w.keep[k] = -1.0;
-    w.slot[k] = {0.0, 0.0, 0.0, 0.0};  // the pair's contact carries the linear part from now on
+    w.slot.zero(k);  // the pair's contact carries the linear part from now on
     s.free_face[std::size_t(m.bi[k])] = s.free_face[std::size_t(m.bj[k])] = 1;
     // With skip_bonded_pairs = false the pair is in the contact list already: it takes over the linear shear.
     const int lo = std::min(m.bi[k], m.bj[k]), hi = std::max(m.bi[k], m.bj[k]);

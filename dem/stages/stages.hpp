@@ -31,12 +31,16 @@ namespace rbdem {
 // What the step derives from the state and writes before it reads: never part of a snapshot.
 struct Workspace {
   std::vector<double> cos_t, sin_t;                   // of each block's theta
-  // Per bond, the forces it applies: on j (on i the opposite) and the moments on i and j. One record per bond (the
-  // gather reads a bond's record whole, and a vectorised kernel stores it whole).
-  struct Slot {
-    double fx, fy, mi, mj;
+  // Per bond, the forces it applies: fx, fy on j (on i the opposite), and m[2 bond], m[2 bond + 1] the moments on i
+  // and on j, so that a CSR entry (2 bond + 1 if the block is j) indexes its moment directly. Arrays, not records:
+  // the bond kernel stores and the integrator gathers them in vector lanes. One zero slot follows the last bond's
+  // (Model::gather3 pads with it).
+  struct Slots {
+    std::vector<double> fx, fy, m;
+    void assign(std::size_t bonds) { fx.assign(bonds + 1, 0.0), fy.assign(bonds + 1, 0.0), m.assign(2 * bonds + 2, 0.0); }
+    void zero(std::size_t b) { fx[b] = fy[b] = m[2 * b] = m[2 * b + 1] = 0.0; }
   };
-  std::vector<Slot> slot;
+  Slots slot;
   std::vector<double> keep;                           // per bond: fraction of its elastic forces it carries;
                                                       // -1 for a broken bond (the kernel's "alive" test)
   std::size_t damaged = 0;                            // intact bonds past their strength (softening)
