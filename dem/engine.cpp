@@ -149,7 +149,7 @@ void Engine::evaluate_forces(std::vector<double>& fx, std::vector<double>& fy, s
   stages::platen_forces(model_, state_, work_, options_.platen_friction, options_.platens, c);
   stages::jacket_forces(model_, state_, work_, c);
   stages::external_forces(work_);
-  stages::gather_forces(model_, state_, work_, fx, fy, moment);
+  stages::gather_forces(model_, work_, fx, fy, moment);
 }
 
 void Engine::restore(const ModelState& s) {

@@ -7,6 +7,8 @@
 #include <random>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
 #include "common/fault_injection.hpp"
 #include "dem/materials.hpp"
 #include "dem/scene_keys.hpp"
@@ -160,13 +162,12 @@ Model build_model(const Topology& topo, const Scene& scene, double mass_scaling)
       const int bond = topo.bond_of[std::size_t(o)];
       m.csr_entry[std::size_t(o)] = 2 * bond + (N.j[std::size_t(bond)] == int(b) ? 1 : 0);
     }
+  // Three gather entries per block: a triangle has three edges, and build_topology refuses an edge shared by more
+  // than two triangles.
   m.gather3.assign(3 * nb, 2 * int(m.num_bonds()) + 1);
   for (std::size_t b = 0; b < nb; ++b) {
     const int n = m.csr_offset[b + 1] - m.csr_offset[b];
-    if (n > 3) {
-      m.gather3.clear();
-      break;
-    }
+    if (n > 3) throw std::logic_error(fmt::format("block {} has {} bonds; a triangle has at most 3", b, n));
     for (int k = 0; k < n; ++k) m.gather3[3 * b + std::size_t(k)] = m.csr_entry[std::size_t(m.csr_offset[b] + k)];
   }
 

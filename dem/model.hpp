@@ -77,9 +77,8 @@ struct Model {
   std::size_t num_bonds() const { return bi.size(); }
   // CSR of the force gather: entries csr_entry[csr_offset[b] .. csr_offset[b+1]) are 2 bond + (1 if b is j).
   std::vector<int> csr_offset, csr_entry;
-  // The same entries, three per block (a triangle has at most three bonds) and padded with 2 num_bonds() + 1, the
-  // always-zero slot after the last bond's: the integrator's loop then has no inner loop of varying length. Empty
-  // when some block has more than three bonds (the CSR is used then).
+  // The same entries, three per block (a triangle has at most three bonds), padded with 2 num_bonds() + 1, whose
+  // slot is always zero: the integrator's gather then has no loop of varying length (dem/stages/integrator.cpp).
   std::vector<int> gather3;
 
   // platens: the half-plane contact of each block (k_n from the block's mirror image, d = 2 inradius)

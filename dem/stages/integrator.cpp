@@ -1,4 +1,4 @@
-// The integrator: per-block gather of the bond slots (fixed CSR order) and the contact and boundary forces,
+// The integrator: per-block gather of the bond slots (fixed CSR order, Model::gather3) and the contact and boundary forces,
 // Cundall's local damping, and the central difference update of x, y, theta (docs/theory.md, section 8). It sees
 // forces and masses, never a law. See stages.hpp.
 #include <algorithm>
@@ -15,31 +15,6 @@
 namespace rbdem::stages {
 
 namespace {
-
-// What the per-block gather reads: the contact and boundary accumulators, which it resets, and the bond slots in
-// CSR order. Plain pointers, so that the stores of the integration loop do not make it reload them.
-struct GatherArrays {
-  double *cfx, *cfy, *cm;
-  const int *offset, *entry;
-  const double *slot_fx, *slot_fy, *slot_m;
-  GatherArrays(const Model& m, Workspace& w)
-      : cfx(w.cfx.data()), cfy(w.cfy.data()), cm(w.cm.data()), offset(m.csr_offset.data()),
-        entry(m.csr_entry.data()), slot_fx(w.slot.fx.data()), slot_fy(w.slot.fy.data()), slot_m(w.slot.m.data()) {}
-};
-
-// Block b's force and moment: its accumulators, which it resets, plus its bond slots in CSR order. Each CSR entry
-// (2 bond + 1 if the block is the bond's j) adds its slot without a branch: a block's role in its bonds follows no
-// pattern, so an `if` mispredicts, and x + (-1) a is x - a exactly. integrate() and gather_forces() both read the
-// blocks through this.
-inline void take_block_forces(const GatherArrays& a, int b, double& fx, double& fy, double& mz) {
-  fx = a.cfx[b], fy = a.cfy[b], mz = a.cm[b];
-  a.cfx[b] = a.cfy[b] = a.cm[b] = 0.0;
-  for (int o = a.offset[b]; o < a.offset[b + 1]; ++o) {
-    const int e = a.entry[o];
-    const double sign = (e & 1) ? 1.0 : -1.0;
-    fx += sign * a.slot_fx[e >> 1], fy += sign * a.slot_fy[e >> 1], mz += a.slot_m[e];
-  }
-}
 
 // cos and sin of the blocks [lo, hi). Blocks rotate by well under 0.01 rad until they break free; there the
 // Taylor series are exact to round-off (the first omitted terms are below 3e-18 relative) and far cheaper than sin
@@ -132,54 +107,75 @@ void rebalance(Workspace& w) {
 
 namespace {
 
-// What one thread's share of the integration reads and writes. Plain pointers, so that the stores of the loop do not
-// make it reload them.
-struct BlockRange {
+// What the per-block gather reads: the contact and boundary accumulators, which it resets, Model::gather3 and the
+// bond slots. Plain pointers, so that the stores of the integration loop do not make it reload them.
+struct GatherArrays {
   double *cfx, *cfy, *cm;
-  const int* entry;                 // Model::gather3
+  const int* entry;
   const double *slot_fx, *slot_fy, *slot_m;
+  GatherArrays(const Model& m, Workspace& w)
+      : cfx(w.cfx.data()), cfy(w.cfy.data()), cm(w.cm.data()), entry(m.gather3.data()), slot_fx(w.slot.fx.data()),
+        slot_fy(w.slot.fy.data()), slot_m(w.slot.m.data()) {}
+};
+
+// What the integration reads and writes besides.
+struct BlockArrays {
+  GatherArrays g;
   double *fx, *fy, *mz, *vx, *vy, *om, *x, *y, *th;
   const double *inv_mass, *inertia;
   const int* fixed;
-  double dt, alpha;
+  BlockArrays(const Model& m, ModelState& s, Workspace& w)
+      : g(m, w), fx(s.fx.data()), fy(s.fy.data()), mz(s.moment.data()), vx(s.vx.data()), vy(s.vy.data()),
+        om(s.omega.data()), x(s.x.data()), y(s.y.data()), th(s.theta.data()), inv_mass(m.inv_mass.data()),
+        inertia(m.inertia.data()), fixed(m.fixed.data()) {}
 };
 
-// CSR entry e's share of a block's force and moment, without a branch (see take_block_forces).
-struct SlotTerm {
+struct Force {
   double fx, fy, m;
 };
-[[gnu::always_inline]] inline SlotTerm slot_term(const BlockRange& r, int e) {
-  const double sign = (e & 1) ? 1.0 : -1.0;
-  return {sign * r.slot_fx[e >> 1], sign * r.slot_fy[e >> 1], r.slot_m[e]};
+
+// Block b's force and moment: its accumulators, which it resets, plus its three gather entries in CSR order. Each
+// entry (2 bond + 1 if the block is the bond's j) adds its slot without a branch: a block's role in its bonds
+// follows no pattern, so an `if` mispredicts, and x + (-1) a is x - a exactly; the padding entries add the zero
+// slot. Written out, not as a loop: the vectoriser takes no inner loop. integrate() and gather_forces() both read
+// the blocks through this.
+[[gnu::always_inline]] inline Force take_block_forces(const GatherArrays& r, int b) {
+  const auto term = [&r](int e) {
+    const double sign = (e & 1) ? 1.0 : -1.0;
+    return Force{sign * r.slot_fx[e >> 1], sign * r.slot_fy[e >> 1], r.slot_m[e]};
+  };
+  const Force t0 = term(r.entry[3 * b]), t1 = term(r.entry[3 * b + 1]), t2 = term(r.entry[3 * b + 2]);
+  const Force f{((r.cfx[b] + t0.fx) + t1.fx) + t2.fx, ((r.cfy[b] + t0.fy) + t1.fy) + t2.fy,
+                ((r.cm[b] + t0.m) + t1.m) + t2.m};
+  r.cfx[b] = r.cfy[b] = r.cm[b] = 0.0;
+  return f;
 }
 
-// The blocks [g0, g1) of one grain (at most kBlockGrain): gather, damping, central difference, with no branches, so
-// that `omp simd` vectorises it. Fixed blocks compute too and keep their state. Each block's damping work goes to
-// work[b - g0], summed by the caller in block order. Returns false when a position is not finite.
-[[gnu::always_inline]] inline bool block_grain_body(const BlockRange& range, int g0, int g1, double* work) {
-  const BlockRange r = range;
+// The blocks [g0, g1) of one grain (at most kBlockGrain): gather, local damping, central difference, without
+// branches, so that `omp simd` vectorises it (the flags it reads are int, not bytes, for the same reason). Fixed
+// blocks compute too and keep their state. Each block's damping work goes to work[b - g0], for the caller to sum in
+// block order. Returns false when a position is not finite.
+[[gnu::always_inline]] inline bool block_grain_body(const BlockArrays& arrays, double dt, double alpha, int g0,
+                                                    int g1, double* work) {
+  const BlockArrays r = arrays;  // a local copy: the stores must not make the loop reload its array pointers
   int finite = 1;
 #pragma omp simd reduction(& : finite)
   for (int b = g0; b < g1; ++b) {
-    // The three entries written out: the vectoriser takes no inner loop.
-    const SlotTerm t0 = slot_term(r, r.entry[3 * b]), t1 = slot_term(r, r.entry[3 * b + 1]),
-                   t2 = slot_term(r, r.entry[3 * b + 2]);
-    const double fx = ((r.cfx[b] + t0.fx) + t1.fx) + t2.fx, fy = ((r.cfy[b] + t0.fy) + t1.fy) + t2.fy,
-                 mz = ((r.cm[b] + t0.m) + t1.m) + t2.m;
-    r.cfx[b] = r.cfy[b] = r.cm[b] = 0.0;
+    const Force f = take_block_forces(r.g, b);
+    const double fx = f.fx, fy = f.fy, mz = f.m;
     r.fx[b] = fx, r.fy[b] = fy, r.mz[b] = mz;
     const bool free = r.fixed[b] == 0;
     const double vx0 = r.vx[b], vy0 = r.vy[b], om0 = r.om[b], x0 = r.x[b], y0 = r.y[b], th0 = r.th[b];
     double vx = vx0, vy = vy0, om = om0;
     // Cundall local damping: F_d = -alpha |F| sign(v), per degree of freedom.
-    const double dfx = -r.alpha * std::abs(fx) * double((vx > 0) - (vx < 0));
-    const double dfy = -r.alpha * std::abs(fy) * double((vy > 0) - (vy < 0));
-    const double dm = -r.alpha * std::abs(mz) * double((om > 0) - (om < 0));
-    work[b - g0] = free ? (dfx * vx + dfy * vy + dm * om) * r.dt : 0.0;
-    vx += r.dt * (fx + dfx) * r.inv_mass[b];
-    vy += r.dt * (fy + dfy) * r.inv_mass[b];
-    om += r.dt * (mz + dm) / r.inertia[b];
-    const double x = x0 + r.dt * vx, y = y0 + r.dt * vy, th = th0 + r.dt * om;
+    const double dfx = -alpha * std::abs(fx) * double((vx > 0) - (vx < 0));
+    const double dfy = -alpha * std::abs(fy) * double((vy > 0) - (vy < 0));
+    const double dm = -alpha * std::abs(mz) * double((om > 0) - (om < 0));
+    work[b - g0] = free ? (dfx * vx + dfy * vy + dm * om) * dt : 0.0;
+    vx += dt * (fx + dfx) * r.inv_mass[b];
+    vy += dt * (fy + dfy) * r.inv_mass[b];
+    om += dt * (mz + dm) / r.inertia[b];
+    const double x = x0 + dt * vx, y = y0 + dt * vy, th = th0 + dt * om;
     r.vx[b] = free ? vx : vx0, r.vy[b] = free ? vy : vy0, r.om[b] = free ? om : om0;
     r.x[b] = free ? x : x0, r.y[b] = free ? y : y0, r.th[b] = free ? th : th0;
     finite &= int(std::abs(x) <= 1.7976931348623157e308) & int(std::abs(y) <= 1.7976931348623157e308) &
@@ -188,9 +184,11 @@ struct SlotTerm {
   return finite != 0;
 }
 
-[[gnu::target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")]] bool block_grain(const BlockRange& r, int g0,
-                                                                                       int g1, double* work) {
-  return block_grain_body(r, g0, g1, work);
+// Compiled for AVX-512, AVX2 and the baseline, as the bond kernel (bonds.cpp), with the same numbers in each.
+[[gnu::target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")]] bool block_grain(const BlockArrays& r, double dt,
+                                                                                       double alpha, int g0, int g1,
+                                                                                       double* work) {
+  return block_grain_body(r, dt, alpha, g0, g1, work);
 }
 
 }  // namespace
@@ -198,53 +196,14 @@ struct SlotTerm {
 bool integrate_share(const Model& m, ModelState& s, Workspace& w, double damping, int t, int nt) {
   const int grain = Workspace::Partition::kBlockGrain;
   const auto [lo, hi] = w.share(w.part.block, t, nt);
+  const BlockArrays arrays(m, s, w);
+  double work[Workspace::Partition::kBlockGrain];
   bool ok = true;
-  if (!m.gather3.empty()) {
-    const BlockRange r{w.cfx.data(), w.cfy.data(), w.cm.data(), m.gather3.data(), w.slot.fx.data(), w.slot.fy.data(), w.slot.m.data(),
-                       s.fx.data(),  s.fy.data(),  s.moment.data(), s.vx.data(), s.vy.data(), s.omega.data(),
-                       s.x.data(),   s.y.data(),   s.theta.data(), m.inv_mass.data(), m.inertia.data(),
-                       m.fixed.data(), s.dt, damping};
-    double work[Workspace::Partition::kBlockGrain];
-    for (int g0 = lo; g0 < hi; g0 += grain) {
-      const int g1 = std::min(g0 + grain, hi);
-      ok = block_grain(r, g0, g1, work) && ok;
-      double e_damp = 0.0;
-      for (int b = g0; b < g1; ++b) e_damp -= work[b - g0];
-      w.damping_work[std::size_t(g0 / grain)] = e_damp;
-    }
-    rotations_of(s.theta.data(), w.cos_t.data(), w.sin_t.data(), lo, hi);
-    return ok;
-  }
-  const double dt = s.dt, alpha = damping;
-  // Local pointers: the stores below must not make the loop reload every array's address from memory.
-  const GatherArrays gather(m, w);
-  double *__restrict sfx = s.fx.data(), *__restrict sfy = s.fy.data(), *__restrict smz = s.moment.data();
-  double *__restrict vxs = s.vx.data(), *__restrict vys = s.vy.data(), *__restrict oms = s.omega.data();
-  double *__restrict xs = s.x.data(), *__restrict ys = s.y.data(), *__restrict ths = s.theta.data();
-  const double *__restrict inv_mass = m.inv_mass.data(), *__restrict inertia = m.inertia.data();
-  const int* __restrict fixed = m.fixed.data();
   for (int g0 = lo; g0 < hi; g0 += grain) {
     const int g1 = std::min(g0 + grain, hi);
+    ok = block_grain(arrays, s.dt, damping, g0, g1, work) && ok;
     double e_damp = 0.0;
-    for (int b = g0; b < g1; ++b) {
-      double fx, fy, mz;
-      take_block_forces(gather, b, fx, fy, mz);
-      sfx[b] = fx, sfy[b] = fy, smz[b] = mz;
-      if (fixed[b]) continue;
-      double vx = vxs[b], vy = vys[b], om = oms[b];
-      // Cundall local damping: F_d = -alpha |F| sign(v), per degree of freedom.
-      const double dfx = -alpha * std::abs(fx) * double((vx > 0) - (vx < 0));
-      const double dfy = -alpha * std::abs(fy) * double((vy > 0) - (vy < 0));
-      const double dm = -alpha * std::abs(mz) * double((om > 0) - (om < 0));
-      e_damp -= (dfx * vx + dfy * vy + dm * om) * dt;
-      vx += dt * (fx + dfx) * inv_mass[b];
-      vy += dt * (fy + dfy) * inv_mass[b];
-      om += dt * (mz + dm) / inertia[b];
-      vxs[b] = vx, vys[b] = vy, oms[b] = om;
-      const double x = xs[b] + dt * vx, y = ys[b] + dt * vy, th = ths[b] + dt * om;
-      xs[b] = x, ys[b] = y, ths[b] = th;
-      ok = ok && std::isfinite(x) && std::isfinite(y) && std::isfinite(th);
-    }
+    for (int b = g0; b < g1; ++b) e_damp -= work[b - g0];
     w.damping_work[std::size_t(g0 / grain)] = e_damp;
   }
   rotations_of(s.theta.data(), w.cos_t.data(), w.sin_t.data(), lo, hi);
@@ -283,13 +242,15 @@ void clear_accumulators(Workspace& w) {
   std::fill(w.cm.begin(), w.cm.end(), 0.0);
 }
 
-void gather_forces(const Model& m, const ModelState& s, Workspace& w, std::vector<double>& fx,
-                   std::vector<double>& fy, std::vector<double>& moment) {
-  (void)s;
+void gather_forces(const Model& m, Workspace& w, std::vector<double>& fx, std::vector<double>& fy,
+                   std::vector<double>& moment) {
   const std::size_t n = m.num_blocks();
   fx.resize(n), fy.resize(n), moment.resize(n);
   const GatherArrays gather(m, w);
-  for (std::size_t b = 0; b < n; ++b) take_block_forces(gather, int(b), fx[b], fy[b], moment[b]);
+  for (std::size_t b = 0; b < n; ++b) {
+    const Force f = take_block_forces(gather, int(b));
+    fx[b] = f.fx, fy[b] = f.fy, moment[b] = f.m;
+  }
 }
 
 }  // namespace rbdem::stages

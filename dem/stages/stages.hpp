@@ -180,8 +180,8 @@ bool integrate_share(const Model& m, ModelState& s, Workspace& w, double damping
 void integrate_end(ModelState& s, Workspace& w, bool finite);
 // The total generalized force on every block without damping (the same gather as integrate(), resetting the
 // accumulators too).
-void gather_forces(const Model& m, const ModelState& s, Workspace& w, std::vector<double>& fx,
-                   std::vector<double>& fy, std::vector<double>& moment);
+void gather_forces(const Model& m, Workspace& w, std::vector<double>& fx, std::vector<double>& fy,
+                   std::vector<double>& moment);
 
 // The vertices of block b at its current position (x0, y0, x1, y1, x2, y2).
 void block_vertices(const Model& m, const ModelState& s, const Workspace& w, int b, double* out);
