@@ -1,13 +1,12 @@
 // Building the constant model data from a topology and a scene. See model.hpp.
 #include "dem/model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <random>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 #include "common/fault_injection.hpp"
 #include "dem/materials.hpp"
@@ -162,14 +161,14 @@ Model build_model(const Topology& topo, const Scene& scene, double mass_scaling)
       const int bond = topo.bond_of[std::size_t(o)];
       m.csr_entry[std::size_t(o)] = 2 * bond + (N.j[std::size_t(bond)] == int(b) ? 1 : 0);
     }
-  // Three gather entries per block: a triangle has three edges, and build_topology refuses an edge shared by more
-  // than two triangles.
-  m.gather3.assign(3 * nb, 2 * int(m.num_bonds()) + 1);
-  for (std::size_t b = 0; b < nb; ++b) {
-    const int n = m.csr_offset[b + 1] - m.csr_offset[b];
-    if (n > 3) throw std::logic_error(fmt::format("block {} has {} bonds; a triangle has at most 3", b, n));
-    for (int k = 0; k < n; ++k) m.gather3[3 * b + std::size_t(k)] = m.csr_entry[std::size_t(m.csr_offset[b] + k)];
-  }
+  // The padded gather: as wide as the block with the most bonds, and at least 3 (every block of a triangle mesh).
+  m.gather_width = 3;
+  for (std::size_t b = 0; b < nb; ++b) m.gather_width = std::max(m.gather_width, m.csr_offset[b + 1] - m.csr_offset[b]);
+  const std::size_t width = std::size_t(m.gather_width);
+  m.gather.assign(width * nb, 2 * int(m.num_bonds()) + 1);
+  for (std::size_t b = 0; b < nb; ++b)
+    for (int o = m.csr_offset[b]; o < m.csr_offset[b + 1]; ++o)
+      m.gather[width * b + std::size_t(o - m.csr_offset[b])] = m.csr_entry[std::size_t(o)];
 
   // Platen stiffness: the platen acts as the mirror image of the block, d = 2 x inradius.
   m.platen_kn.resize(nb);

@@ -77,9 +77,11 @@ struct Model {
   std::size_t num_bonds() const { return bi.size(); }
   // CSR of the force gather: entries csr_entry[csr_offset[b] .. csr_offset[b+1]) are 2 bond + (1 if b is j).
   std::vector<int> csr_offset, csr_entry;
-  // The same entries, three per block (a triangle has at most three bonds), padded with 2 num_bonds() + 1, whose
-  // slot is always zero: the integrator's gather then has no loop of varying length (dem/stages/integrator.cpp).
-  std::vector<int> gather3;
+  // The same entries, gather_width per block (the most bonds of any block, at least 3: a triangle mesh's blocks
+  // have at most three), padded with 2 num_bonds() + 1, whose slot is always zero: the integrator's gather then has
+  // no loop of varying length (dem/stages/integrator.cpp).
+  std::vector<int> gather;
+  int gather_width = 3;
 
   // platens: the half-plane contact of each block (k_n from the block's mirror image, d = 2 inradius)
   std::vector<double> platen_kn;    // Pa/m

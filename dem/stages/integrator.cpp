@@ -1,4 +1,4 @@
-// The integrator: per-block gather of the bond slots (fixed CSR order, Model::gather3) and the contact and boundary forces,
+// The integrator: per-block gather of the bond slots (fixed CSR order, Model::gather) and the contact and boundary forces,
 // Cundall's local damping, and the central difference update of x, y, theta (docs/theory.md, section 8). It sees
 // forces and masses, never a law. See stages.hpp.
 #include <algorithm>
@@ -107,15 +107,16 @@ void rebalance(Workspace& w) {
 
 namespace {
 
-// What the per-block gather reads: the contact and boundary accumulators, which it resets, Model::gather3 and the
+// What the per-block gather reads: the contact and boundary accumulators, which it resets, Model::gather and the
 // bond slots. Plain pointers, so that the stores of the integration loop do not make it reload them.
 struct GatherArrays {
   double *cfx, *cfy, *cm;
   const int* entry;
+  int width;
   const double *slot_fx, *slot_fy, *slot_m;
   GatherArrays(const Model& m, Workspace& w)
-      : cfx(w.cfx.data()), cfy(w.cfy.data()), cm(w.cm.data()), entry(m.gather3.data()), slot_fx(w.slot.fx.data()),
-        slot_fy(w.slot.fy.data()), slot_m(w.slot.m.data()) {}
+      : cfx(w.cfx.data()), cfy(w.cfy.data()), cm(w.cm.data()), entry(m.gather.data()), width(m.gather_width),
+        slot_fx(w.slot.fx.data()), slot_fy(w.slot.fy.data()), slot_m(w.slot.m.data()) {}
 };
 
 // What the integration reads and writes besides.
@@ -134,34 +135,45 @@ struct Force {
   double fx, fy, m;
 };
 
-// Block b's force and moment: its accumulators, which it resets, plus its three gather entries in CSR order. Each
-// entry (2 bond + 1 if the block is the bond's j) adds its slot without a branch: a block's role in its bonds
-// follows no pattern, so an `if` mispredicts, and x + (-1) a is x - a exactly; the padding entries add the zero
-// slot. Written out, not as a loop: the vectoriser takes no inner loop. integrate() and gather_forces() both read
-// the blocks through this.
+// Block b's force and moment: its accumulators, which it resets, plus its gather entries in CSR order. Each entry
+// (2 bond + 1 if the block is the bond's j) adds its slot without a branch: a block's role in its bonds follows no
+// pattern, so an `if` mispredicts, and x + (-1) a is x - a exactly; the padding entries add the zero slot.
+// `Triangles`: the width is 3 and the three entries are written out, since the vectoriser takes no inner loop;
+// else a loop over Model::gather_width entries, in the same order. integrate() and gather_forces() both read the
+// blocks through this.
+template <bool Triangles>
 [[gnu::always_inline]] inline Force take_block_forces(const GatherArrays& r, int b) {
   const auto term = [&r](int e) {
     const double sign = (e & 1) ? 1.0 : -1.0;
     return Force{sign * r.slot_fx[e >> 1], sign * r.slot_fy[e >> 1], r.slot_m[e]};
   };
-  const Force t0 = term(r.entry[3 * b]), t1 = term(r.entry[3 * b + 1]), t2 = term(r.entry[3 * b + 2]);
-  const Force f{((r.cfx[b] + t0.fx) + t1.fx) + t2.fx, ((r.cfy[b] + t0.fy) + t1.fy) + t2.fy,
-                ((r.cm[b] + t0.m) + t1.m) + t2.m};
+  Force f{r.cfx[b], r.cfy[b], r.cm[b]};
   r.cfx[b] = r.cfy[b] = r.cm[b] = 0.0;
-  return f;
+  if constexpr (Triangles) {
+    const Force t0 = term(r.entry[3 * b]), t1 = term(r.entry[3 * b + 1]), t2 = term(r.entry[3 * b + 2]);
+    return {((f.fx + t0.fx) + t1.fx) + t2.fx, ((f.fy + t0.fy) + t1.fy) + t2.fy, ((f.m + t0.m) + t1.m) + t2.m};
+  } else {
+    for (int k = 0; k < r.width; ++k) {
+      const Force t = term(r.entry[std::size_t(r.width) * std::size_t(b) + std::size_t(k)]);
+      f.fx += t.fx, f.fy += t.fy, f.m += t.m;
+    }
+    return f;
+  }
 }
 
 // The blocks [g0, g1) of one grain (at most kBlockGrain): gather, local damping, central difference, without
 // branches, so that `omp simd` vectorises it (the flags it reads are int, not bytes, for the same reason). Fixed
 // blocks compute too and keep their state. Each block's damping work goes to work[b - g0], for the caller to sum in
 // block order. Returns false when a position is not finite.
+template <bool Triangles>
 [[gnu::always_inline]] inline bool block_grain_body(const BlockArrays& arrays, double dt, double alpha, int g0,
                                                     int g1, double* work) {
   const BlockArrays r = arrays;  // a local copy: the stores must not make the loop reload its array pointers
   int finite = 1;
-#pragma omp simd reduction(& : finite)
+  // Vector lanes for triangles only: with a loop inside (any width) the loop does not vectorise.
+#pragma omp simd reduction(& : finite) if (Triangles)
   for (int b = g0; b < g1; ++b) {
-    const Force f = take_block_forces(r.g, b);
+    const Force f = take_block_forces<Triangles>(r.g, b);
     const double fx = f.fx, fy = f.fy, mz = f.m;
     r.fx[b] = fx, r.fy[b] = fy, r.mz[b] = mz;
     const bool free = r.fixed[b] == 0;
@@ -184,11 +196,13 @@ struct Force {
   return finite != 0;
 }
 
-// Compiled for AVX-512, AVX2 and the baseline, as the bond kernel (bonds.cpp), with the same numbers in each.
+// Compiled for AVX-512, AVX2 and the baseline, as the bond kernel (bonds.cpp), with the same numbers in each. Blocks
+// with more than three bonds (models built from other polygons, as in some tests) take the loop.
 [[gnu::target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")]] bool block_grain(const BlockArrays& r, double dt,
                                                                                        double alpha, int g0, int g1,
                                                                                        double* work) {
-  return block_grain_body(r, dt, alpha, g0, g1, work);
+  return r.g.width == 3 ? block_grain_body<true>(r, dt, alpha, g0, g1, work)
+                        : block_grain_body<false>(r, dt, alpha, g0, g1, work);
 }
 
 }  // namespace
@@ -248,7 +262,7 @@ void gather_forces(const Model& m, Workspace& w, std::vector<double>& fx, std::v
   fx.resize(n), fy.resize(n), moment.resize(n);
   const GatherArrays gather(m, w);
   for (std::size_t b = 0; b < n; ++b) {
-    const Force f = take_block_forces(gather, int(b));
+    const Force f = take_block_forces<false>(gather, int(b));
     fx[b] = f.fx, fy[b] = f.fy, moment[b] = f.m;
   }
 }

@@ -34,7 +34,7 @@ struct Workspace {
   // Per bond, the forces it applies: fx, fy on j (on i the opposite), and m[2 bond], m[2 bond + 1] the moments on i
   // and on j, so that a CSR entry (2 bond + 1 if the block is j) indexes its moment directly. Arrays, not records:
   // the bond kernel stores and the integrator gathers them in vector lanes. One zero slot follows the last bond's
-  // (Model::gather3 pads with it).
+  // (Model::gather pads with it).
   struct Slots {
     std::vector<double> fx, fy, m;
     void assign(std::size_t bonds) { fx.assign(bonds + 1, 0.0), fy.assign(bonds + 1, 0.0), m.assign(2 * bonds + 2, 0.0); }
