@@ -163,7 +163,8 @@ Model build_model(const Topology& topo, const Scene& scene, double mass_scaling)
     }
   // The padded gather: as wide as the block with the most bonds, and at least 3 (every block of a triangle mesh).
   m.gather_width = 3;
-  for (std::size_t b = 0; b < nb; ++b) m.gather_width = std::max(m.gather_width, m.csr_offset[b + 1] - m.csr_offset[b]);
+  for (std::size_t b = 0; b < nb; ++b)
+    m.gather_width = std::max(m.gather_width, m.csr_offset[b + 1] - m.csr_offset[b]);
   const std::size_t width = std::size_t(m.gather_width);
   m.gather.assign(width * nb, 2 * int(m.num_bonds()) + 1);
   for (std::size_t b = 0; b < nb; ++b)

@@ -52,7 +52,8 @@ template <bool Damaged>
     const BondLoad q = BondLoad::of(r.tension_limit[b], r.cohesion_A[b], r.tan_phi[b], r.beta_m[b], ev.fnb, ev.fsb,
                                     ev.mb, r.inv_L[b]);
     const double scale = r.drive[b] > 0.0 ? r.drive[b] : 1.0;
-    const int flag = (r.test != 0) & alive & ((q.tension >= scale * q.tension_limit) | (q.shear >= scale * q.shear_limit));
+    const int flag =
+        (r.test != 0) & alive & ((q.tension >= scale * q.tension_limit) | (q.shear >= scale * q.shear_limit));
     r.flag[b] = flag;
     any |= flag;
   }
@@ -84,7 +85,8 @@ void bond_forces_share(const Model& m, ModelState& s, Workspace& w, const StepCo
   const BondFrames& f = m.frame;
   const KernelRange range{BondArrays(m, s, w), f.tension_limit.data(), f.cohesion_A.data(), f.tan_phi.data(),
                           f.beta_m.data(), f.inv_L.data(), s.drive.data(), w.keep.data(), s.fs_lin.data(),
-                          w.slot.fx.data(), w.slot.fy.data(), w.slot.m.data(), w.flag.data(), c.dt, int(c.advance), int(test), lo, hi};
+                          w.slot.fx.data(), w.slot.fy.data(), w.slot.m.data(), w.flag.data(), c.dt, int(c.advance),
+                          int(test), lo, hi};
   const bool flagged = w.damaged > 0 ? bond_range_damaged(range) : bond_range_intact(range);
   if (flagged) {
     auto& mine = w.flagged[std::size_t(t)];

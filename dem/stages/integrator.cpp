@@ -1,6 +1,6 @@
-// The integrator: per-block gather of the bond slots (fixed CSR order, Model::gather) and the contact and boundary forces,
-// Cundall's local damping, and the central difference update of x, y, theta (docs/theory.md, section 8). It sees
-// forces and masses, never a law. See stages.hpp.
+// The integrator: per-block gather of the bond slots (fixed CSR order, Model::gather) and the contact and boundary
+// forces, Cundall's local damping, and the central difference update of x, y, theta (docs/theory.md, section 8).
+// It sees forces and masses, never a law. See stages.hpp.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>

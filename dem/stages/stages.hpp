@@ -37,7 +37,9 @@ struct Workspace {
   // (Model::gather pads with it).
   struct Slots {
     std::vector<double> fx, fy, m;
-    void assign(std::size_t bonds) { fx.assign(bonds + 1, 0.0), fy.assign(bonds + 1, 0.0), m.assign(2 * bonds + 2, 0.0); }
+    void assign(std::size_t bonds) {
+      fx.assign(bonds + 1, 0.0), fy.assign(bonds + 1, 0.0), m.assign(2 * bonds + 2, 0.0);
+    }
     void zero(std::size_t b) { fx[b] = fy[b] = m[2 * b] = m[2 * b + 1] = 0.0; }
   };
   Slots slot;
