@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include <omp.h>
 
@@ -187,11 +188,12 @@ template <bool Triangles>
     vx += dt * (fx + dfx) * r.inv_mass[b];
     vy += dt * (fy + dfy) * r.inv_mass[b];
     om += dt * (mz + dm) / r.inertia[b];
-    const double x = x0 + dt * vx, y = y0 + dt * vy, th = th0 + dt * om;
+    const double x = free ? x0 + dt * vx : x0, y = free ? y0 + dt * vy : y0, th = free ? th0 + dt * om : th0;
     r.vx[b] = free ? vx : vx0, r.vy[b] = free ? vy : vy0, r.om[b] = free ? om : om0;
-    r.x[b] = free ? x : x0, r.y[b] = free ? y : y0, r.th[b] = free ? th : th0;
-    finite &= int(std::abs(x) <= 1.7976931348623157e308) & int(std::abs(y) <= 1.7976931348623157e308) &
-              int(std::abs(th) <= 1.7976931348623157e308);
+    r.x[b] = x, r.y[b] = y, r.th[b] = th;
+    // std::isfinite, as a comparison the vectoriser takes (false for NaN too)
+    constexpr double big = std::numeric_limits<double>::max();
+    finite &= int(std::abs(x) <= big) & int(std::abs(y) <= big) & int(std::abs(th) <= big);
   }
   return finite != 0;
 }
