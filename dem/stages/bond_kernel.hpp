@@ -25,6 +25,11 @@ struct BondEval {
 
 inline double cross(double ax, double ay, double bx, double by) { return ax * by - ay * bx; }
 
+// One block's kinematics as a bond reads them: position, rotation, velocities, and cos and sin of the rotation.
+struct BlockKin {
+  double x, y, theta, vx, vy, omega, c, s;
+};
+
 // Where the bond stage reads: the state's block arrays, the workspace's cos and sin, the model's bond arrays.
 struct BondArrays {
   const int *bi, *bj;
@@ -37,22 +42,23 @@ struct BondArrays {
         rix(m.frame.rix.data()), riy(m.frame.riy.data()), rjx(m.frame.rjx.data()), rjy(m.frame.rjy.data()),
         n0x(m.frame.n0x.data()), n0y(m.frame.n0y.data()), L(m.frame.L.data()), inv_L(m.frame.inv_L.data()),
         K(m.frame.K.data()), Ks(m.frame.Ks.data()), KI(m.frame.KI.data()), mu(m.frame.mu_bonded.data()) {}
+  BlockKin block(int k) const { return {x[k], y[k], theta[k], vx[k], vy[k], omega[k], c[k], s[k]}; }
 };
 
-// Bond b. `fs` is the linear part's shear history; its new value is out.fsl (dt = 0 evaluates without advancing
-// it). `keep` (1 - damage) scales the parallel bond's forces in the slot; fnb, fsb and mb stay the undamaged forces
-// the failure index reads.
-[[gnu::always_inline]] inline BondEval eval_bond(const BondArrays& a, int b, double dt, double fs, double keep) {
+// Bond b between blocks I = bi[b] and J = bj[b]. `fs` is the linear part's shear history; its new value is out.fsl
+// (dt = 0 evaluates without advancing it). `keep` (1 - damage) scales the parallel bond's forces in the slot; fnb,
+// fsb and mb stay the undamaged forces the failure index reads.
+[[gnu::always_inline]] inline BondEval eval_bond(const BondArrays& a, int b, const BlockKin& I, const BlockKin& J,
+                                                 double dt, double fs, double keep) {
   BondEval out;
-  const int i = a.bi[b], j = a.bj[b];
-  const double ci = a.c[i], si = a.s[i], cj = a.c[j], sj = a.s[j];
+  const double ci = I.c, si = I.s, cj = J.c, sj = J.s;
   // Material points of the bond on each block, and the co-rotated frame: the bisector of the two rotated normals,
   // R_i n0 + R_j n0 = 2 cos(dtheta / 2) R_mean n0 (normalised by a series while |dtheta| is small: the series is
   // exact to round-off there and the square root is taken only to be discarded).
   const double rix = ci * a.rix[b] - si * a.riy[b], riy = si * a.rix[b] + ci * a.riy[b];
   const double rjx = cj * a.rjx[b] - sj * a.rjy[b], rjy = sj * a.rjx[b] + cj * a.rjy[b];
-  const double gx = (a.x[j] + rjx) - (a.x[i] + rix), gy = (a.y[j] + rjy) - (a.y[i] + riy);
-  const double dth = a.theta[j] - a.theta[i];
+  const double gx = (J.x + rjx) - (I.x + rix), gy = (J.y + rjy) - (I.y + riy);
+  const double dth = J.theta - I.theta;
   double nx = (ci + cj) * a.n0x[b] - (si + sj) * a.n0y[b];
   double ny = (si + sj) * a.n0x[b] + (ci + cj) * a.n0y[b];
   const double d2 = dth * dth;
@@ -71,9 +77,9 @@ struct BondArrays {
   out.fnl = linear.normal_force(eo.area, eo.chord);
   const double cix = rix + 0.5 * gx, ciy = riy + 0.5 * gy;  // bond point relative to each centroid
   const double cjx = rjx - 0.5 * gx, cjy = rjy - 0.5 * gy;
-  out.px = a.x[i] + cix, out.py = a.y[i] + ciy;
-  const double vrx = (a.vx[j] - a.omega[j] * cjy) - (a.vx[i] - a.omega[i] * ciy);
-  const double vry = (a.vy[j] + a.omega[j] * cjx) - (a.vy[i] + a.omega[i] * cix);
+  out.px = I.x + cix, out.py = I.y + ciy;
+  const double vrx = (J.vx - J.omega * cjy) - (I.vx - I.omega * ciy);
+  const double vry = (J.vy + J.omega * cjx) - (I.vy + I.omega * cix);
   out.fsl = linear.shear_force(out.fnl, linear.trial_shear(eo.chord, vrx * tx + vry * ty, dt, fs));
   fs = out.fsl;
   const double flx = out.fnl * nx + fs * tx, fly = out.fnl * ny + fs * ty;
@@ -85,9 +91,11 @@ struct BondArrays {
   return out;
 }
 
+// Bond b, its blocks read from the arrays.
 inline BondEval eval_bond(const Model& m, const ModelState& s, const Workspace& w, int b, double dt, double fs,
                           double keep) {
-  return eval_bond(BondArrays(m, s, w), b, dt, fs, keep);
+  const BondArrays a(m, s, w);
+  return eval_bond(a, b, a.block(a.bi[b]), a.block(a.bj[b]), dt, fs, keep);
 }
 
 }  // namespace rbdem::stages

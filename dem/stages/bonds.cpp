@@ -11,6 +11,7 @@
 #include <omp.h>
 
 #include "dem/stages/bond_kernel.hpp"
+#include "dem/stages/records.hpp"
 #include "dem/stages/stages.hpp"
 
 namespace rbdem::stages {
@@ -20,6 +21,7 @@ namespace {
 // What one thread's share of the kernel reads and writes.
 struct KernelRange {
   BondArrays a;
+  const Workspace::Record* rec;  // the blocks' kinematics, read in place of a's block arrays
   const double *tension_limit, *cohesion_A, *tan_phi, *beta_m, *inv_L;  // the strength in force units
   const double *drive, *keep;
   double* fs_lin;
@@ -30,20 +32,28 @@ struct KernelRange {
   int lo, hi;
 };
 
-// The kernel over the bonds [lo, hi): no branches, so `omp simd` vectorises it; broken bonds compute too and write
-// a zero slot. `Damaged`: some bond carries only part of its elastic forces (a softening bond past its strength),
-// else every factor is 1 and the kernel skips the multiplications. flag[b] = 1 where the failure test held;
-// returns whether it held anywhere.
+// Bonds per chunk of the kernel: their blocks' records are transposed into bond-ordered rows first (records.hpp),
+// which the kernel's loop then reads contiguously from the first level of the cache.
+constexpr int kChunk = 64;
+
+// The kernel over the bonds [b0, b0 + n), n at most kChunk: no branches, so `omp simd` vectorises it; broken bonds
+// compute too and write a zero slot. `Damaged`: some bond carries only part of its elastic forces (a softening bond
+// past its strength), else every factor is 1 and the kernel skips the multiplications. flag[b] = 1 where the
+// failure test held; returns whether it held anywhere.
 template <bool Damaged>
-[[gnu::always_inline]] inline bool bond_range_body(const KernelRange& range) {
-  // A local copy: the stores must not make the loop reload its array pointers from memory.
-  const KernelRange r = range;
+[[gnu::always_inline]] inline bool bond_chunk(const KernelRange& r, int b0, int n) {
+  alignas(64) double ri[Workspace::kRecordFields][kChunk], rj[Workspace::kRecordFields][kChunk];
+  load_records(r.rec, r.a.bi + b0, n, ri);
+  load_records(r.rec, r.a.bj + b0, n, rj);
   int any = 0;
 #pragma omp simd reduction(| : any)
-  for (int b = r.lo; b < r.hi; ++b) {
+  for (int k = 0; k < n; ++k) {
+    const int b = b0 + k;
     const double factor = r.keep[b];  // read always: a read under a condition would not vectorise
     const bool alive = factor >= 0.0;  // broken bonds are marked -1 (refresh_keep)
-    const BondEval ev = eval_bond(r.a, b, r.dt, r.fs_lin[b], Damaged ? factor : 1.0);
+    const BlockKin I{ri[0][k], ri[1][k], ri[2][k], ri[3][k], ri[4][k], ri[5][k], ri[6][k], ri[7][k]};
+    const BlockKin J{rj[0][k], rj[1][k], rj[2][k], rj[3][k], rj[4][k], rj[5][k], rj[6][k], rj[7][k]};
+    const BondEval ev = eval_bond(r.a, b, I, J, r.dt, r.fs_lin[b], Damaged ? factor : 1.0);
     r.slot_fx[b] = alive ? ev.fx : 0.0;
     r.slot_fy[b] = alive ? ev.fy : 0.0;
     r.slot_m[2 * b] = alive ? ev.mi : 0.0;
@@ -58,6 +68,14 @@ template <bool Damaged>
     any |= flag;
   }
   return any != 0;
+}
+
+template <bool Damaged>
+[[gnu::always_inline]] inline bool bond_range_body(const KernelRange& range) {
+  const KernelRange r = range;  // a local copy: the stores must not make the loop reload its array pointers
+  bool any = false;
+  for (int b0 = r.lo; b0 < r.hi; b0 += kChunk) any = bond_chunk<Damaged>(r, b0, std::min(kChunk, r.hi - b0)) || any;
+  return any;
 }
 
 // The kernel compiled for AVX-512, AVX2 and the baseline instruction set, one chosen when the program starts. The
@@ -83,7 +101,7 @@ void bond_forces_share(const Model& m, ModelState& s, Workspace& w, const StepCo
   const bool test = c.advance && s.breakage;
   const auto [lo, hi] = w.share(w.part.bond, t, nt);
   const BondFrames& f = m.frame;
-  const KernelRange range{BondArrays(m, s, w), f.tension_limit.data(), f.cohesion_A.data(), f.tan_phi.data(),
+  const KernelRange range{BondArrays(m, s, w), w.record.data(), f.tension_limit.data(), f.cohesion_A.data(), f.tan_phi.data(),
                           f.beta_m.data(), f.inv_L.data(), s.drive.data(), w.keep.data(), s.fs_lin.data(),
                           w.slot.fx.data(), w.slot.fy.data(), w.slot.m.data(), w.flag.data(), c.dt, int(c.advance),
                           int(test), lo, hi};

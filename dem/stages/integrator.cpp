@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "dem/engine.hpp"
+#include "dem/stages/records.hpp"
 #include "dem/stages/stages.hpp"
 
 namespace rbdem::stages {
@@ -20,9 +21,7 @@ namespace {
 // cos and sin of the blocks [lo, hi). Blocks rotate by well under 0.01 rad until they break free; there the
 // Taylor series are exact to round-off (the first omitted terms are below 3e-18 relative) and far cheaper than sin
 // and cos. The series run over every block in vector lanes; the few blocks past 0.01 rad then take sin and cos.
-[[gnu::target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")]] void rotations_of(const double* theta,
-                                                                                        double* c, double* sn,
-                                                                                        int lo, int hi) {
+[[gnu::always_inline]] inline void rotations_of(const double* theta, double* c, double* sn, int lo, int hi) {
   int large = 0;
 #pragma omp simd reduction(| : large)
   for (int b = lo; b < hi; ++b) {
@@ -36,17 +35,24 @@ namespace {
     if (!(std::abs(theta[b]) < 0.01)) c[b] = std::cos(theta[b]), sn[b] = std::sin(theta[b]);
 }
 
+// cos, sin and the block records (records.hpp) of the blocks [lo, hi), compiled as the kernels.
+[[gnu::target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")]] void rotations_and_records(
+    const ModelState& s, Workspace& w, int lo, int hi) {
+  rotations_of(s.theta.data(), w.cos_t.data(), w.sin_t.data(), lo, hi);
+  const RecordFields fields = {s.x.data(),  s.y.data(),  s.theta.data(), s.vx.data(),
+                               s.vy.data(), s.omega.data(), w.cos_t.data(), w.sin_t.data()};
+  pack_records(fields, w.record.data(), lo, hi);
+}
+
 }  // namespace
 
 void update_rotations(const ModelState& s, Workspace& w, int threads) {
   const int n = int(s.num_blocks());
-  w.cos_t.resize(std::size_t(n)), w.sin_t.resize(std::size_t(n));
-  const double* theta = s.theta.data();
-  double *c = w.cos_t.data(), *sn = w.sin_t.data();
+  w.cos_t.resize(std::size_t(n)), w.sin_t.resize(std::size_t(n)), w.record.resize(std::size_t(n));
 #pragma omp parallel num_threads(threads)
   {
     const int t = omp_get_thread_num(), nt = omp_get_num_threads();
-    rotations_of(theta, c, sn, int(std::int64_t(n) * t / nt), int(std::int64_t(n) * (t + 1) / nt));
+    rotations_and_records(s, w, int(std::int64_t(n) * t / nt), int(std::int64_t(n) * (t + 1) / nt));
   }
 }
 
@@ -123,13 +129,15 @@ struct GatherArrays {
 // What the integration reads and writes besides.
 struct BlockArrays {
   GatherArrays g;
-  double *fx, *fy, *mz, *vx, *vy, *om, *x, *y, *th;
+  double *fx, *fy, *mz, *vx, *vy, *om, *x, *y, *th, *c, *sn;
+  Workspace::Record* rec;
   const double *inv_mass, *inertia;
   const int* fixed;
   BlockArrays(const Model& m, ModelState& s, Workspace& w)
       : g(m, w), fx(s.fx.data()), fy(s.fy.data()), mz(s.moment.data()), vx(s.vx.data()), vy(s.vy.data()),
-        om(s.omega.data()), x(s.x.data()), y(s.y.data()), th(s.theta.data()), inv_mass(m.inv_mass.data()),
-        inertia(m.inertia.data()), fixed(m.fixed.data()) {}
+        om(s.omega.data()), x(s.x.data()), y(s.y.data()), th(s.theta.data()), c(w.cos_t.data()),
+        sn(w.sin_t.data()), rec(w.record.data()), inv_mass(m.inv_mass.data()), inertia(m.inertia.data()),
+        fixed(m.fixed.data()) {}
 };
 
 struct Force {
@@ -198,13 +206,18 @@ template <bool Triangles>
   return finite != 0;
 }
 
-// Compiled for AVX-512, AVX2 and the baseline, as the bond kernel (bonds.cpp), with the same numbers in each. Blocks
-// with more than three bonds (models built from other polygons, as in some tests) take the loop.
+// One grain's integration, then its new cos and sin and its block records while they are in the cache. Compiled
+// for AVX-512, AVX2 and the baseline, as the bond kernel (bonds.cpp), with the same numbers in each. Blocks with
+// more than three bonds (models built from other polygons, as in some tests) take the loop.
 [[gnu::target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")]] bool block_grain(const BlockArrays& r, double dt,
                                                                                        double alpha, int g0, int g1,
                                                                                        double* work) {
-  return r.g.width == 3 ? block_grain_body<true>(r, dt, alpha, g0, g1, work)
-                        : block_grain_body<false>(r, dt, alpha, g0, g1, work);
+  const bool ok = r.g.width == 3 ? block_grain_body<true>(r, dt, alpha, g0, g1, work)
+                                 : block_grain_body<false>(r, dt, alpha, g0, g1, work);
+  rotations_of(r.th, r.c, r.sn, g0, g1);
+  const RecordFields fields = {r.x, r.y, r.th, r.vx, r.vy, r.om, r.c, r.sn};
+  pack_records(fields, r.rec, g0, g1);
+  return ok;
 }
 
 }  // namespace
@@ -222,7 +235,6 @@ bool integrate_share(const Model& m, ModelState& s, Workspace& w, double damping
     for (int b = g0; b < g1; ++b) e_damp -= work[b - g0];
     w.damping_work[std::size_t(g0 / grain)] = e_damp;
   }
-  rotations_of(s.theta.data(), w.cos_t.data(), w.sin_t.data(), lo, hi);
   return ok;
 }
 

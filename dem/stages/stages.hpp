@@ -31,6 +31,13 @@ namespace rbdem {
 // What the step derives from the state and writes before it reads: never part of a snapshot.
 struct Workspace {
   std::vector<double> cos_t, sin_t;                   // of each block's theta
+  // Per block, x, y, theta, vx, vy, omega, cos and sin in one record: what the bond kernel reads of its blocks
+  // (records.hpp). Written with cos and sin, from the same state.
+  static constexpr int kRecordFields = 8;
+  struct alignas(64) Record {
+    double f[kRecordFields];
+  };
+  std::vector<Record> record;
   // Per bond, the forces it applies: fx, fy on j (on i the opposite), and m[2 bond], m[2 bond + 1] the moments on i
   // and on j, so that a CSR entry (2 bond + 1 if the block is j) indexes its moment directly. Arrays, not records:
   // the bond kernel stores and the integrator gathers them in vector lanes. One zero slot follows the last bond's
@@ -107,7 +114,7 @@ struct StepContext {
 
 namespace stages {
 
-// cos and sin of every block's rotation.
+// cos and sin of every block's rotation, and the block records.
 void update_rotations(const ModelState& s, Workspace& w, int threads);
 
 // The partition for `threads` threads (set up again when the thread count changed; the bond stage and the
@@ -173,8 +180,8 @@ void jacket_forces(const Model& m, ModelState& s, Workspace& w, const StepContex
 // The constant external loads, added to w.cfx, w.cfy, w.cm; last before the gather.
 void external_forces(Workspace& w);
 // Gather in fixed CSR order (resetting the accumulators), Cundall local damping alpha, central difference, and
-// then, on the same thread and block range, the new rotations' cos and sin (update_rotations). Runs on the
-// partition's block ranges. Throws InstabilityError when a position becomes non-finite.
+// then, on the same thread and block range, the new rotations' cos and sin and the block records
+// (update_rotations). Runs on the partition's block ranges. Throws InstabilityError when a position becomes non-finite.
 void integrate(const Model& m, ModelState& s, Workspace& w, double damping, int threads);
 // integrate_share returns false when a position of its blocks is not finite; integrate_end throws then. The begin
 // is partition().
