@@ -14,13 +14,17 @@ inline double cross(double ax, double ay, double bx, double by) { return ax * by
 // (vertex coordinates relative to the same origin). Points on the polygon's boundary count as inside, except,
 // when `skip_shared` is set, a segment lying exactly on an edge of `poly` with the same direction: that piece of
 // the overlap's boundary was already counted from the other polygon (Green's theorem must see it once).
-inline bool clip_segment(double px, double py, double qx, double qy, const double* poly, int n, double& t0,
-                         double& t1, bool skip_shared = false) {
+// N > 0: the polygon has N vertices, known when compiling (the loops unroll and the wrap-around is a constant);
+// N = 0: n vertices.
+template <int N>
+[[gnu::always_inline]] inline bool clip_segment(double px, double py, double qx, double qy, const double* poly,
+                                                int n, double& t0, double& t1, bool skip_shared = false) {
+  if constexpr (N > 0) n = N;
   t0 = 0.0, t1 = 1.0;
   const double dx = qx - px, dy = qy - py;
   for (int k = 0; k < n; ++k) {
     const double ax = poly[2 * k], ay = poly[2 * k + 1];
-    const int k1 = (k + 1) % n;
+    const int k1 = k + 1 < n ? k + 1 : 0;
     const double ex = poly[2 * k1] - ax, ey = poly[2 * k1 + 1] - ay;
     // inside: cross(e, x - a) >= 0; along the segment: f(t) = f0 + t df
     const double f0 = cross(ex, ey, px - ax, py - ay);
@@ -79,9 +83,12 @@ bool finish(const Integrals& I, double ox, double oy, Overlap& out) {
 
 // True when an edge of `p` separates it from `q` (all of q strictly outside the edge's half-plane). For convex
 // polygons in 2D an edge normal always separates disjoint shapes, so this is an exact early exit.
-inline bool separated_by_edge_of(const double* p, int np, const double* q, int nq) {
+template <int NP, int NQ>
+[[gnu::always_inline]] inline bool separated_by_edge_of(const double* p, int np, const double* q, int nq) {
+  if constexpr (NP > 0) np = NP;
+  if constexpr (NQ > 0) nq = NQ;
   for (int k = 0; k < np; ++k) {
-    const int k1 = (k + 1) % np;
+    const int k1 = k + 1 < np ? k + 1 : 0;
     const double ax = p[2 * k], ay = p[2 * k + 1];
     const double ex = p[2 * k1] - ax, ey = p[2 * k1 + 1] - ay;
     bool all_out = true;
@@ -91,21 +98,23 @@ inline bool separated_by_edge_of(const double* p, int np, const double* q, int n
   return false;
 }
 
-}  // namespace
-
-bool overlap_polygons(const double* a, int na, const double* b, int nb, Overlap& out) {
+// overlap_polygons with NA and NB vertices known when compiling (> 0), or na and nb (0).
+template <int NA, int NB>
+bool overlap_polygons_of(const double* a, int na, const double* b, int nb, Overlap& out) {
+  if constexpr (NA > 0) na = NA;
+  if constexpr (NB > 0) nb = NB;
   // Work relative to A's first vertex: small numbers, no cancellation against far-away origins.
   const double ox = a[0], oy = a[1];
   double A[16], B[16];
   for (int k = 0; k < na; ++k) A[2 * k] = a[2 * k] - ox, A[2 * k + 1] = a[2 * k + 1] - oy;
   for (int k = 0; k < nb; ++k) B[2 * k] = b[2 * k] - ox, B[2 * k + 1] = b[2 * k + 1] - oy;
-  if (separated_by_edge_of(A, na, B, nb) || separated_by_edge_of(B, nb, A, na)) return false;
+  if (separated_by_edge_of<NA, NB>(A, na, B, nb) || separated_by_edge_of<NB, NA>(B, nb, A, na)) return false;
   Integrals I;
   double t0, t1;
   for (int k = 0; k < nb; ++k) {  // B's boundary inside A
-    const int k1 = (k + 1) % nb;
+    const int k1 = k + 1 < nb ? k + 1 : 0;
     const double px = B[2 * k], py = B[2 * k + 1], qx = B[2 * k1], qy = B[2 * k1 + 1];
-    if (!clip_segment(px, py, qx, qy, A, na, t0, t1)) continue;
+    if (!clip_segment<NA>(px, py, qx, qy, A, na, t0, t1)) continue;
     const double x0 = px + t0 * (qx - px), y0 = py + t0 * (qy - py);
     const double x1 = px + t1 * (qx - px), y1 = py + t1 * (qy - py);
     add_area(I, x0, y0, x1, y1);
@@ -114,12 +123,20 @@ bool overlap_polygons(const double* a, int na, const double* b, int nb, Overlap&
   }
   if (!I.any) return false;  // convex: if no part of B's boundary is in A, either no overlap or A inside B
   for (int k = 0; k < na; ++k) {  // A's boundary inside B
-    const int k1 = (k + 1) % na;
+    const int k1 = k + 1 < na ? k + 1 : 0;
     const double px = A[2 * k], py = A[2 * k + 1], qx = A[2 * k1], qy = A[2 * k1 + 1];
-    if (!clip_segment(px, py, qx, qy, B, nb, t0, t1, true)) continue;
+    if (!clip_segment<NB>(px, py, qx, qy, B, nb, t0, t1, true)) continue;
     add_area(I, px + t0 * (qx - px), py + t0 * (qy - py), px + t1 * (qx - px), py + t1 * (qy - py));
   }
   return finish(I, ox, oy, out);
+}
+
+}  // namespace
+
+bool overlap_polygons(const double* a, int na, const double* b, int nb, Overlap& out) {
+  // Two triangles (every pair of blocks of a triangle mesh) take the code compiled for them.
+  if (na == 3 && nb == 3) return overlap_polygons_of<3, 3>(a, na, b, nb, out);
+  return overlap_polygons_of<0, 0>(a, na, b, nb, out);
 }
 
 bool overlap_halfplane(const double* b, int nb, double px, double py, double mx, double my, Overlap& out) {
@@ -132,7 +149,7 @@ bool overlap_halfplane(const double* b, int nb, double px, double py, double mx,
   double enter[2] = {0, 0}, leave[2] = {0, 0};
   bool has_enter = false, has_leave = false;
   for (int k = 0; k < nb; ++k) {
-    const int k1 = (k + 1) % nb;
+    const int k1 = k + 1 < nb ? k + 1 : 0;
     const double x0 = B[2 * k], y0 = B[2 * k + 1], x1 = B[2 * k1], y1 = B[2 * k1 + 1];
     const double d0 = depth(x0, y0), d1 = depth(x1, y1);
     if (d0 <= 0 && d1 <= 0) continue;

@@ -130,21 +130,22 @@ void detect_contacts(const Model& m, ModelState& s, const DetectionOptions& o, i
       for (int k = 0; k < ne; ++k) {
         const int a = eligible[std::size_t(k)];
         const auto [cx, cy] = cell_of(a);
-        for (long dx = -1; dx <= 1; ++dx)
-          for (long dy = -1; dy <= 1; ++dy) {
-            if (cx + dx < 0 || cy + dy < 0) continue;
-            const std::uint64_t key = cell_key(cx + dx, cy + dy);
-            auto it = std::lower_bound(cells.begin(), cells.end(), std::pair<std::uint64_t, int>{key, -1});
-            for (; it != cells.end() && it->first == key; ++it) {
-              const int b = it->second;
-              if (b <= a) continue;
-              const double rr = m.radius[a] + m.radius[b] + m.skin;
-              const double ex = s.x[b] - s.x[a], ey = s.y[b] - s.y[a];
-              if (ex * ex + ey * ey > rr * rr) continue;
-              if (o.skip_bonded_pairs && m.bonded(a, b, s.broken)) continue;
-              mine.push_back(pair_key(a, b));
-            }
+        // The three cells (cx + dx, cy - 1 .. cy + 1) of a column lie next to each other in the sorted list: one
+        // search finds the first, and the scan runs on to the last (in the order of the nine cells one by one).
+        for (long dx = -1; dx <= 1; ++dx) {
+          if (cx + dx < 0) continue;
+          const std::uint64_t first = cell_key(cx + dx, std::max(cy - 1, 0L)), last = cell_key(cx + dx, cy + 1);
+          auto it = std::lower_bound(cells.begin(), cells.end(), std::pair<std::uint64_t, int>{first, -1});
+          for (; it != cells.end() && it->first <= last; ++it) {
+            const int b = it->second;
+            if (b <= a) continue;
+            const double rr = m.radius[a] + m.radius[b] + m.skin;
+            const double ex = s.x[b] - s.x[a], ey = s.y[b] - s.y[a];
+            if (ex * ex + ey * ey > rr * rr) continue;
+            if (o.skip_bonded_pairs && m.bonded(a, b, s.broken)) continue;
+            mine.push_back(pair_key(a, b));
           }
+        }
       }
     }
     for (const auto& list : found) keys.insert(keys.end(), list.begin(), list.end());
