@@ -10,24 +10,60 @@ namespace {
 
 inline double cross(double ax, double ay, double bx, double by) { return ax * by - ay * bx; }
 
-// Parameter interval [t0, t1] of the segment p + t (q - p), t in [0, 1], inside the convex CCW polygon `poly`
-// (vertex coordinates relative to the same origin). Points on the polygon's boundary count as inside, except,
-// when `skip_shared` is set, a segment lying exactly on an edge of `poly` with the same direction: that piece of
-// the overlap's boundary was already counted from the other polygon (Green's theorem must see it once).
-// N > 0: the polygon has N vertices, known when compiling (the loops unroll and the wrap-around is a constant);
-// N = 0: n vertices.
+// A convex CCW polygon relative to the common origin: its vertices v and edges e_k = v_(k+1) - v_k. N > 0: N
+// vertices, known when compiling (the loops unroll and the wrap-around is a constant); N = 0: n vertices.
+struct Polygon {
+  double v[16], e[16];
+  int n;
+};
 template <int N>
-[[gnu::always_inline]] inline bool clip_segment(double px, double py, double qx, double qy, const double* poly,
-                                                int n, double& t0, double& t1, bool skip_shared = false) {
+[[gnu::always_inline]] inline void make_polygon(const double* p, int n, double ox, double oy, Polygon& P) {
   if constexpr (N > 0) n = N;
-  t0 = 0.0, t1 = 1.0;
-  const double dx = qx - px, dy = qy - py;
+  P.n = n;
+  for (int k = 0; k < n; ++k) P.v[2 * k] = p[2 * k] - ox, P.v[2 * k + 1] = p[2 * k + 1] - oy;
   for (int k = 0; k < n; ++k) {
-    const double ax = poly[2 * k], ay = poly[2 * k + 1];
     const int k1 = k + 1 < n ? k + 1 : 0;
-    const double ex = poly[2 * k1] - ax, ey = poly[2 * k1 + 1] - ay;
+    P.e[2 * k] = P.v[2 * k1] - P.v[2 * k], P.e[2 * k + 1] = P.v[2 * k1 + 1] - P.v[2 * k + 1];
+  }
+}
+
+// side[k * nq + v] = cross(e_k of P, Q's vertex v - P's vertex k): where Q's vertex v lies against P's edge k (>= 0:
+// inside its half-plane). The separating test and the clipping both read these.
+template <int NP, int NQ>
+[[gnu::always_inline]] inline void sides(const Polygon& P, const Polygon& Q, double* side) {
+  const int np = NP > 0 ? NP : P.n, nq = NQ > 0 ? NQ : Q.n;
+  for (int k = 0; k < np; ++k)
+    for (int v = 0; v < nq; ++v)
+      side[k * nq + v] = cross(P.e[2 * k], P.e[2 * k + 1], Q.v[2 * v] - P.v[2 * k], Q.v[2 * v + 1] - P.v[2 * k + 1]);
+}
+
+// True when an edge of P separates it from Q (all of Q strictly outside the edge's half-plane). For convex
+// polygons in 2D an edge normal always separates disjoint shapes, so this is an exact early exit.
+template <int NP, int NQ>
+[[gnu::always_inline]] inline bool separated(const Polygon& P, const Polygon& Q, const double* side) {
+  const int np = NP > 0 ? NP : P.n, nq = NQ > 0 ? NQ : Q.n;
+  for (int k = 0; k < np; ++k) {
+    bool all_out = true;
+    for (int v = 0; v < nq; ++v) all_out = all_out && side[k * nq + v] < 0.0;
+    if (all_out) return true;
+  }
+  return false;
+}
+
+// Parameter interval [t0, t1] of Q's edge s, the segment q_s + t e_s with t in [0, 1], inside P (side: sides(P,
+// Q)). Points on P's boundary count as inside, except, when `skip_shared` is set, a segment lying exactly on an
+// edge of P with the same direction: that piece of the overlap's boundary was already counted from the other
+// polygon (Green's theorem must see it once).
+template <int NP, int NQ>
+[[gnu::always_inline]] inline bool clip_edge(const Polygon& P, const Polygon& Q, const double* side, int s,
+                                             double& t0, double& t1, bool skip_shared = false) {
+  const int np = NP > 0 ? NP : P.n, nq = NQ > 0 ? NQ : Q.n;
+  t0 = 0.0, t1 = 1.0;
+  const double dx = Q.e[2 * s], dy = Q.e[2 * s + 1];
+  for (int k = 0; k < np; ++k) {
+    const double ex = P.e[2 * k], ey = P.e[2 * k + 1];
     // inside: cross(e, x - a) >= 0; along the segment: f(t) = f0 + t df
-    const double f0 = cross(ex, ey, px - ax, py - ay);
+    const double f0 = side[k * nq + s];
     const double df = cross(ex, ey, dx, dy);
     if (df == 0.0) {
       if (f0 < 0.0) return false;
@@ -81,40 +117,26 @@ bool finish(const Integrals& I, double ox, double oy, Overlap& out) {
   return true;
 }
 
-// True when an edge of `p` separates it from `q` (all of q strictly outside the edge's half-plane). For convex
-// polygons in 2D an edge normal always separates disjoint shapes, so this is an exact early exit.
-template <int NP, int NQ>
-[[gnu::always_inline]] inline bool separated_by_edge_of(const double* p, int np, const double* q, int nq) {
-  if constexpr (NP > 0) np = NP;
-  if constexpr (NQ > 0) nq = NQ;
-  for (int k = 0; k < np; ++k) {
-    const int k1 = k + 1 < np ? k + 1 : 0;
-    const double ax = p[2 * k], ay = p[2 * k + 1];
-    const double ex = p[2 * k1] - ax, ey = p[2 * k1 + 1] - ay;
-    bool all_out = true;
-    for (int v = 0; v < nq && all_out; ++v) all_out = cross(ex, ey, q[2 * v] - ax, q[2 * v + 1] - ay) < 0.0;
-    if (all_out) return true;
-  }
-  return false;
-}
-
 // overlap_polygons with NA and NB vertices known when compiling (> 0), or na and nb (0).
 template <int NA, int NB>
 bool overlap_polygons_of(const double* a, int na, const double* b, int nb, Overlap& out) {
-  if constexpr (NA > 0) na = NA;
-  if constexpr (NB > 0) nb = NB;
   // Work relative to A's first vertex: small numbers, no cancellation against far-away origins.
   const double ox = a[0], oy = a[1];
-  double A[16], B[16];
-  for (int k = 0; k < na; ++k) A[2 * k] = a[2 * k] - ox, A[2 * k + 1] = a[2 * k + 1] - oy;
-  for (int k = 0; k < nb; ++k) B[2 * k] = b[2 * k] - ox, B[2 * k + 1] = b[2 * k + 1] - oy;
-  if (separated_by_edge_of<NA, NB>(A, na, B, nb) || separated_by_edge_of<NB, NA>(B, nb, A, na)) return false;
+  Polygon A, B;
+  make_polygon<NA>(a, na, ox, oy, A);
+  make_polygon<NB>(b, nb, ox, oy, B);
+  na = A.n, nb = B.n;
+  double side_ab[64], side_ba[64];  // B's vertices against A's edges, A's against B's
+  sides<NA, NB>(A, B, side_ab);
+  if (separated<NA, NB>(A, B, side_ab)) return false;
+  sides<NB, NA>(B, A, side_ba);
+  if (separated<NB, NA>(B, A, side_ba)) return false;
   Integrals I;
   double t0, t1;
   for (int k = 0; k < nb; ++k) {  // B's boundary inside A
+    if (!clip_edge<NA, NB>(A, B, side_ab, k, t0, t1)) continue;
     const int k1 = k + 1 < nb ? k + 1 : 0;
-    const double px = B[2 * k], py = B[2 * k + 1], qx = B[2 * k1], qy = B[2 * k1 + 1];
-    if (!clip_segment<NA>(px, py, qx, qy, A, na, t0, t1)) continue;
+    const double px = B.v[2 * k], py = B.v[2 * k + 1], qx = B.v[2 * k1], qy = B.v[2 * k1 + 1];
     const double x0 = px + t0 * (qx - px), y0 = py + t0 * (qy - py);
     const double x1 = px + t1 * (qx - px), y1 = py + t1 * (qy - py);
     add_area(I, x0, y0, x1, y1);
@@ -123,9 +145,9 @@ bool overlap_polygons_of(const double* a, int na, const double* b, int nb, Overl
   }
   if (!I.any) return false;  // convex: if no part of B's boundary is in A, either no overlap or A inside B
   for (int k = 0; k < na; ++k) {  // A's boundary inside B
+    if (!clip_edge<NB, NA>(B, A, side_ba, k, t0, t1, true)) continue;
     const int k1 = k + 1 < na ? k + 1 : 0;
-    const double px = A[2 * k], py = A[2 * k + 1], qx = A[2 * k1], qy = A[2 * k1 + 1];
-    if (!clip_segment<NB>(px, py, qx, qy, B, nb, t0, t1, true)) continue;
+    const double px = A.v[2 * k], py = A.v[2 * k + 1], qx = A.v[2 * k1], qy = A.v[2 * k1 + 1];
     add_area(I, px + t0 * (qx - px), py + t0 * (qy - py), px + t1 * (qx - px), py + t1 * (qy - py));
   }
   return finish(I, ox, oy, out);
