@@ -21,6 +21,7 @@ EngineOptions EngineOptions::from_scene(const Scene& scene) {
   o.platen_friction = scene.loading.platen_friction;
   o.threads = scene.numerics.threads;
   o.skip_bonded_pairs = scene.numerics.skip_bonded_pairs;
+  o.update_after_breaks = scene.numerics.update_after_breaks;
   o.search_free_faces_only = scene.numerics.search_free_faces_only;
   return o;
 }
@@ -47,6 +48,7 @@ Engine::Engine(const Topology& topo, const Scene& scene, const EngineOptions& op
   detection_.contacts = options_.contacts;
   detection_.platens = options_.platens;
   detection_.skip_bonded_pairs = options_.skip_bonded_pairs;
+  detection_.update_after_breaks = options_.update_after_breaks;
   detection_.search_free_faces_only = options_.search_free_faces_only;
 
   nthreads_ = std::max(options_.threads > 0 ? options_.threads : omp_get_max_threads(), 1);
@@ -64,6 +66,7 @@ void Engine::refresh() {
   stages::refresh_keep(model_, state_, work_);
   stages::clear_accumulators(work_);  // a step cut short (an exception) may have left forces in them
   state_.rebuild = true;
+  work_.grid.valid = false, work_.broken_now.clear();  // the next broad phase starts from the state as it is
 }
 
 void Engine::step() {
@@ -128,7 +131,7 @@ void Engine::step() {
   }
   if (serial) {
     stages::bond_events(model_, s, w, on_crack, c.threads);
-    stages::detect_contacts(model_, s, detection_, c.threads);
+    stages::detect_contacts(model_, s, w, detection_, c.threads);
     begin_block_stages();
 #pragma omp parallel num_threads(c.threads) reduction(&& : finite)
     finite = block_stages(omp_get_thread_num(), omp_get_num_threads());
@@ -144,7 +147,7 @@ void Engine::evaluate_forces(std::vector<double>& fx, std::vector<double>& fy, s
   const StepContext c = context(false);
   stages::update_rotations(state_, work_, c.threads);
   stages::bond_forces(model_, state_, work_, c);
-  stages::detect_contacts(model_, state_, detection_, c.threads);
+  stages::detect_contacts(model_, state_, work_, detection_, c.threads);
   stages::contact_forces(model_, state_, work_, c);
   stages::platen_forces(model_, state_, work_, options_.platen_friction, options_.platens, c);
   stages::jacket_forces(model_, state_, work_, c);
@@ -308,6 +311,11 @@ void declare_numerics(Keys& k) {
                 "contact search only among blocks with a broken bond or a boundary edge (false: all blocks, "
                 "which adds corner contacts inside intact rock; docs/performance.md)",
                 [](Scene& s) -> bool& { return s.numerics.search_free_faces_only; }));
+  k.add(boolean("numerics.update_after_breaks",
+                "after bond breaks, add the broken pairs and the blocks that gained a free face to the contact "
+                "lists instead of rebuilding them (false: rebuild, the same answer at a higher cost; "
+                "docs/performance.md)",
+                [](Scene& s) -> bool& { return s.numerics.update_after_breaks; }));
   k.add(integer("numerics.checkpoint_every_steps", "-", 0, 2000000000,
                 "rbdem ucs, triaxial and brazilian write checkpoint.h5 every this many explicit steps (0 = off); "
                 "--resume continues",

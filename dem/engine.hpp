@@ -42,6 +42,7 @@ struct EngineOptions {
   bool contacts = true;          // false: no block-block contacts (diagnostics)
   bool skip_bonded_pairs = true;       // numerics.skip_bonded_pairs: no narrow phase for intact-bonded pairs
   bool search_free_faces_only = true;  // numerics.search_free_faces_only: broad phase over free-face blocks only
+  bool update_after_breaks = true;     // numerics.update_after_breaks: contact lists updated after bond breaks
 
   static EngineOptions from_scene(const Scene& scene);
 };
@@ -121,6 +122,8 @@ class Engine {
   // How the bonds and blocks are split among the threads. The split follows the threads' measured speed and no
   // result depends on it; tests move it to check that.
   Workspace::Partition& partition() { return work_.part; }
+  // The broad phase's grid and how often it was rebuilt and updated (diagnostics, tests).
+  const Workspace::BroadGrid& broad_phase() const { return work_.grid; }
   bool has_platens() const { return options_.platens; }
   double platen_friction() const { return options_.platen_friction; }
 

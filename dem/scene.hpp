@@ -90,6 +90,7 @@ struct NumericsParams {
   double elastic_start_fraction = 0.99; // -, of the first-break load at which the explicit run takes over
   bool skip_bonded_pairs = true;         // no narrow phase for pairs joined by an intact bond (saving b)
   bool search_free_faces_only = true;    // contact search only among blocks with a free face (saving c)
+  bool update_after_breaks = true;       // contact lists updated, not rebuilt, after bond breaks (saving d)
   int checkpoint_every_steps = 0;        // -, explicit steps between checkpoints of rbdem ucs (0 = off)
   double checkpoint_every_seconds = 600.0;  // s, wall time between checkpoints of rbdem ucs (0 = off)
 };

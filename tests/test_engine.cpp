@@ -281,6 +281,55 @@ TEST(Engine, StepsAndEnergiesAreBitIdenticalAtOneTwoAndThreeThreads) {
   }
 }
 
+// After bond breaks the broad phase adds the broken pairs and the blocks that gained a free face to its lists
+// instead of rebuilding them (numerics.update_after_breaks). The lists then differ from a rebuild's, but only in
+// pairs that do not touch: every step must give the rebuilding run's numbers to the bit, and every pair that
+// touches must be listed in both with the same history.
+TEST(BroadPhase, UpdatingTheListsAfterBreaksGivesTheRebuildsNumbersToTheBit) {
+  Scene scene;
+  scene.mesh.size = 0.003, scene.numerics.threads = 1;
+  scene.loading.platen_velocity = 0.5;  // breaks within the 1 500 steps
+  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  std::vector<ModelState> end;
+  std::vector<Energies> energy;
+  std::vector<std::size_t> updates, rebuilds;
+  for (const bool update : {true, false}) {
+    scene.numerics.update_after_breaks = update;
+    Engine e(topo, scene, EngineOptions::from_scene(scene));
+    e.set_dt(0.5 * stability_limit(e));
+    e.run(1500);
+    end.push_back(e.state());
+    energy.push_back(e.energies());
+    updates.push_back(e.broad_phase().updates), rebuilds.push_back(e.broad_phase().rebuilds);
+  }
+  ASSERT_GT(end[1].cracks.size(), 20u);
+  EXPECT_GT(updates[0], 10u) << "the lists were never updated";
+  EXPECT_EQ(updates[1], 0u);
+  EXPECT_LT(rebuilds[0], rebuilds[1]);
+  EXPECT_EQ(end[0].x, end[1].x);
+  EXPECT_EQ(end[0].y, end[1].y);
+  EXPECT_EQ(end[0].theta, end[1].theta);
+  EXPECT_EQ(end[0].vx, end[1].vx);
+  EXPECT_EQ(end[0].omega, end[1].omega);
+  EXPECT_EQ(end[0].broken, end[1].broken);
+  EXPECT_EQ(end[0].cracks.size(), end[1].cracks.size());
+  EXPECT_EQ(energy[0].strain, energy[1].strain);
+  EXPECT_EQ(energy[0].friction, energy[1].friction);
+  EXPECT_EQ(energy[0].damping, energy[1].damping);
+  const ContactPairs &a = end[0].contacts, &b = end[1].contacts;
+  std::size_t touching = 0;
+  for (std::size_t p = 0; p < b.size(); ++p) {
+    if (!(b.fn[p] > 0.0)) continue;
+    ++touching;
+    const auto at = std::lower_bound(a.key.begin(), a.key.end(), b.key[p]);
+    ASSERT_TRUE(at != a.key.end() && *at == b.key[p]) << "a touching pair is missing from the updated lists";
+    const std::size_t q = std::size_t(at - a.key.begin());
+    EXPECT_EQ(a.fn[q], b.fn[p]);
+    EXPECT_EQ(a.fs[q], b.fs[p]);
+  }
+  EXPECT_GT(touching, 0u);
+}
+
 // The split of bonds and blocks among the threads follows their measured speed, so it differs from run to run:
 // no number may depend on it. Two threads with the boundaries moved every 100 steps to uneven places (blocks in
 // whole grains) give the one-thread run to the bit, through bond breaks and contact rebuilds.

@@ -172,6 +172,23 @@ TEST(Savings, SkippingTheNarrowPhaseOfBondedPairsChangesNothing) {
   for (std::size_t k = 0; k < skip.curve.size(); ++k) EXPECT_EQ(skip.curve[k].stress_top, clip.curve[k].stress_top);
 }
 
+// Saving (d): after bond breaks the contact lists are updated, not rebuilt. A whole run must come out the same, bit
+// for bit, either way (the engine-level test is BroadPhase.UpdatingTheListsAfterBreaksGivesTheRebuildsNumbersToTheBit).
+TEST(Savings, UpdatingTheContactListsAfterBreaksChangesNothing) {
+  Scene scene;
+  scene.mesh.size = 0.003, scene.joint_set.dip_deg = 45, scene.numerics.threads = 1;
+  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  const TestResult update = run_ucs(scene, topo);
+  scene.numerics.update_after_breaks = false;
+  const TestResult rebuild = run_ucs(scene, topo);
+  ASSERT_GT(update.crack_counts.total(), 0);
+  nlohmann::json a = io::run_summary(scene, update), b = io::run_summary(scene, rebuild);
+  a["scene"]["numerics"].erase("update_after_breaks"), b["scene"]["numerics"].erase("update_after_breaks");
+  EXPECT_EQ(comparable(a), comparable(b));
+  ASSERT_EQ(update.curve.size(), rebuild.curve.size());
+  for (std::size_t k = 0; k < update.curve.size(); ++k) EXPECT_EQ(update.curve[k].stress_top, rebuild.curve[k].stress_top);
+}
+
 TEST(Watchdog, UnstableStepStopsTheRunWithoutAPlausibleNumber) {
   Scene scene = small_scene();
   scene.numerics.dt_safety = 3.0;  // three times the exact stability limit

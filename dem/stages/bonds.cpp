@@ -172,6 +172,7 @@ int bond_events(const Model& m, ModelState& s, Workspace& w, const std::function
     const std::uint64_t key = (std::uint64_t(std::uint32_t(lo)) << 32) | std::uint32_t(hi);
     const auto at = std::lower_bound(s.contacts.key.begin(), s.contacts.key.end(), key);
     if (at != s.contacts.key.end() && *at == key) s.contacts.fs[std::size_t(at - s.contacts.key.begin())] = s.fs_lin[k];
+    w.broken_now.push_back(b);
     s.cracks.push_back(crack);
     if (on_crack) on_crack(crack);
     ++breaks;

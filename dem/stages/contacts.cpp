@@ -47,8 +47,7 @@ bool moved_half_skin(const Model& m, const ModelState& s, int t, int nt) {
   return moved;
 }
 
-bool needs_rebuild(const Model& m, const ModelState& s, int threads) {
-  if (rebuild_forced(m, s)) return true;
+bool blocks_moved(const Model& m, const ModelState& s, int threads) {
   bool moved = false;
 #pragma omp parallel num_threads(threads) reduction(|| : moved) if (s.eligible.size() > 1024)
   moved = moved_half_skin(m, s, omp_get_thread_num(), omp_get_num_threads());
@@ -77,9 +76,68 @@ bool rebuild_due(const Model& m, const ModelState& s, const Workspace& w) {
   return rebuild_forced(m, s) || std::any_of(w.moved.begin(), w.moved.end(), [](std::uint8_t v) { return v != 0; });
 }
 
-void detect_contacts(const Model& m, ModelState& s, const DetectionOptions& o, int threads) {
-  if (!needs_rebuild(m, s, threads)) return;
-  s.rebuild = false;
+namespace {
+
+// The cell of a point of the grid g, as (column, row) clamped to [0, 2e9]: a run going unstable (stopped by the
+// watchdog a few steps later) may carry huge or non-finite positions here, which must not overflow the conversion
+// (NaN fails q >= 0 and maps to 0). Clamping merges cells at the edges, which only adds candidates.
+std::pair<long, long> cell_of(const Workspace::BroadGrid& g, double x, double y) {
+  auto index = [&g](double v) {
+    const double q = v / g.cell;
+    return q >= 0 ? (q < 2e9 ? long(q) : 2000000000L) : 0L;
+  };
+  return {index(x - g.xmin), index(y - g.ymin)};
+}
+std::uint64_t cell_key(long cx, long cy) { return (std::uint64_t(cx) << 32) | std::uint64_t(cy); }
+
+// Calls visit(entry) for the grid entries in the 3 x 3 cells around the cell (cx, cy). The three cells
+// (cx + dx, cy - 1 .. cy + 1) of a column lie next to each other in the sorted entries: one search finds the
+// first, and the scan runs on to the last (in the order of the nine cells one by one).
+template <class Visit>
+void visit_neighbourhood(const Workspace::BroadGrid& g, long cx, long cy, Visit&& visit) {
+  for (long dx = -1; dx <= 1; ++dx) {
+    if (cx + dx < 0) continue;
+    const std::uint64_t first = cell_key(cx + dx, std::max(cy - 1, 0L)), last = cell_key(cx + dx, cy + 1);
+    auto it = std::lower_bound(g.entries.begin(), g.entries.end(), first,
+                               [](const Workspace::GridEntry& e, std::uint64_t k) { return e.key < k; });
+    for (; it != g.entries.end() && it->key <= last; ++it) visit(*it);
+  }
+}
+
+// The pair (i, j) of the sorted key, with its bond, its law and its shear force: carried over from the old list
+// when listed there, else handed over from the bond that just broke, else zero. `at` walks the old list.
+void list_pair(const Model& m, const ModelState& s, const ContactPairs& old, std::uint64_t key, std::size_t& at,
+               ContactPairs& next, std::size_t q) {
+  const int i = int(key >> 32), j = int(key & 0xffffffffu);
+  while (at < old.key.size() && old.key[at] < key) ++at;
+  int bond = -1;
+  for (int e = m.csr_offset[i]; e < m.csr_offset[i + 1]; ++e) {
+    const int bb = m.csr_entry[e] >> 1;
+    if (m.bi[bb] == j || m.bj[bb] == j) bond = bb;
+  }
+  double fs = 0.0;
+  if (at < old.key.size() && old.key[at] == key) fs = old.fs[at];
+  else if (bond >= 0) fs = s.fs_lin[std::size_t(bond)];  // a bond that just broke hands over its linear shear
+  next.key[q] = key, next.i[q] = i, next.j[q] = j, next.bond[q] = bond, next.law[q] = m.pair_law(i, j, bond);
+  next.fs[q] = fs, next.fn[q] = 0.0, next.chord[q] = 0.0;
+}
+
+void resize(ContactPairs& C, std::size_t n) {
+  C.key.resize(n), C.i.resize(n), C.j.resize(n), C.bond.resize(n), C.law.resize(n), C.fs.resize(n);
+  C.fn.resize(n), C.chord.resize(n);
+}
+
+// The platen candidates among the blocks `blocks` (ascending), appended to the lists: a block that may reach
+// the platen before the next rebuild (each side may travel half a skin).
+void add_platen_candidates(const Model& m, ModelState& s, const std::vector<int>& blocks, double top_y) {
+  for (int b : blocks) {
+    if (s.y[b] + m.radius[b] > top_y - m.skin) s.top_candidates.push_back(b);
+    if (s.y[b] - m.radius[b] < m.ymin + m.skin) s.bottom_candidates.push_back(b);
+  }
+}
+
+// The rebuild: every eligible block's reference position and cell, the platen candidates and the pair list.
+void rebuild(const Model& m, ModelState& s, Workspace& w, const DetectionOptions& o, int threads) {
   const std::size_t nb = m.num_blocks();
   auto& eligible = s.eligible;
   eligible.clear();
@@ -92,35 +150,25 @@ void detect_contacts(const Model& m, ModelState& s, const DetectionOptions& o, i
 
   // Platen candidates (the platen may travel skin/2 before the next rebuild).
   s.top_candidates.clear(), s.bottom_candidates.clear();
-  if (o.platens)
-    for (int b : eligible) {
-      if (s.y[b] + m.radius[b] > s.top_y - m.skin) s.top_candidates.push_back(b);
-      if (s.y[b] - m.radius[b] < m.ymin + m.skin) s.bottom_candidates.push_back(b);
-    }
+  if (o.platens) add_platen_candidates(m, s, eligible, s.top_y);
 
   // Uniform grid over the eligible blocks; pairs from the 3 x 3 neighbourhood of each cell.
+  Workspace::BroadGrid& g = w.grid;
+  g.entries.clear();
+  g.valid = true, g.rmax = rmax, g.cell = 2.0 * rmax + m.skin;
   std::vector<std::uint64_t> keys;
   if (o.contacts && !eligible.empty()) {
-    const double cell = 2.0 * rmax + m.skin;
-    double xmin = 1e300, ymin = 1e300;
-    for (int b : eligible) xmin = std::min(xmin, s.x[b]), ymin = std::min(ymin, s.y[b]);
-    // Cell indices clamped to [0, 2e9]: a run going unstable (stopped by the watchdog a few steps later) may carry
-    // huge or non-finite positions here, which must not overflow the conversion (NaN fails q >= 0 and maps to 0).
-    auto index = [cell](double v) {
-      const double q = v / cell;
-      return q >= 0 ? (q < 2e9 ? long(q) : 2000000000L) : 0L;
-    };
-    auto cell_of = [&](int b) { return std::pair<long, long>{index(s.x[b] - xmin), index(s.y[b] - ymin)}; };
-    auto cell_key = [](long cx, long cy) { return (std::uint64_t(cx) << 32) | std::uint64_t(cy); };
-    std::vector<std::pair<std::uint64_t, int>> cells;
-    cells.reserve(eligible.size());
+    g.xmin = g.ymin = 1e300;
+    for (int b : eligible) g.xmin = std::min(g.xmin, s.x[b]), g.ymin = std::min(g.ymin, s.y[b]);
+    g.entries.reserve(eligible.size());
     for (int b : eligible) {
-      const auto [cx, cy] = cell_of(b);
-      cells.push_back({cell_key(cx, cy), b});
+      const auto [cx, cy] = cell_of(g, s.x[b], s.y[b]);
+      g.entries.push_back({cell_key(cx, cy), b, s.x[b], s.y[b]});
     }
-    std::sort(cells.begin(), cells.end());
-    // Pairs from each eligible block's 3 x 3 cell neighbourhood, found in parallel into per-thread lists; the
-    // sorted union does not depend on how the blocks were split among threads.
+    std::sort(g.entries.begin(), g.entries.end(),
+              [](const auto& a, const auto& b) { return a.key != b.key ? a.key < b.key : a.block < b.block; });
+    // Pairs from each eligible block's neighbourhood, found in parallel into per-thread lists; the sorted union
+    // does not depend on how the blocks were split among threads.
     const int ne = int(eligible.size());
     std::vector<std::vector<std::uint64_t>> found(static_cast<std::size_t>(threads));
 #pragma omp parallel num_threads(threads) if (ne > 256)
@@ -129,23 +177,16 @@ void detect_contacts(const Model& m, ModelState& s, const DetectionOptions& o, i
 #pragma omp for schedule(static)
       for (int k = 0; k < ne; ++k) {
         const int a = eligible[std::size_t(k)];
-        const auto [cx, cy] = cell_of(a);
-        // The three cells (cx + dx, cy - 1 .. cy + 1) of a column lie next to each other in the sorted list: one
-        // search finds the first, and the scan runs on to the last (in the order of the nine cells one by one).
-        for (long dx = -1; dx <= 1; ++dx) {
-          if (cx + dx < 0) continue;
-          const std::uint64_t first = cell_key(cx + dx, std::max(cy - 1, 0L)), last = cell_key(cx + dx, cy + 1);
-          auto it = std::lower_bound(cells.begin(), cells.end(), std::pair<std::uint64_t, int>{first, -1});
-          for (; it != cells.end() && it->first <= last; ++it) {
-            const int b = it->second;
-            if (b <= a) continue;
-            const double rr = m.radius[a] + m.radius[b] + m.skin;
-            const double ex = s.x[b] - s.x[a], ey = s.y[b] - s.y[a];
-            if (ex * ex + ey * ey > rr * rr) continue;
-            if (o.skip_bonded_pairs && m.bonded(a, b, s.broken)) continue;
-            mine.push_back(pair_key(a, b));
-          }
-        }
+        const auto [cx, cy] = cell_of(g, s.x[a], s.y[a]);
+        visit_neighbourhood(g, cx, cy, [&](const Workspace::GridEntry& e) {
+          const int b = e.block;
+          if (b <= a) return;
+          const double rr = m.radius[a] + m.radius[b] + m.skin;
+          const double ex = s.x[b] - s.x[a], ey = s.y[b] - s.y[a];
+          if (ex * ex + ey * ey > rr * rr) return;
+          if (o.skip_bonded_pairs && m.bonded(a, b, s.broken)) return;
+          mine.push_back(pair_key(a, b));
+        });
       }
     }
     for (const auto& list : found) keys.insert(keys.end(), list.begin(), list.end());
@@ -156,36 +197,131 @@ void detect_contacts(const Model& m, ModelState& s, const DetectionOptions& o, i
   ContactPairs next;
   const auto& old = s.contacts;
   const int n = int(keys.size());
-  next.i.resize(std::size_t(n)), next.j.resize(std::size_t(n)), next.bond.resize(std::size_t(n));
-  next.law.resize(std::size_t(n)), next.fs.resize(std::size_t(n));
-  next.fn.assign(std::size_t(n), 0.0), next.chord.assign(std::size_t(n), 0.0);
-  next.key = std::move(keys);
-  const std::vector<std::uint64_t>& sorted = next.key;
+  resize(next, std::size_t(n));
   // Each thread takes a contiguous range of the sorted keys and walks the old (sorted) list beside it.
 #pragma omp parallel num_threads(threads) if (n > 256)
   {
     const int t = omp_get_thread_num(), nt = omp_get_num_threads();
     const int lo = int(std::int64_t(n) * t / nt), hi = int(std::int64_t(n) * (t + 1) / nt);
-    std::size_t at = lo < hi ? std::size_t(std::lower_bound(old.key.begin(), old.key.end(), sorted[std::size_t(lo)]) -
+    std::size_t at = lo < hi ? std::size_t(std::lower_bound(old.key.begin(), old.key.end(), keys[std::size_t(lo)]) -
                                            old.key.begin())
                              : 0;
-    for (int p = lo; p < hi; ++p) {
-      const std::uint64_t key = sorted[std::size_t(p)];
-      const int i = int(key >> 32), j = int(key & 0xffffffffu);
-      while (at < old.key.size() && old.key[at] < key) ++at;
-      int bond = -1;
-      for (int e = m.csr_offset[i]; e < m.csr_offset[i + 1]; ++e) {
-        const int bb = m.csr_entry[e] >> 1;
-        if (m.bi[bb] == j || m.bj[bb] == j) bond = bb;
-      }
-      double fs = 0.0;
-      if (at < old.key.size() && old.key[at] == key) fs = old.fs[at];
-      else if (bond >= 0) fs = s.fs_lin[std::size_t(bond)];  // a bond that just broke hands over its linear shear
-      const std::size_t q = std::size_t(p);
-      next.i[q] = i, next.j[q] = j, next.bond[q] = bond, next.law[q] = m.pair_law(i, j, bond), next.fs[q] = fs;
-    }
+    for (int p = lo; p < hi; ++p) list_pair(m, s, old, keys[std::size_t(p)], at, next, std::size_t(p));
   }
   s.contacts = std::move(next);
+}
+
+// After bond breaks, while no block and not the platen moved half a skin: the lists of the last rebuild gain the
+// blocks that now have a free face and the pairs they and the broken bonds form, instead of a rebuild. A joining
+// block is listed at its position now, which becomes its reference, against the other blocks' references, with a
+// rebuild's reach (the two radii and the skin; the platen at its reference). So the lists keep a rebuild's
+// guarantee: no pair and no platen contact they leave out can touch before the next rebuild. Only pairs and
+// platen contacts that touch exert forces, and the lists are walked in block and key order, so the forces are the
+// same as after a rebuild to the last bit; the lists may differ from a rebuild's only in entries that do not
+// touch. Returns false, having changed nothing, when a joining block is larger than the grid allows.
+bool update_after_breaks(const Model& m, ModelState& s, Workspace& w, const DetectionOptions& o) {
+  Workspace::BroadGrid& g = w.grid;
+  std::vector<int> joining;
+  for (int k : w.broken_now)
+    for (int b : {m.bi[std::size_t(k)], m.bj[std::size_t(k)]})
+      if (!std::binary_search(s.eligible.begin(), s.eligible.end(), b)) joining.push_back(b);
+  std::sort(joining.begin(), joining.end());
+  joining.erase(std::unique(joining.begin(), joining.end()), joining.end());
+  for (int b : joining)
+    if (m.radius[b] > g.rmax) return false;
+
+  // The eligible blocks and their references, in block order.
+  if (!joining.empty()) {
+    std::vector<int> eligible;
+    std::vector<double> ref_x, ref_y;
+    const std::size_t n = s.eligible.size() + joining.size();
+    eligible.reserve(n), ref_x.reserve(n), ref_y.reserve(n);
+    std::size_t a = 0, c = 0;
+    while (a < s.eligible.size() || c < joining.size()) {
+      if (c == joining.size() || (a < s.eligible.size() && s.eligible[a] < joining[c])) {
+        eligible.push_back(s.eligible[a]), ref_x.push_back(s.ref_x[a]), ref_y.push_back(s.ref_y[a]), ++a;
+      } else {
+        const int b = joining[c++];
+        eligible.push_back(b), ref_x.push_back(s.x[b]), ref_y.push_back(s.y[b]);
+      }
+    }
+    s.eligible = std::move(eligible), s.ref_x = std::move(ref_x), s.ref_y = std::move(ref_y);
+  }
+  if (o.platens && !joining.empty()) {
+    const std::size_t top = s.top_candidates.size(), bottom = s.bottom_candidates.size();
+    add_platen_candidates(m, s, joining, s.ref_top);
+    std::inplace_merge(s.top_candidates.begin(), s.top_candidates.begin() + std::ptrdiff_t(top),
+                       s.top_candidates.end());
+    std::inplace_merge(s.bottom_candidates.begin(), s.bottom_candidates.begin() + std::ptrdiff_t(bottom),
+                       s.bottom_candidates.end());
+  }
+  if (!o.contacts) return true;
+
+  // The joining blocks enter the grid; then each finds its partners among every grid entry (joining ones too).
+  const auto by_key = [](const auto& a, const auto& b) { return a.key != b.key ? a.key < b.key : a.block < b.block; };
+  for (int b : joining) {
+    const auto [cx, cy] = cell_of(g, s.x[b], s.y[b]);
+    const Workspace::GridEntry e{cell_key(cx, cy), b, s.x[b], s.y[b]};
+    g.entries.insert(std::upper_bound(g.entries.begin(), g.entries.end(), e, by_key), e);
+  }
+  std::vector<std::uint64_t> keys;
+  for (int a : joining) {
+    const auto [cx, cy] = cell_of(g, s.x[a], s.y[a]);
+    visit_neighbourhood(g, cx, cy, [&](const Workspace::GridEntry& e) {
+      const int b = e.block;
+      if (b == a) return;
+      const double rr = m.radius[a] + m.radius[b] + m.skin;
+      const double ex = e.x - s.x[a], ey = e.y - s.y[a];
+      if (ex * ex + ey * ey > rr * rr) return;
+      if (o.skip_bonded_pairs && m.bonded(a, b, s.broken)) return;
+      keys.push_back(pair_key(std::min(a, b), std::max(a, b)));
+    });
+  }
+  // A broken bond's two blocks touch along its edge: listed whether or not they joined now.
+  for (int k : w.broken_now) {
+    const int i = m.bi[std::size_t(k)], j = m.bj[std::size_t(k)];
+    keys.push_back(pair_key(std::min(i, j), std::max(i, j)));
+  }
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+
+  // The old list and the new pairs merged in key order; pairs listed already keep their records.
+  const ContactPairs& old = s.contacts;
+  ContactPairs next;
+  resize(next, old.size() + keys.size());
+  std::size_t q = 0, a = 0, at = 0;
+  for (std::uint64_t key : keys) {
+    for (; a < old.size() && old.key[a] < key; ++a, ++q) {
+      next.key[q] = old.key[a], next.i[q] = old.i[a], next.j[q] = old.j[a], next.bond[q] = old.bond[a];
+      next.law[q] = old.law[a], next.fs[q] = old.fs[a], next.fn[q] = old.fn[a], next.chord[q] = old.chord[a];
+    }
+    if (a < old.size() && old.key[a] == key) continue;  // listed already
+    list_pair(m, s, old, key, at, next, q++);
+  }
+  for (; a < old.size(); ++a, ++q) {
+    next.key[q] = old.key[a], next.i[q] = old.i[a], next.j[q] = old.j[a], next.bond[q] = old.bond[a];
+    next.law[q] = old.law[a], next.fs[q] = old.fs[a], next.fn[q] = old.fn[a], next.chord[q] = old.chord[a];
+  }
+  resize(next, q);
+  s.contacts = std::move(next);
+  return true;
+}
+
+}  // namespace
+
+void detect_contacts(const Model& m, ModelState& s, Workspace& w, const DetectionOptions& o, int threads) {
+  const bool top_moved = std::abs(s.top_y - s.ref_top) > 0.5 * m.skin;
+  if (!s.rebuild && !top_moved && !blocks_moved(m, s, threads)) return;
+  const bool breaks_only =
+      o.update_after_breaks && s.rebuild && !top_moved && w.grid.valid && !w.broken_now.empty();
+  if (breaks_only && !blocks_moved(m, s, threads) && update_after_breaks(m, s, w, o)) {
+    ++w.grid.updates;
+  } else {
+    rebuild(m, s, w, o, threads);
+    ++w.grid.rebuilds;
+  }
+  s.rebuild = false;
+  w.broken_now.clear();
 }
 
 // Each pair's narrow phase and contact law run in parallel into the pair's own record; the records are then

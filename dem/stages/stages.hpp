@@ -102,6 +102,21 @@ struct Workspace {
     if (nt == part.threads) return {bounds[std::size_t(t)], bounds[std::size_t(t) + 1]};
     return {t == 0 ? bounds.front() : bounds.back(), bounds.back()};
   }
+  // The broad phase's cell grid at its last rebuild (contacts.cpp): each eligible block's cell key and position
+  // then, sorted by (key, block). After bond breaks the lists are updated against it instead of rebuilt.
+  struct GridEntry {
+    std::uint64_t key;
+    int block;
+    double x, y;
+  };
+  struct BroadGrid {
+    bool valid = false;                               // false after a restore or an edit: the next one rebuilds
+    double xmin = 0, ymin = 0, cell = 0, rmax = 0;    // origin, cell size, the largest eligible radius (m)
+    std::vector<GridEntry> entries;
+    std::size_t rebuilds = 0, updates = 0;            // how often each ran since the engine started
+  };
+  BroadGrid grid;
+  std::vector<int> broken_now;                        // bonds broken since the last broad phase
   std::vector<double> damping_work;                   // per block grain: the damping work of the step (J)
   std::vector<std::uint8_t> moved;                    // per thread: one of its eligible blocks moved half a skin
 };
@@ -152,9 +167,12 @@ struct DetectionOptions {
   bool platens = true;
   bool skip_bonded_pairs = true;       // no narrow phase for pairs joined by an intact bond
   bool search_free_faces_only = true;  // broad phase over free-face blocks only
+  bool update_after_breaks = true;     // after bond breaks, update the lists instead of rebuilding them
 };
-// The broad phase, when a block or the platen moved half a skin since the last rebuild or a bond broke.
-void detect_contacts(const Model& m, ModelState& s, const DetectionOptions& o, int threads);
+// The broad phase, when a block or the platen moved half a skin since the last rebuild (a rebuild), or a bond
+// broke (an update of the lists with the broken pairs and the blocks that gained a free face, or a rebuild after
+// a restore or an edit).
+void detect_contacts(const Model& m, ModelState& s, Workspace& w, const DetectionOptions& o, int threads);
 // The same test by a team (rebuild_due after every share): true when detect_contacts would rebuild.
 void rebuild_check_begin(Workspace& w, int threads);
 void rebuild_check_share(const Model& m, const ModelState& s, Workspace& w, int t, int nt);
