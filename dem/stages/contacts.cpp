@@ -3,9 +3,9 @@
 // Only blocks with a free face (a broken bond or a specimen boundary edge) can meet blocks they are not bonded
 // to: a block whose three edges are bonded is enclosed by its neighbours (docs/model.md, "Contacts: broad
 // phase"). Candidate pairs among them come from a uniform cell grid with a skin of 0.2 mean edge lengths; the list
-// is rebuilt when a free-face block or the platen has moved half a skin, or a bond broke. Shear history carries
-// over by pair key. The two savings can be switched off to measure them (numerics.search_free_faces_only,
-// numerics.skip_bonded_pairs).
+// is rebuilt when a free-face block or the platen has moved half a skin, and updated when a bond broke. Shear
+// history carries over by pair key. The three savings can be switched off to measure them
+// (numerics.search_free_faces_only, numerics.skip_bonded_pairs, numerics.update_after_breaks).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
