@@ -101,10 +101,10 @@ void bond_forces_share(const Model& m, ModelState& s, Workspace& w, const StepCo
   const bool test = c.advance && s.breakage;
   const auto [lo, hi] = w.share(w.part.bond, t, nt);
   const BondFrames& f = m.frame;
-  const KernelRange range{BondArrays(m, s, w), w.record.data(), f.tension_limit.data(), f.cohesion_A.data(), f.tan_phi.data(),
-                          f.beta_m.data(), f.inv_L.data(), s.drive.data(), w.keep.data(), s.fs_lin.data(),
-                          w.slot.fx.data(), w.slot.fy.data(), w.slot.m.data(), w.flag.data(), c.dt, int(c.advance),
-                          int(test), lo, hi};
+  const KernelRange range{BondArrays(m, s, w), w.record.data(), f.tension_limit.data(), f.cohesion_A.data(),
+                          f.tan_phi.data(), f.beta_m.data(), f.inv_L.data(), s.drive.data(), w.keep.data(),
+                          s.fs_lin.data(), w.slot.fx.data(), w.slot.fy.data(), w.slot.m.data(), w.flag.data(), c.dt,
+                          int(c.advance), int(test), lo, hi};
   const bool flagged = w.damaged > 0 ? bond_range_damaged(range) : bond_range_intact(range);
   if (flagged) {
     auto& mine = w.flagged[std::size_t(t)];
