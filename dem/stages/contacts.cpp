@@ -104,6 +104,21 @@ void visit_neighbourhood(const Workspace::BroadGrid& g, long cx, long cy, Visit&
   }
 }
 
+// The grid's order: by cell, then by block.
+bool entry_before(const Workspace::GridEntry& a, const Workspace::GridEntry& b) {
+  return a.key != b.key ? a.key < b.key : a.block < b.block;
+}
+
+// Whether block a, at its position now, and the grid entry e (a block at its position of the last rebuild) make a
+// candidate pair: within the two radii and the skin, and not joined by an intact bond when those are skipped.
+bool in_reach(const Model& m, const ModelState& s, const DetectionOptions& o, int a, const Workspace::GridEntry& e) {
+  const int b = e.block;
+  const double rr = m.radius[a] + m.radius[b] + m.skin;
+  const double ex = e.x - s.x[a], ey = e.y - s.y[a];
+  if (ex * ex + ey * ey > rr * rr) return false;
+  return !(o.skip_bonded_pairs && m.bonded(a, b, s.broken));
+}
+
 // The pair (i, j) of the sorted key, with its bond, its law and its shear force: carried over from the old list
 // when listed there, else handed over from the bond that just broke, else zero. `at` walks the old list.
 void list_pair(const Model& m, const ModelState& s, const ContactPairs& old, std::uint64_t key, std::size_t& at,
@@ -165,8 +180,7 @@ void rebuild(const Model& m, ModelState& s, Workspace& w, const DetectionOptions
       const auto [cx, cy] = cell_of(g, s.x[b], s.y[b]);
       g.entries.push_back({cell_key(cx, cy), b, s.x[b], s.y[b]});
     }
-    std::sort(g.entries.begin(), g.entries.end(),
-              [](const auto& a, const auto& b) { return a.key != b.key ? a.key < b.key : a.block < b.block; });
+    std::sort(g.entries.begin(), g.entries.end(), entry_before);
     // Pairs from each eligible block's neighbourhood, found in parallel into per-thread lists; the sorted union
     // does not depend on how the blocks were split among threads.
     const int ne = int(eligible.size());
@@ -179,13 +193,7 @@ void rebuild(const Model& m, ModelState& s, Workspace& w, const DetectionOptions
         const int a = eligible[std::size_t(k)];
         const auto [cx, cy] = cell_of(g, s.x[a], s.y[a]);
         visit_neighbourhood(g, cx, cy, [&](const Workspace::GridEntry& e) {
-          const int b = e.block;
-          if (b <= a) return;
-          const double rr = m.radius[a] + m.radius[b] + m.skin;
-          const double ex = s.x[b] - s.x[a], ey = s.y[b] - s.y[a];
-          if (ex * ex + ey * ey > rr * rr) return;
-          if (o.skip_bonded_pairs && m.bonded(a, b, s.broken)) return;
-          mine.push_back(pair_key(a, b));
+          if (e.block > a && in_reach(m, s, o, a, e)) mine.push_back(pair_key(a, e.block));
         });
       }
     }
@@ -258,23 +266,16 @@ bool update_after_breaks(const Model& m, ModelState& s, Workspace& w, const Dete
   if (!o.contacts) return true;
 
   // The joining blocks enter the grid; then each finds its partners among every grid entry (joining ones too).
-  const auto by_key = [](const auto& a, const auto& b) { return a.key != b.key ? a.key < b.key : a.block < b.block; };
   for (int b : joining) {
     const auto [cx, cy] = cell_of(g, s.x[b], s.y[b]);
     const Workspace::GridEntry e{cell_key(cx, cy), b, s.x[b], s.y[b]};
-    g.entries.insert(std::upper_bound(g.entries.begin(), g.entries.end(), e, by_key), e);
+    g.entries.insert(std::upper_bound(g.entries.begin(), g.entries.end(), e, entry_before), e);
   }
   std::vector<std::uint64_t> keys;
   for (int a : joining) {
     const auto [cx, cy] = cell_of(g, s.x[a], s.y[a]);
     visit_neighbourhood(g, cx, cy, [&](const Workspace::GridEntry& e) {
-      const int b = e.block;
-      if (b == a) return;
-      const double rr = m.radius[a] + m.radius[b] + m.skin;
-      const double ex = e.x - s.x[a], ey = e.y - s.y[a];
-      if (ex * ex + ey * ey > rr * rr) return;
-      if (o.skip_bonded_pairs && m.bonded(a, b, s.broken)) return;
-      keys.push_back(pair_key(std::min(a, b), std::max(a, b)));
+      if (e.block != a && in_reach(m, s, o, a, e)) keys.push_back(pair_key(std::min(a, e.block), std::max(a, e.block)));
     });
   }
   // A broken bond's two blocks touch along its edge: listed whether or not they joined now.
@@ -287,22 +288,21 @@ bool update_after_breaks(const Model& m, ModelState& s, Workspace& w, const Dete
 
   // The old list and the new pairs merged in key order; pairs listed already keep their records.
   const ContactPairs& old = s.contacts;
+  const auto listed = [&old](std::uint64_t key) { return std::binary_search(old.key.begin(), old.key.end(), key); };
+  keys.erase(std::remove_if(keys.begin(), keys.end(), listed), keys.end());
+  const std::size_t n = old.size() + keys.size();
   ContactPairs next;
-  resize(next, old.size() + keys.size());
-  std::size_t q = 0, a = 0, at = 0;
-  for (std::uint64_t key : keys) {
-    for (; a < old.size() && old.key[a] < key; ++a, ++q) {
-      next.key[q] = old.key[a], next.i[q] = old.i[a], next.j[q] = old.j[a], next.bond[q] = old.bond[a];
-      next.law[q] = old.law[a], next.fs[q] = old.fs[a], next.fn[q] = old.fn[a], next.chord[q] = old.chord[a];
+  resize(next, n);
+  std::size_t a = 0, k = 0, at = 0;
+  for (std::size_t q = 0; q < n; ++q) {
+    if (k < keys.size() && (a == old.size() || keys[k] < old.key[a])) {
+      list_pair(m, s, old, keys[k++], at, next, q);
+      continue;
     }
-    if (a < old.size() && old.key[a] == key) continue;  // listed already
-    list_pair(m, s, old, key, at, next, q++);
-  }
-  for (; a < old.size(); ++a, ++q) {
     next.key[q] = old.key[a], next.i[q] = old.i[a], next.j[q] = old.j[a], next.bond[q] = old.bond[a];
     next.law[q] = old.law[a], next.fs[q] = old.fs[a], next.fn[q] = old.fn[a], next.chord[q] = old.chord[a];
+    ++a;
   }
-  resize(next, q);
   s.contacts = std::move(next);
   return true;
 }

@@ -35,13 +35,26 @@ namespace {
     if (!(std::abs(theta[b]) < 0.01)) c[b] = std::cos(theta[b]), sn[b] = std::sin(theta[b]);
 }
 
-// cos, sin and the block records (records.hpp) of the blocks [lo, hi), compiled as the kernels.
+// What follows a block's new position: cos and sin of its rotation, then its block record (records.hpp).
+struct RecordArrays {
+  const double *x, *y, *th, *vx, *vy, *om;
+  double *c, *sn;
+  Workspace::Record* rec;
+  RecordArrays(const ModelState& s, Workspace& w)
+      : x(s.x.data()), y(s.y.data()), th(s.theta.data()), vx(s.vx.data()), vy(s.vy.data()), om(s.omega.data()),
+        c(w.cos_t.data()), sn(w.sin_t.data()), rec(w.record.data()) {}
+  // The blocks [lo, hi).
+  [[gnu::always_inline]] inline void update(int lo, int hi) const {
+    rotations_of(th, c, sn, lo, hi);
+    const RecordFields fields = {x, y, th, vx, vy, om, c, sn};
+    pack_records(fields, rec, lo, hi);
+  }
+};
+
+// RecordArrays::update compiled as the kernels.
 [[gnu::target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")]] void rotations_and_records(
-    const ModelState& s, Workspace& w, int lo, int hi) {
-  rotations_of(s.theta.data(), w.cos_t.data(), w.sin_t.data(), lo, hi);
-  const RecordFields fields = {s.x.data(),  s.y.data(),  s.theta.data(), s.vx.data(),
-                               s.vy.data(), s.omega.data(), w.cos_t.data(), w.sin_t.data()};
-  pack_records(fields, w.record.data(), lo, hi);
+    const RecordArrays& a, int lo, int hi) {
+  a.update(lo, hi);
 }
 
 }  // namespace
@@ -49,10 +62,11 @@ namespace {
 void update_rotations(const ModelState& s, Workspace& w, int threads) {
   const int n = int(s.num_blocks());
   w.cos_t.resize(std::size_t(n)), w.sin_t.resize(std::size_t(n)), w.record.resize(std::size_t(n));
+  const RecordArrays arrays(s, w);
 #pragma omp parallel num_threads(threads)
   {
     const int t = omp_get_thread_num(), nt = omp_get_num_threads();
-    rotations_and_records(s, w, int(std::int64_t(n) * t / nt), int(std::int64_t(n) * (t + 1) / nt));
+    rotations_and_records(arrays, int(std::int64_t(n) * t / nt), int(std::int64_t(n) * (t + 1) / nt));
   }
 }
 
@@ -129,15 +143,14 @@ struct GatherArrays {
 // What the integration reads and writes besides.
 struct BlockArrays {
   GatherArrays g;
-  double *fx, *fy, *mz, *vx, *vy, *om, *x, *y, *th, *c, *sn;
-  Workspace::Record* rec;
+  RecordArrays records;
+  double *fx, *fy, *mz, *vx, *vy, *om, *x, *y, *th;
   const double *inv_mass, *inertia;
   const int* fixed;
   BlockArrays(const Model& m, ModelState& s, Workspace& w)
-      : g(m, w), fx(s.fx.data()), fy(s.fy.data()), mz(s.moment.data()), vx(s.vx.data()), vy(s.vy.data()),
-        om(s.omega.data()), x(s.x.data()), y(s.y.data()), th(s.theta.data()), c(w.cos_t.data()),
-        sn(w.sin_t.data()), rec(w.record.data()), inv_mass(m.inv_mass.data()), inertia(m.inertia.data()),
-        fixed(m.fixed.data()) {}
+      : g(m, w), records(s, w), fx(s.fx.data()), fy(s.fy.data()), mz(s.moment.data()), vx(s.vx.data()),
+        vy(s.vy.data()), om(s.omega.data()), x(s.x.data()), y(s.y.data()), th(s.theta.data()),
+        inv_mass(m.inv_mass.data()), inertia(m.inertia.data()), fixed(m.fixed.data()) {}
 };
 
 struct Force {
@@ -214,9 +227,7 @@ template <bool Triangles>
                                                                                        double* work) {
   const bool ok = r.g.width == 3 ? block_grain_body<true>(r, dt, alpha, g0, g1, work)
                                  : block_grain_body<false>(r, dt, alpha, g0, g1, work);
-  rotations_of(r.th, r.c, r.sn, g0, g1);
-  const RecordFields fields = {r.x, r.y, r.th, r.vx, r.vy, r.om, r.c, r.sn};
-  pack_records(fields, r.rec, g0, g1);
+  r.records.update(g0, g1);
   return ok;
 }
 
