@@ -30,7 +30,8 @@ struct BlockKin {
   double x, y, theta, vx, vy, omega, c, s;
 };
 
-// Where the bond stage reads: the state's block arrays, the workspace's cos and sin, the model's bond arrays.
+// What a bond's evaluation reads: the model's bond arrays, and for its scalar callers the state's block arrays and
+// the workspace's cos and sin (the bond stage reads the blocks from their records instead: records.hpp).
 struct BondArrays {
   const int *bi, *bj;
   const double *x, *y, *theta, *vx, *vy, *omega, *c, *s;
