@@ -1,70 +1,33 @@
 // The front library's deal.II functions: each loads the module librbdem_fe.so once (see fe_module.hpp for why and
-// where it is looked for) and calls its definition through the module's table.
-#include <dlfcn.h>
-
-#include <cstdlib>
-#include <filesystem>
+// common/module_loader.hpp for where it is looked for) and calls its definition through the module's table.
 #include <mutex>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "common/module_loader.hpp"
 #include "continuum/fe_module.hpp"
 
 namespace rbdem::continuum {
 
 namespace {
 
-namespace fs = std::filesystem;
-
-// The folder of the binary this function is linked into (the executable, a test, the Python extension).
-fs::path own_folder() {
-  Dl_info info{};
-  if (dladdr(reinterpret_cast<void*>(&own_folder), &info) == 0 || info.dli_fname == nullptr) return {};
-  std::error_code ec;
-  const fs::path self = fs::canonical(fs::path(info.dli_fname), ec);
-  return ec ? fs::path(info.dli_fname).parent_path() : self.parent_path();
-}
-
-std::vector<fs::path> candidates() {
-  const std::string name = RBDEM_FE_MODULE_NAME;
-  std::vector<fs::path> c;
-  if (const char* env = std::getenv("RBDEM_FE_MODULE"); env != nullptr && *env != '\0') return {fs::path(env)};
-  if (const fs::path here = own_folder(); !here.empty()) {
-    c.push_back(here / name);
-    c.push_back(here.parent_path() / "lib" / name);
-  }
-  c.push_back(fs::path(RBDEM_FE_MODULE_BUILT));
-  c.push_back(fs::path(RBDEM_FE_MODULE_INSTALLED));
-  return c;
+bool fits(const FeModule& m) {
+  const FeModule expected;
+  bool same = m.abi == expected.abi;
+  for (int k = 0; same && k < 6; ++k) same = m.sizes[k] == expected.sizes[k];
+  return same;
 }
 
 const FeModule* load() {
-  std::string tried;
-  for (const fs::path& path : candidates()) {
-    std::error_code ec;
-    if (!fs::exists(path, ec)) {
-      tried += "\n  " + path.string() + " (not found)";
-      continue;
-    }
-    void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-    if (handle == nullptr) {
-      const char* why = dlerror();
-      tried += "\n  " + path.string() + " (" + (why ? why : "dlopen failed") + ")";
-      continue;
-    }
-    using Entry = const FeModule* (*)();
-    const auto entry = reinterpret_cast<Entry>(dlsym(handle, "rbdem_fe_module"));
-    const FeModule* m = entry ? entry() : nullptr;
-    const FeModule expected;
-    bool same = m != nullptr && m->abi == expected.abi;
-    for (int k = 0; same && k < 6; ++k) same = m->sizes[k] == expected.sizes[k];
-    if (same) return m;
-    tried += "\n  " + path.string() + " (built from another version of rbdem)";
-  }
-  throw std::runtime_error(
-      "the deal.II continuum model (" RBDEM_FE_MODULE_NAME ") could not be loaded; tried:" + tried +
-      "\nRebuild rbdem with deal.II (scripts/setup.sh build), or set RBDEM_FE_MODULE to the module's path");
+  static const modules::ModuleSpec spec{
+      RBDEM_FE_MODULE_NAME,
+      "RBDEM_FE_MODULE",
+      RBDEM_FE_MODULE_BUILT,
+      RBDEM_FE_MODULE_INSTALLED,
+      "rbdem_fe_module",
+      "the deal.II continuum model",
+      "Rebuild rbdem with deal.II (scripts/setup.sh build), or set RBDEM_FE_MODULE to the module's path"};
+  return modules::load<FeModule>(spec, &fits);
 }
 
 const FeModule& module() {

@@ -7,10 +7,8 @@
 // defined in the front library rbdem_continuum (fe_loader.cpp), which forwards the deal.II solves through the table
 // below. Callers include the usual headers and never see the module.
 //
-// The module is looked for, in order: at $RBDEM_FE_MODULE when set; beside the binary that holds the front
-// library (the rbdem executable, a test, the Python extension), and in ../lib from it (the build tree's bin/ and
-// lib/, and an installed prefix); at the path it was built to; at the installed library directory. A missing or
-// mismatched module is an error that names the paths tried.
+// The module is looked for as common/module_loader.hpp says, first at $RBDEM_FE_MODULE when that is set. A
+// missing or mismatched module is an error that names the paths tried.
 #pragma once
 
 #include <cstddef>

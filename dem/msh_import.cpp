@@ -8,16 +8,11 @@
 #include <sstream>
 
 #include <fmt/format.h>
-#include <gmsh.h>
 
-#include "dem/gmsh_session.hpp"
+#include "dem/gmsh_module.hpp"
 #include "dem/specimen_mesh.hpp"
 
 namespace rbdem {
-
-using gmsh_io::collect_triangles;
-using gmsh_io::gmsh_error;
-using gmsh_io::GmshSession;
 
 namespace {
 
@@ -366,61 +361,7 @@ TriMesh read_msh(const std::filesystem::path& path) {
     throw SceneError(fmt::format("mesh file '{}' does not exist: check --mesh / mesh.file", path.string()));
   require_msh_header(path);
   prescan_msh(path);
-  GmshSession session;
-  TriMesh mesh;
-  try {
-    gmsh::open(path.string());
-  } catch (...) {
-    throw SceneError(fmt::format("cannot read mesh file '{}': {} (expected a gmsh .msh file)", path.string(),
-                                 gmsh_error("not a readable mesh")));
-  }
-  gmsh::vectorpair groups;
-  std::vector<int> volume_types;
-  std::vector<std::vector<std::size_t>> volume_tags, volume_nodes;
-  try {
-    gmsh::model::getPhysicalGroups(groups, 2);
-    gmsh::model::mesh::getElements(volume_types, volume_tags, volume_nodes, 3, -1);
-  } catch (...) {
-    throw SceneError(fmt::format("cannot read the groups of '{}': {}", path.string(), gmsh_error("gmsh error")));
-  }
-  std::size_t volume_elements = 0;
-  for (const auto& t : volume_tags) volume_elements += t.size();
-  if (volume_elements > 0)
-    throw SceneError(fmt::format("mesh file '{}' is a 3D mesh ({} volume elements): rbdem needs a planar triangle "
-                                 "mesh in the x-y plane; mesh the 2D cross-section (gmsh: Mesh > 2D) and save again",
-                                 path.string(), volume_elements));
-  if (groups.empty())
-    throw SceneError(fmt::format("mesh file '{}' has no physical surface groups: define one physical surface per "
-                                 "rock layer (Physical Surface(\"layer_0\") = {{...}}) and save again",
-                                 path.string()));
-  std::vector<std::vector<int>> layer_entities;
-  std::vector<std::string> names;
-  std::set<int> seen;
-  for (const auto& [dim, tag] : groups) {
-    std::vector<int> entities;
-    std::string name;
-    try {
-      gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
-      gmsh::model::getPhysicalName(dim, tag, name);
-    } catch (...) {
-      throw SceneError(fmt::format("cannot read physical group {} of '{}': {}", tag, path.string(),
-                                   gmsh_error("gmsh error")));
-    }
-    for (int e : entities)
-      if (!seen.insert(e).second)
-        throw SceneError(fmt::format("mesh file '{}': surface {} belongs to two physical groups; each triangle must "
-                                     "be in exactly one layer",
-                                     path.string(), e));
-    names.push_back(name.empty() ? fmt::format("group_{}", tag) : name);
-    layer_entities.push_back(entities);
-  }
-  try {
-    mesh = collect_triangles(layer_entities, names, path.string());
-  } catch (const SceneError&) {
-    throw;
-  } catch (...) {
-    throw SceneError(fmt::format("cannot read the elements of '{}': {}", path.string(), gmsh_error("gmsh error")));
-  }
+  TriMesh mesh = gmsh_io::read_with_gmsh(path);
   check_user_mesh(mesh, path.string());
   return mesh;
 }

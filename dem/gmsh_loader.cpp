@@ -1,0 +1,47 @@
+// The front of the gmsh module: loads librbdem_gmsh.so once (gmsh_module.hpp says why, common/module_loader.hpp
+// where it is looked for) and calls it through the module's table.
+#include <mutex>
+#include <string>
+
+#include "common/module_loader.hpp"
+#include "dem/gmsh_module.hpp"
+
+namespace rbdem::gmsh_io {
+
+namespace {
+
+bool fits(const GmshModule& m) {
+  const GmshModule expected;
+  bool same = m.abi == expected.abi;
+  for (int k = 0; same && k < 4; ++k) same = m.sizes[k] == expected.sizes[k];
+  return same;
+}
+
+const GmshModule& module() {
+  static const modules::ModuleSpec spec{
+      RBDEM_GMSH_MODULE_NAME,
+      "RBDEM_GMSH_MODULE",
+      RBDEM_GMSH_MODULE_BUILT,
+      RBDEM_GMSH_MODULE_INSTALLED,
+      "rbdem_gmsh_module",
+      "the gmsh mesher",
+      "Rebuild rbdem (scripts/setup.sh build), or set RBDEM_GMSH_MODULE to the module's path",
+      /*lazy=*/true};
+  static std::once_flag once;
+  static const GmshModule* m = nullptr;
+  std::call_once(once, [] { m = modules::load<GmshModule>(spec, &fits); });  // a throw leaves the flag unset
+  return *m;
+}
+
+TriMesh mesh_or_throw(MeshOutcome out) {
+  if (!out.error.empty()) throw SceneError(out.error);
+  return std::move(out.mesh);
+}
+
+}  // namespace
+
+TriMesh mesh_with_gmsh(const MeshJob& job) { return mesh_or_throw(module().mesh_specimen(job)); }
+
+TriMesh read_with_gmsh(const std::filesystem::path& path) { return mesh_or_throw(module().read_msh(path.string())); }
+
+}  // namespace rbdem::gmsh_io
