@@ -141,6 +141,7 @@ class Engine {
   void set_strain_for_log(double strain) { state_.strain_for_log = strain; }
   // The confining pressure on the jacket (Pa; dem/stages/jacket.cpp).
   void set_confining_pressure(double p) { state_.confining_pressure = p; }
+  void set_platen_velocity(double v) { state_.platen_velocity = v; }
   // Called for each new crack (after it is logged).
   std::function<void(const Crack&)> on_crack;
 

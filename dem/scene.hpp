@@ -78,6 +78,8 @@ struct LoadingParams {
   double max_strain = 0.01;       // -, stop at this axial strain whatever happens
   double post_peak_strain = 1.0;  // -, stop when the strain exceeds (1 + this) x the strain at the peak
   double confining_pressure = 0.0;  // Pa, lateral pressure of a confined (triaxial) test; 0 = uniaxial
+  double fast_factor = 1.0;       // -, the top platen's speed while no bond breaks, x platen_velocity; 1 = constant
+  double quiet_transits = 3.0;    // -, wave transits without a break before the platen speeds up
 };
 
 struct NumericsParams {

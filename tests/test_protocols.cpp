@@ -3,9 +3,11 @@
 // a test from running on the wrong specimen.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
+#include "dem/driver/monitors.hpp"
 #include "dem/driver/ucs.hpp"
 #include "dem/engine.hpp"
 #include "dem/specimen_mesh.hpp"
@@ -21,6 +23,55 @@ Scene small_scene(double dip) {
   s.joint_set.dip_deg = dip;
   s.numerics.threads = 1;
   return s;
+}
+
+// loading.fast_factor (LoadRate, dem/driver/monitors.hpp), step by step against its rule: the platen keeps
+// platen_velocity until quiet_transits wave transits T = H / sqrt(E*/rho) have passed without a break, then gains
+// (f - 1) v dt / T per step up to f v; the step after a break it starts back and is at v within T / 4. The platen
+// closes at 0.2 m/s so that bonds break within the test's 4 000 steps.
+TEST(Loading, FastPlatenFollowsItsRuleBetweenBreaks) {
+  Scene s = small_scene(90);
+  s.loading.platen_velocity = 0.2, s.loading.fast_factor = 4, s.loading.quiet_transits = 1;
+  const Topology topo = build_topology(make_mesh(s), s.specimen.thickness, s.rock.density);
+  Engine e(topo, s, EngineOptions::from_scene(s));
+  e.set_dt(0.5 * stability_limit(e));
+  const LoadRate rate(s);
+  const double v = s.loading.platen_velocity, f = 4, dt = e.state().dt;
+  const double T = e.model().height / std::sqrt(s.rock.effective_modulus / s.rock.density);
+  const double rise = (f - 1) * v * dt / T;
+  std::vector<double> speed;
+  std::vector<std::size_t> cracks;
+  for (int n = 0; n < 4000; ++n) {
+    e.step();
+    rate.after_step(e);
+    speed.push_back(e.state().platen_velocity), cracks.push_back(e.cracks().size());
+  }
+  // Before the first break: v while t <= T, then the ramp, then f v.
+  const auto first_break = std::size_t(std::find_if(cracks.begin(), cracks.end(), [](std::size_t c) { return c > 0; }) -
+                                       cracks.begin());
+  ASSERT_LT(first_break, speed.size()) << "no bond broke: the test needs a break";
+  const auto quiet_end = std::size_t(T / dt);  // the first step past T (step n ends at t = (n + 1) dt)
+  ASSERT_LT(quiet_end + std::size_t(T / dt) + 10, first_break) << "the platen must reach f v before the first break";
+  for (std::size_t n = 0; n < first_break; ++n) {
+    const double t = double(n + 1) * dt;
+    const double expected = t <= T ? v : std::min(f * v, v + rise * double(n + 1 - quiet_end));
+    ASSERT_NEAR(speed[n], expected, 1e-9 * v) << "step " << n;
+  }
+  EXPECT_DOUBLE_EQ(speed[first_break - 1], f * v);
+  // After each break: falling from the step of the break on, at v within T / 4.
+  const auto quarter = std::size_t(std::ceil(0.25 * T / dt));
+  int fast_breaks = 0;
+  for (std::size_t n = 1; n < speed.size(); ++n) {
+    if (cracks[n] == cracks[n - 1]) continue;
+    if (speed[n - 1] > v) {
+      EXPECT_LT(speed[n], speed[n - 1]) << "break at step " << n;
+      ++fast_breaks;
+    }
+    if (n + quarter < speed.size()) {
+      EXPECT_EQ(speed[n + quarter], v) << "break at step " << n;
+    }
+  }
+  EXPECT_GT(fast_breaks, 0) << "no break came while the platen was fast";
 }
 
 // The static isotropic stage: the jacket's pressure and the platen closure superposed so that the platen stress is

@@ -109,6 +109,16 @@ TEST(Checkpoint, ResumedSofteningRunEndsBitIdenticalToUninterrupted) {
   expect_resumed_run_bit_identical(softening_scene());
 }
 
+// The faster platen of quiet spells (loading.fast_factor): its speed is engine state, the time of the last break is
+// in the crack log, so a resumed run goes on at the speed the uninterrupted one had.
+TEST(Checkpoint, ResumedRunWithAFastPlatenEndsBitIdenticalToUninterrupted) {
+  Scene s = small_scene();
+  s.loading.fast_factor = 4, s.loading.quiet_transits = 0.2;  // this specimen is quiet for a few transits at a time
+  const Topology topo = build_topology(make_mesh(s), s.specimen.thickness, s.rock.density);
+  ASSERT_LT(run_ucs(s, topo).steps, run_ucs(small_scene(), topo).steps) << "the platen never went faster";
+  expect_resumed_run_bit_identical(s);
+}
+
 TEST(Checkpoint, ResumeWithAnotherSceneIsRefused) {
   Scene scene = small_scene();
   const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);

@@ -24,6 +24,7 @@ class TestRun {
   TestRun(LoadingProtocol& protocol, const Scene& scene, const Topology& topo, const RunOptions& options)
       : protocol_(protocol), scene_(scene), topo_(topo), options_(options), wall0_(Clock::now()),
         engine_(topo, scene, engine_options(scene, options)),
+        rate_(scene),
         frames_{scene.output.frame_strain_interval},
         watchdog_(watchdog_criterion(scene, engine_), options.watchdog_every),
         checkpointer_({scene.numerics.checkpoint_every_steps, scene.numerics.checkpoint_every_seconds, options.cancel,
@@ -80,6 +81,7 @@ class TestRun {
         watchdog_.stop("non_finite_state", "block positions are no longer finite");
         return false;
       }
+      if (rate_.adapts()) rate_.after_step(engine_);
       const Reading reading = protocol_.read(engine_);
       const StepView view{engine_, reading, rec_};
       peaks_.after_step(view);
@@ -205,6 +207,7 @@ class TestRun {
   Engine engine_;
   TestRecord rec_;
   std::string stop_reason_ = "max_strain";
+  LoadRate rate_;
   PeakTracker peaks_;
   FrameRecorder frames_;
   CurveRecorder curve_;

@@ -11,6 +11,21 @@
 
 namespace rbdem {
 
+LoadRate::LoadRate(const Scene& scene)
+    : slow_(scene.loading.platen_velocity), fast_(scene.loading.fast_factor),
+      quiet_transits_(scene.loading.quiet_transits),
+      wave_speed_(std::sqrt(scene.rock.effective_modulus / (scene.rock.density * scene.numerics.mass_scaling))) {}
+
+void LoadRate::after_step(Engine& engine) const {
+  const double dt = engine.state().dt, transit = engine.model().height / wave_speed_;
+  const double running = double(engine.steps()) * dt;  // the explicit run's time so far
+  const auto& cracks = engine.cracks();
+  const double quiet = cracks.empty() ? running : std::min(running, engine.time() - cracks.back().time);
+  const double v = engine.state().platen_velocity, rise = (fast_ - 1.0) * slow_ * dt / transit;
+  engine.set_platen_velocity(quiet > quiet_transits_ * transit ? std::min(fast_ * slow_, v + rise)
+                                                               : std::max(slow_, v - 4.0 * rise));
+}
+
 CurvePoint sample_point(const Engine& engine, const Reading& reading) {
   CurvePoint p;
   p.step = engine.steps();

@@ -1,4 +1,5 @@
 // The monitors of a test run: small objects the driver calls after every explicit step, in a fixed order.
+//   loading    LoadRate: the top platen's speed while the specimen is quiet (loading.fast_factor)
 //   recorders  PeakTracker, FrameRecorder, CurveRecorder: write the run's TestRecord
 //   guards     Watchdog (the state stays finite and the energy bounded), Checkpointer (periodic checkpoints and
 //              cancellation), ProgressReporter
@@ -26,6 +27,23 @@ struct StepView {
   const Engine& engine;
   const Reading& reading;
   TestRecord& record;
+};
+
+// loading.fast_factor: the top platen closes faster while no bond breaks. Once no bond has broken for
+// loading.quiet_transits times the time a compression wave takes to cross the specimen (H / sqrt(E* / rho), rho
+// with its mass scaling) since the explicit run began or the last break, the platen's speed rises towards
+// fast_factor x loading.platen_velocity, from nothing to the full rise in one such time; the step after a break it
+// falls back, reaching loading.platen_velocity within a quarter of one. The speed lives in the engine's state and
+// the time of the last break in its crack log, so a resumed run goes on exactly as the uninterrupted one, and the
+// run is the same at any thread count. docs/model.md, "Platens", says why and what it costs in accuracy.
+class LoadRate {
+ public:
+  explicit LoadRate(const Scene& scene);
+  bool adapts() const { return fast_ > 1.0; }
+  void after_step(Engine& engine) const;
+
+ private:
+  double slow_ = 0, fast_ = 1, quiet_transits_ = 0, wave_speed_ = 0;  // m/s, -, -, m/s
 };
 
 // The peak of the mean platen stress; its sample and frame refreshed at most every 100 steps of a rising curve

@@ -306,6 +306,13 @@ void declare_loading(Keys& k) {
              "lateral (confining) pressure of rbdem triaxial, on the specimen's sides as a jacket would apply it; "
              "ucs and brazilian refuse a value above 0",
              [](Scene& s) -> double& { return s.loading.confining_pressure; }));
+  k.add(real("loading.fast_factor", "-", 1.0, 10.0,
+             "while no bond breaks, the top platen speeds up to this multiple of platen_velocity, back to it at the "
+             "next break (docs/model.md, Platens); 1 = constant speed",
+             [](Scene& s) -> double& { return s.loading.fast_factor; }));
+  k.add(positive("loading.quiet_transits", "-", 100.0,
+                 "with fast_factor > 1: wave transits of the specimen without a break before the platen speeds up",
+                 [](Scene& s) -> double& { return s.loading.quiet_transits; }));
 }
 
 }  // namespace scene_keys
