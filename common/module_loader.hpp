@@ -11,7 +11,9 @@
 
 #include <dlfcn.h>
 
+#include <algorithm>
 #include <cstdlib>
+#include <iterator>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -53,10 +55,18 @@ inline std::vector<std::filesystem::path> candidates(const ModuleSpec& s) {
   return c;
 }
 
-// The table of the first candidate for which `fits(table)` holds (the module's ABI number and struct sizes are
-// those the caller was compiled with). Never closed: the module stays loaded until the process ends.
+// Whether a module's table was built with the caller's ABI number and struct sizes, which a default-constructed
+// Table holds (its members `abi` and `sizes`).
 template <class Table>
-const Table* load(const ModuleSpec& s, bool (*fits)(const Table&)) {
+bool fits(const Table& table) {
+  const Table expected;
+  return table.abi == expected.abi &&
+         std::equal(std::begin(table.sizes), std::end(table.sizes), std::begin(expected.sizes));
+}
+
+// The table of the first candidate that fits. Never closed: the module stays loaded until the process ends.
+template <class Table>
+const Table* load(const ModuleSpec& s) {
   std::string tried;
   for (const std::filesystem::path& path : candidates(s)) {
     std::error_code ec;

@@ -11,13 +11,6 @@ namespace rbdem::continuum {
 
 namespace {
 
-bool fits(const FeModule& m) {
-  const FeModule expected;
-  bool same = m.abi == expected.abi;
-  for (int k = 0; same && k < 6; ++k) same = m.sizes[k] == expected.sizes[k];
-  return same;
-}
-
 const FeModule* load() {
   static const modules::ModuleSpec spec{
       RBDEM_FE_MODULE_NAME,
@@ -27,7 +20,7 @@ const FeModule* load() {
       "rbdem_fe_module",
       "the deal.II continuum model",
       "Rebuild rbdem with deal.II (scripts/setup.sh build), or set RBDEM_FE_MODULE to the module's path"};
-  return modules::load<FeModule>(spec, &fits);
+  return modules::load<FeModule>(spec);
 }
 
 const FeModule& module() {

@@ -10,13 +10,6 @@ namespace rbdem::gmsh_io {
 
 namespace {
 
-bool fits(const GmshModule& m) {
-  const GmshModule expected;
-  bool same = m.abi == expected.abi;
-  for (int k = 0; same && k < 4; ++k) same = m.sizes[k] == expected.sizes[k];
-  return same;
-}
-
 const GmshModule& module() {
   static const modules::ModuleSpec spec{
       RBDEM_GMSH_MODULE_NAME,
@@ -29,7 +22,7 @@ const GmshModule& module() {
       /*lazy=*/true};
   static std::once_flag once;
   static const GmshModule* m = nullptr;
-  std::call_once(once, [] { m = modules::load<GmshModule>(spec, &fits); });  // a throw leaves the flag unset
+  std::call_once(once, [] { m = modules::load<GmshModule>(spec); });  // a throw leaves the flag unset
   return *m;
 }
 
