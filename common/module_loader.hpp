@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iterator>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -88,6 +89,16 @@ const Table* load(const ModuleSpec& s) {
   }
   throw std::runtime_error(std::string(s.what) + " (" + s.file_name + ") could not be loaded; tried:" + tried + "\n" +
                            s.fix);
+}
+
+// The table of module `Table`, loaded at the first call (thread-safe); a failed load throws and the next call tries
+// again.
+template <class Table>
+const Table& load_once(const ModuleSpec& s) {
+  static std::once_flag once;
+  static const Table* table = nullptr;
+  std::call_once(once, [&s] { table = load<Table>(s); });
+  return *table;
 }
 
 }  // namespace rbdem::modules

@@ -1,6 +1,5 @@
 // The front library's deal.II functions: each loads the module librbdem_fe.so once (see fe_module.hpp for why and
 // common/module_loader.hpp for where it is looked for) and calls its definition through the module's table.
-#include <mutex>
 #include <string>
 #include <vector>
 
@@ -11,7 +10,7 @@ namespace rbdem::continuum {
 
 namespace {
 
-const FeModule* load() {
+const FeModule& module() {
   static const modules::ModuleSpec spec{
       RBDEM_FE_MODULE_NAME,
       "RBDEM_FE_MODULE",
@@ -20,14 +19,7 @@ const FeModule* load() {
       "rbdem_fe_module",
       "the deal.II continuum model",
       "Rebuild rbdem with deal.II (scripts/setup.sh build), or set RBDEM_FE_MODULE to the module's path"};
-  return modules::load<FeModule>(spec);
-}
-
-const FeModule& module() {
-  static std::once_flag once;
-  static const FeModule* m = nullptr;
-  std::call_once(once, [] { m = load(); });  // a throw leaves the flag unset: the next call tries again
-  return *m;
+  return modules::load_once<FeModule>(spec);
 }
 
 }  // namespace

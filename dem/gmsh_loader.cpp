@@ -1,6 +1,5 @@
 // The front of the gmsh module: loads librbdem_gmsh.so once (gmsh_module.hpp says why, common/module_loader.hpp
 // where it is looked for) and calls it through the module's table.
-#include <mutex>
 #include <string>
 
 #include "common/module_loader.hpp"
@@ -20,10 +19,7 @@ const GmshModule& module() {
       "the gmsh mesher",
       "Rebuild rbdem (scripts/setup.sh build), or set RBDEM_GMSH_MODULE to the module's path",
       /*lazy=*/true};
-  static std::once_flag once;
-  static const GmshModule* m = nullptr;
-  std::call_once(once, [] { m = modules::load<GmshModule>(spec); });  // a throw leaves the flag unset
-  return *m;
+  return modules::load_once<GmshModule>(spec);
 }
 
 TriMesh mesh_or_throw(MeshOutcome out) {
