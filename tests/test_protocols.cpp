@@ -74,6 +74,22 @@ TEST(Loading, FastPlatenFollowsItsRuleBetweenBreaks) {
   EXPECT_GT(fast_breaks, 0) << "no break came while the platen was fast";
 }
 
+// loading.max_strain holds with a faster platen too: a specimen too strong to break runs fast to max_strain and
+// stops there, within one step, not where the step count of the constant speed would end.
+TEST(Loading, FastPlatenStopsAtMaxStrain) {
+  Scene s = small_scene(90);
+  s.rock.tensile_strength *= 100, s.rock.cohesion *= 100, s.joint.tensile_strength *= 100, s.joint.cohesion *= 100;
+  s.loading.fast_factor = 4, s.loading.quiet_transits = 1, s.loading.max_strain = 2e-4;
+  const Topology topo = build_topology(make_mesh(s), s.specimen.thickness, s.rock.density);
+  const TestResult r = run_ucs(s, topo);
+  ASSERT_TRUE(r.completed);
+  EXPECT_EQ(r.crack_counts.total(), 0);
+  EXPECT_EQ(r.stop_reason, "max_strain");
+  const double last = r.frames.back().strain, step = 4 * s.loading.platen_velocity * r.dt / s.specimen.height;
+  EXPECT_GE(last, s.loading.max_strain - step);
+  EXPECT_LE(last, s.loading.max_strain + step);
+}
+
 // The static isotropic stage: the jacket's pressure and the platen closure superposed so that the platen stress is
 // p. Handed to the explicit engine, the state is in equilibrium: both platens carry p W t and every block's net force
 // is small against the pressure's force on one edge. The static solve is linear (loads on the reference geometry)

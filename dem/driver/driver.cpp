@@ -94,6 +94,8 @@ class TestRun {
       }
       if (!watchdog_.after_step(view) || !checkpointer_.after_step(view, watchdog_, wall())) return false;
       progress_.after_step(view);
+      // max_explicit counts steps at platen_velocity: a faster platen reaches loading.max_strain before it.
+      if (rate_.adapts() && reading.strain >= scene_.loading.max_strain) break;
     }
     // The final state must pass too: a run that blew up between two checks and then met a stop criterion is not
     // done.
