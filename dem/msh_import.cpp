@@ -46,8 +46,41 @@ int nodes_of_type(int type) {
   }
 }
 
-// Checks that the file is ASCII MSH 2.x or 4.x and that every element has the right number of nodes and refers only
-// to nodes the file defines. gmsh 4.8 dereferences a missing node of a second-order element and crashes (found by
+bool at_end(std::istringstream& ls) {
+  std::string extra;
+  return !(ls >> extra);
+}
+
+// The counts a $Nodes or $Elements header declares (MSH 4.1: `blocks count min-tag max-tag`; MSH 2: `count`) or the
+// blocks that follow it hold. gmsh 4.8 allocates its tables from the declared count before it reads a block, so a
+// count that the blocks do not hold made it allocate 1.4 GB from a file of a few hundred bytes (found by
+// tests/fuzz/fuzz_msh): the header must hold exactly what follows.
+struct Counts {
+  long long blocks = 1, count = 0, min_tag = 0, max_tag = 0;
+  bool v4 = false;
+
+  bool read(std::istringstream& ls, bool msh4) {
+    v4 = msh4;
+    const bool ok = v4 ? bool(ls >> blocks >> count >> min_tag >> max_tag) : bool(ls >> count);
+    return ok && at_end(ls) && blocks >= 0 && count >= 0;
+  }
+  void add(long long tag) {
+    min_tag = count == 0 ? tag : std::min(min_tag, tag);
+    max_tag = count == 0 ? tag : std::max(max_tag, tag);
+    ++count;
+  }
+  template <class Bad>
+  void require_match(const Counts& found, const char* what, Bad bad) const {
+    if (found.count != count)
+      throw bad(fmt::format("the header declares {} {}s and the file holds {}", count, what, found.count));
+    if (v4 && count > 0 && (found.min_tag != min_tag || found.max_tag != max_tag))
+      throw bad(fmt::format("the header declares {} tags {} to {} and the file holds {} to {}", what, min_tag,
+                            max_tag, found.min_tag, found.max_tag));
+  }
+};
+
+// Checks that the file is ASCII MSH 2.x or 4.1, that its headers declare what follows and that every element has the
+// right number of nodes and refers only to nodes the file defines. gmsh 4.8 dereferences a missing node of a second-order element and crashes (found by
 // tests/fuzz/fuzz_msh), so rbdem checks this before gmsh reads the file; binary and MSH 3 files are refused.
 void prescan_msh(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -74,6 +107,10 @@ void prescan_msh(const std::filesystem::path& path) {
                                  "gmsh reads it); export it again without `Save in binary format` (or with "
                                  "`Mesh.Binary = 0;`)",
                                  path.string(), binary == 1 ? "a binary .msh file" : "of an unknown file type"));
+  if (version >= 4.0 && version < 4.1)
+    throw SceneError(fmt::format("mesh file '{}' is MSH version {:g}, whose node layout rbdem does not read: export "
+                                 "the mesh from gmsh as MSH 4.1 or 2.2 (`gmsh -2 -format msh41`)",
+                                 path.string(), version));
   const bool v4 = version >= 4.0;
   auto bad = [&](const std::string& what) {
     return SceneError(fmt::format("mesh file '{}' is malformed: {}; export the mesh from gmsh again", path.string(),
@@ -133,25 +170,30 @@ void prescan_msh(const std::filesystem::path& path) {
       }
     }
     if (line == "$Nodes") {
-      long long blocks = 1, count = 0;
+      Counts header;
       read_line(ls, "$Nodes");
-      if (v4 ? !(ls >> blocks >> count) : !(ls >> count)) throw bad("the $Nodes header is not numbers");
-      if (blocks < 0 || count < 0) throw bad("negative node counts");
-      for (long long b = 0; b < blocks; ++b) {
-        long long n = count;
+      if (!header.read(ls, v4)) throw bad("the $Nodes header is not `blocks nodes min-tag max-tag`");
+      Counts found;
+      for (long long b = 0; b < header.blocks; ++b) {
+        long long n = header.count;
         if (v4) {
           long long dim = 0, tag = 0, parametric = 0;
           read_line(ls, "$Nodes");
-          if (!(ls >> dim >> tag >> parametric >> n) || n < 0) throw bad("a node block header is not numbers");
+          if (!(ls >> dim >> tag >> parametric >> n) || n < 0 || !at_end(ls))
+            throw bad("a node block header is not `dim entity parametric nodes`");
+          if (parametric != 0)
+            throw SceneError(fmt::format("mesh file '{}' stores parametric node coordinates, which rbdem does not "
+                                         "read: export it again with `Mesh.SaveParametric = 0;`",
+                                         path.string()));
         }
         // gmsh reads numbers regardless of lines: one number too many or too few shifts every later node
         // (gmsh 4.8 then crashes, found by tests/fuzz/fuzz_msh), so each line must hold exactly its numbers.
         auto numbers = [&](std::istringstream& l) {
-          int found = 0;
-          for (double x = 0; l >> x; ++found) {
+          int numbers_read = 0;
+          for (double x = 0; l >> x; ++numbers_read) {
           }
           if (!l.eof()) return -1;  // a token that is not a number
-          return found;
+          return numbers_read;
         };
         for (long long k = 0; k < n; ++k) {
           long long tag = 0;
@@ -162,31 +204,34 @@ void prescan_msh(const std::filesystem::path& path) {
             throw bad(fmt::format("the line of node {} does not hold exactly {}", tag,
                                   v4 ? "its tag" : "its tag and x y z"));
           nodes.insert(tag);
+          found.add(tag);
         }
         if (v4)
           for (long long k = 0; k < n; ++k) {
             read_line(ls, "$Nodes");
-            const int found = numbers(ls);
-            if (found < 3) throw bad("a node coordinate line does not hold x y z");
+            if (numbers(ls) != 3) throw bad("a node coordinate line does not hold exactly x y z");
           }
       }
+      header.require_match(found, "node", bad);
     } else if (line == "$Elements") {
-      long long blocks = 1, count = 0;
+      Counts header;
       read_line(ls, "$Elements");
-      if (v4 ? !(ls >> blocks >> count) : !(ls >> count)) throw bad("the $Elements header is not numbers");
-      if (blocks < 0 || count < 0) throw bad("negative element counts");
-      for (long long b = 0; b < blocks; ++b) {
-        long long n = count;
+      if (!header.read(ls, v4)) throw bad("the $Elements header is not `blocks elements min-tag max-tag`");
+      Counts found;
+      for (long long b = 0; b < header.blocks; ++b) {
+        long long n = header.count;
         int type = 0;
         if (v4) {
           long long dim = 0, tag = 0;
           read_line(ls, "$Elements");
-          if (!(ls >> dim >> tag >> type >> n) || n < 0) throw bad("an element block header is not numbers");
+          if (!(ls >> dim >> tag >> type >> n) || n < 0 || !at_end(ls))
+            throw bad("an element block header is not `dim entity type elements`");
         }
         for (long long k = 0; k < n; ++k) {
           long long tag = 0;
           read_line(ls, "$Elements");
-          if (!(ls >> tag)) throw bad("an element tag is not a number");
+          if (!(ls >> tag) || tag < 1) throw bad("an element tag is not a positive integer");
+          found.add(tag);
           if (!v4) {
             int ntags = 0;
             if (!(ls >> type >> ntags) || ntags < 0) throw bad(fmt::format("element {} has no type", tag));
@@ -198,16 +243,18 @@ void prescan_msh(const std::filesystem::path& path) {
             throw SceneError(fmt::format("mesh file '{}': element {} has gmsh type {}, which rbdem does not read: "
                                          "use first-order triangles (type 2)",
                                          path.string(), tag, type));
-          int found = 0;
-          for (long long node = 0; ls >> node; ++found)
+          int found_nodes = 0;
+          for (long long node = 0; ls >> node; ++found_nodes)
             if (!nodes.count(node))
               throw SceneError(fmt::format("mesh file '{}': element {} refers to node {}, which the file does not "
                                            "define; export the mesh from gmsh again",
                                            path.string(), tag, node));
-          if (found != expected)
-            throw bad(fmt::format("element {} of type {} has {} nodes instead of {}", tag, type, found, expected));
+          if (found_nodes != expected)
+            throw bad(fmt::format("element {} of type {} has {} nodes instead of {}", tag, type, found_nodes,
+                                  expected));
         }
       }
+      header.require_match(found, "element", bad);
     }
   }
 }

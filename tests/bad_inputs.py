@@ -134,6 +134,8 @@ CASES = [
     ("element on a node the file lacks (crashed gmsh 4.8)", "mesh --mesh missing_node.msh", "missing_node.msh"),
     ("node line with a number too many (crashed gmsh 4.8)", "mesh --mesh node_line.msh", "node_line.msh"),
     ("physical name of dimension 7 (crashed gmsh 4.8)", "mesh --mesh physical_dim.msh", "physical_dim.msh"),
+    ("header declaring 86 540 488 nodes for 4 (gmsh 4.8 allocated 1.4 GB)", "mesh --mesh node_count.msh",
+     "node_count.msh"),
     ("a section rbdem does not read ($NodeData)", "mesh --mesh node_data.msh", "node_data.msh"),
     ("no physical groups", "mesh --mesh no_physical.msh", "no_physical.msh"),
     ("quadrangles", "mesh --mesh quads.msh", "quads.msh"),

@@ -395,7 +395,7 @@ TEST(MeshImport, TJunctionIsRefused) {
 // 199-byte file that made it allocate 3.4 GB): rbdem reads ASCII MSH 2.x and 4.x only, which it checks first.
 TEST(MeshImport, OnlyAsciiMsh2And4AreRead) {
   const auto path = std::filesystem::temp_directory_path() / "rbdem_test_format.msh";
-  for (const char* head : {"3.2 0 8", "3.2 2 8", "4.1 1 8", "4.1 2 8", "5 0 8", "1.0 0 8"}) {
+  for (const char* head : {"3.2 0 8", "3.2 2 8", "4.0 0 8", "4.1 1 8", "4.1 2 8", "5 0 8", "1.0 0 8"}) {
     std::ofstream(path) << "$MeshFormat\n" << head << "\n$EndMeshFormat\n";
     try {
       read_msh(path);
@@ -461,6 +461,44 @@ TEST(MeshImport, PhysicalNamesAndOtherSectionsAreCheckedBeforeGmshReadsThem) {
   refused("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n2 1 \"" + std::string(300, 'x') +
               "\"\n$EndPhysicalNames\n" + mesh2,
           "characters");
+  std::filesystem::remove(path);
+}
+
+// gmsh 4.8 allocates its node and element tables from the counts a $Nodes or $Elements header declares, before it
+// reads the blocks: a header declaring 86 540 488 nodes over four made it allocate 1.4 GB and then read the mesh
+// (tests/fuzz/fuzz_msh). A header must declare what its blocks hold; the same mesh with true headers reads.
+TEST(MeshImport, HeadersMustDeclareWhatTheBlocksHold) {
+  const auto path = std::filesystem::temp_directory_path() / "rbdem_test_counts.msh";
+  auto mesh = [](const std::string& nodes_header, const std::string& node_block, const std::string& elements_header,
+                 const std::string& coordinates) {
+    return "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n2 1 \"layer_0\"\n$EndPhysicalNames\n"
+           "$Entities\n0 0 1 0\n1 0 0 0 0.01 0.01 0 1 1 0\n$EndEntities\n$Nodes\n" +
+           nodes_header + "\n" + node_block + "\n1\n2\n3\n4\n" + coordinates +
+           "\n0.01 0 0\n0.01 0.01 0\n0 0.01 0\n$EndNodes\n$Elements\n" + elements_header +
+           "\n2 1 2 2\n1 1 2 3\n2 1 3 4\n$EndElements\n";
+  };
+  auto outcome = [&](const std::string& text) -> std::string {
+    std::ofstream(path, std::ios::trunc) << text;
+    try {
+      return "read " + std::to_string(read_msh(path).triangles.size()) + " triangles";
+    } catch (const SceneError& e) {
+      return e.what();
+    }
+  };
+  EXPECT_EQ(outcome(mesh("1 4 1 4", "2 1 0 4", "1 2 1 2", "0 0 0")), "read 2 triangles");
+  const std::pair<std::string, std::string> refusals[] = {
+      {mesh("1 86540488 1 4", "2 1 0 4", "1 2 1 2", "0 0 0"), "declares 86540488 nodes and the file holds 4"},
+      {mesh("1 4 1 4", "2 1 0 4", "1 86540488 1 2", "0 0 0"), "declares 86540488 elements and the file holds 2"},
+      {mesh("1 4 1 173000000", "2 1 0 4", "1 2 1 2", "0 0 0"), "node tags 1 to 173000000 and the file holds 1 to 4"},
+      {mesh("1 4 1 4", "2 1 0 4", "1 2 1 9", "0 0 0"), "element tags 1 to 9 and the file holds 1 to 2"},
+      {mesh("1 4 1", "2 1 0 4", "1 2 1 2", "0 0 0"), "$Nodes header is not"},
+      {mesh("1 4 1 4 7", "2 1 0 4", "1 2 1 2", "0 0 0"), "$Nodes header is not"},
+      {mesh("1 4 1 4", "2 1 0 4 0", "1 2 1 2", "0 0 0"), "node block header is not"},
+      {mesh("1 4 1 4", "2 1 1 4", "1 2 1 2", "0 0 0"), "parametric"},
+      {mesh("1 4 1 4", "2 1 0 4", "1 2 1 2", "0 0 0 0.5"), "exactly x y z"},
+  };
+  for (const auto& [text, expect] : refusals)
+    EXPECT_NE(outcome(text).find(expect), std::string::npos) << outcome(text) << "\n(expected: " << expect << ")";
   std::filesystem::remove(path);
 }
 
