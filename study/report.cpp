@@ -1,11 +1,17 @@
 // Study report and figures. See report.hpp.
 #include "study/report.hpp"
 
+#include <sys/wait.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <ctime>
+#include <fstream>
 #include <map>
+#include <set>
+#include <thread>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -55,32 +61,28 @@ std::filesystem::path figure_script() {
 
 std::vector<std::filesystem::path> make_figures(const StudySpec& spec, const std::vector<CaseResult>& results,
                                                 const std::filesystem::path& out, std::string* note) {
-  std::vector<std::filesystem::path> made;
   const auto script = figure_script();
+  if (script.empty()) {
+    if (note) *note = "figures skipped: python/rbdem_figures.py not found";
+    return {};
+  }
   const std::string python = quote(figure_python());
-  if (script.empty() || !run(python + " -c 'import matplotlib, h5py, numpy'")) {
-    if (note)
-      *note = "figures skipped: " +
-              (script.empty() ? std::string("python/rbdem_figures.py not found")
-                              : figure_python() + " lacks matplotlib, h5py or numpy (apt-get install python3-matplotlib "
-                                                  "python3-h5py python3-numpy, or set RBDEM_PYTHON to a Python that "
-                                                  "has them)");
-    return made;
-  }
   const std::string cmd = python + " " + quote(script);
+  // Each figure's arguments, in report order.
+  std::vector<std::vector<std::string>> figures;
+  auto folders = [&out](const std::vector<const CaseResult*>& runs) {
+    std::vector<std::string> v;
+    for (const auto* r : runs) v.push_back((out / r->c.id).string());
+    return v;
+  };
   if (spec.test == "brazilian") {  // tensile strength versus the layers' angle to the load
-    const auto tensile = out / "tensile_strength.png";
-    if (run(cmd + " tensile " + quote(tensile) + " " + quote(out / "table.csv"))) made.push_back(tensile);
+    figures.push_back({"tensile", (out / "tensile_strength.png").string(), (out / "table.csv").string()});
   } else {  // strength versus dip with Jaeger, one curve per group
-    const auto strength = out / "strength.png";
-    if (run(cmd + " strength " + quote(strength) + " " + quote(out / "table.csv") + " --group group"))
-      made.push_back(strength);
+    figures.push_back({"strength", (out / "strength.png").string(), (out / "table.csv").string(), "--group", "group"});
   }
-  if (spec.test == "triaxial") {  // sigma_1 against sigma_3 per dip, with Jaeger's lines
-    const auto envelope = out / "envelope.png";
-    if (run(cmd + " envelope " + quote(envelope) + " " + quote(out / "table.csv") + " " + quote(out / "envelope.csv")))
-      made.push_back(envelope);
-  }
+  if (spec.test == "triaxial")  // sigma_1 against sigma_3 per dip, with Jaeger's lines
+    figures.push_back({"envelope", (out / "envelope.png").string(), (out / "table.csv").string(),
+                       (out / "envelope.csv").string()});
   // Stress-strain curves and crack maps per group.
   std::map<std::string, std::vector<const CaseResult*>> groups;
   std::vector<std::string> order;
@@ -92,28 +94,53 @@ std::vector<std::filesystem::path> make_figures(const StudySpec& spec, const std
     std::string safe;
     if (!g.empty()) safe.push_back('_');
     for (char c : g) safe.push_back((std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_') ? c : '_');
-    std::string dirs, labels;
-    for (const auto* r : groups[g]) {
-      dirs += fmt::format(" {}", quote(out / r->c.id));
-      labels += fmt::format(" '{:g} deg'", r->c.beta);
-    }
-    const auto curves = out / ("stress_strain" + safe + ".png");
-    if (run(cmd + " stress-strain " + quote(curves) + dirs + " --labels" + labels)) made.push_back(curves);
-    const auto cracks = out / ("cracks" + safe + ".png");
-    if (run(cmd + " crack-grid " + quote(cracks) + dirs)) made.push_back(cracks);
+    const std::vector<std::string> dirs = folders(groups[g]);
+    std::vector<std::string> labels = {"--labels"};
+    for (const auto* r : groups[g]) labels.push_back(fmt::format("{:g} deg", r->c.beta));
+    auto figure = [&](const std::string& kind, const std::string& stem, bool with_labels) {
+      std::vector<std::string> args = {kind, (out / (stem + safe + ".png")).string()};
+      args.insert(args.end(), dirs.begin(), dirs.end());
+      if (with_labels) args.insert(args.end(), labels.begin(), labels.end());
+      figures.push_back(std::move(args));
+    };
+    figure("stress-strain", "stress_strain", true);
+    figure("crack-grid", "cracks", false);
     // The signals of each case (docs/outputs.md): stages on the curve (compression tests), crack orientations,
     // crack rate, fragments.
-    std::vector<std::string> kinds = {"rose", "crack-rate", "fragments"};
-    if (spec.test != "brazilian") kinds.insert(kinds.begin(), "stages");
-    for (const auto& kind : kinds) {
-      std::string stem = kind;
-      for (char& c : stem) c = c == '-' ? '_' : c;
-      const auto file = out / (stem + safe + ".png");
-      if (run(cmd + " " + kind + " " + quote(file) + dirs + " --labels" + labels)) made.push_back(file);
-    }
+    if (spec.test != "brazilian") figure("stages", "stages", true);
+    figure("rose", "rose", true);
+    figure("crack-rate", "crack_rate", true);
+    figure("fragments", "fragments", true);
   }
-  (void)spec;
-  if (note && made.empty()) *note = "figures failed: run `" + cmd + " --help` to check the script";
+  // One Python process draws them all, one figure per core at a time (`batch`: the workers share its imports, and
+  // each figure takes 0.5-2 s, most of it matplotlib's drawing; docs/performance.md, "The serial parts of a short
+  // run"). It prints `drawn FILE` for each figure it made.
+  const auto list = out / ".figures.jsonl", log = out / ".figures.log";
+  {
+    std::ofstream f(list);
+    for (const auto& args : figures) f << nlohmann::json(args).dump() << "\n";
+  }
+  const unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
+  const int status =
+      std::system(fmt::format("{} batch {} --jobs {} > {} 2>&1", cmd, quote(list), jobs, quote(log)).c_str());
+  std::set<std::string> drawn;
+  {
+    std::ifstream f(log);
+    for (std::string line; std::getline(f, line);)
+      if (line.rfind("drawn ", 0) == 0) drawn.insert(line.substr(6));
+  }
+  std::error_code ec;
+  std::filesystem::remove(list, ec), std::filesystem::remove(log, ec);
+  std::vector<std::filesystem::path> made;
+  for (const auto& args : figures)
+    if (drawn.count(args[1])) made.push_back(args[1]);
+  // Exit status 2: the script could not import matplotlib, h5py or numpy, and drew nothing.
+  if (note && made.empty())
+    *note = status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 2
+                ? "figures skipped: " + figure_python() +
+                      " lacks matplotlib, h5py or numpy (apt-get install python3-matplotlib python3-h5py "
+                      "python3-numpy, or set RBDEM_PYTHON to a Python that has them)"
+                : "figures failed: run `" + cmd + " --help` to check the script";
   return made;
 }
 

@@ -1,6 +1,8 @@
 // Result files of a UCS run: result.h5 reproduces what the run produced, result.xdmf is well-formed and points at
 // datasets that exist with the shapes it claims, a failed write leaves nothing under the final name, and the
 // figure script draws every figure of a real run.
+#include <sys/wait.h>
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -315,7 +317,11 @@ TEST(Io, FailedWriteLeavesNoFileUnderTheFinalName) {
 
 const char* python = "/usr/bin/python3";
 
-std::string quote(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string quote(const fs::path& p) {
+  std::string s = "'";  // appended, not `"'" + p.string()`: GCC 12 warns on that (a false -Wrestrict) once inlined
+  s += p.string();
+  return s += "'";
+}
 
 bool python_has_figure_modules() {
   const std::string cmd = std::string(python) + " -c 'import matplotlib, h5py, numpy' > /dev/null 2>&1";
@@ -376,6 +382,49 @@ TEST(Io, FigureScriptDrawsEveryFigureOfARun) {
                                                 "r = E.parse(sys.argv[1]).getroot(); assert r.tag == \"Xdmf\"' " +
                           quote(run.dir / "result.xdmf");
   EXPECT_EQ(std::system(xml.c_str()), 0);
+}
+
+// `batch`: the study reports draw their figures in one Python process, several at a time (study/report.cpp). Each
+// figure is reported in list order, drawn or failed with its reason, and a failed one does not stop the others.
+TEST(Io, FigureBatchReportsEachFigureInListOrder) {
+  if (!python_has_figure_modules())
+    GTEST_SKIP() << python << " cannot import matplotlib, h5py and numpy (apt-get install python3-matplotlib "
+                                "python3-h5py)";
+  const SmallRun run = small_run();
+  const RemoveWhenPassed cleanup{run.dir};
+  const fs::path script = fs::path(RBDEM_SOURCE_DIR) / "python" / "rbdem_figures.py";
+  const fs::path out = run.dir / "batch", missing = run.dir / "no_such_run";
+  const std::vector<nlohmann::json> lines = {
+      {"stress-strain", (out / "curve.png").string(), run.dir.string()},
+      {"rose", (out / "lost.png").string(), missing.string()},
+      {"rose", (out / "rose.png").string(), run.dir.string(), "--bin", "15"},
+      {"crack-rate", (out / "rate.png").string(), run.dir.string()},
+  };
+  const fs::path list = run.dir / "figures.jsonl", log = run.dir / "batch.log";
+  {
+    std::ofstream f(list);
+    for (const auto& l : lines) f << l.dump() << "\n";
+  }
+  const std::string c = std::string(python) + " " + quote(script) + " batch " + quote(list) + " --jobs 2 > " +
+                        quote(log) + " 2>&1";
+  const int status = std::system(c.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1) << read_text(log);  // one figure failed
+  std::vector<std::string> verdicts;
+  {
+    std::ifstream f(log);
+    for (std::string l; std::getline(f, l);)
+      if (l.rfind("drawn ", 0) == 0 || l.rfind("failed ", 0) == 0) verdicts.push_back(l);
+  }
+  ASSERT_EQ(verdicts.size(), 4u) << read_text(log);
+  const std::string drawn = "drawn ", failed = "failed ";
+  EXPECT_EQ(verdicts[0], drawn + (out / "curve.png").string());
+  EXPECT_EQ(verdicts[1].rfind(failed + (out / "lost.png").string() + ": ", 0), 0u) << verdicts[1];
+  EXPECT_NE(verdicts[1].find("no_such_run"), std::string::npos) << verdicts[1];  // the reason names the folder
+  EXPECT_EQ(verdicts[2], drawn + (out / "rose.png").string());
+  EXPECT_EQ(verdicts[3], drawn + (out / "rate.png").string());
+  for (const char* png : {"curve.png", "rose.png", "rate.png"}) EXPECT_TRUE(is_png(out / png)) << png;
+  EXPECT_FALSE(fs::exists(out / "lost.png"));
 }
 
 }  // namespace
