@@ -725,18 +725,22 @@ def run_batch(list_path, jobs=1):
     if not all(isinstance(a, list) and all(isinstance(x, str) for x in a) for a in figures):
         raise SystemExit(f"{list_path}: each line must be a JSON list of strings (a figure's arguments)")
     jobs = max(1, min(jobs, len(figures)))
+    done = None
     if jobs > 1:
         import multiprocessing
 
         # The slowest kinds first (polar bars and crack maps take 1-2 s), so that none is left to draw alone at the end.
         slow = {"rose": 0, "crack-grid": 1, "cracks": 1}
         start = sorted(range(len(figures)), key=lambda k: slow.get(figures[k][0] if figures[k] else "", 2))
-        with multiprocessing.get_context("fork").Pool(jobs) as pool:
-            drawn = pool.map(_draw_one, [figures[k] for k in start], chunksize=1)
-        done = [None] * len(figures)
-        for k, result in zip(start, drawn):
-            done[k] = result
-    else:
+        try:
+            with multiprocessing.get_context("fork").Pool(jobs) as pool:
+                drawn = pool.map(_draw_one, [figures[k] for k in start], chunksize=1)
+            done = [None] * len(figures)
+            for k, result in zip(start, drawn):
+                done[k] = result
+        except OSError:  # no worker processes here (no /dev/shm for their semaphores, say): one at a time
+            done = None
+    if done is None:
         done = [_draw_one(a) for a in figures]
     for out, why in done:
         print(f"drawn {out}" if why is None else f"failed {out}: {why}")
