@@ -725,7 +725,7 @@ def run_batch(list_path, jobs=1):
     if not all(isinstance(a, list) and all(isinstance(x, str) for x in a) for a in figures):
         raise SystemExit(f"{list_path}: each line must be a JSON list of strings (a figure's arguments)")
     jobs = max(1, min(jobs, len(figures)))
-    done = None
+    done = None  # stays None where the figures are drawn one at a time
     if jobs > 1:
         import multiprocessing
 
@@ -735,11 +735,9 @@ def run_batch(list_path, jobs=1):
         try:
             with multiprocessing.get_context("fork").Pool(jobs) as pool:
                 drawn = pool.map(_draw_one, [figures[k] for k in start], chunksize=1)
-            done = [None] * len(figures)
-            for k, result in zip(start, drawn):
-                done[k] = result
+            done = [result for _, result in sorted(zip(start, drawn))]
         except OSError:  # no worker processes here (no /dev/shm for their semaphores, say): one at a time
-            done = None
+            pass
     if done is None:
         done = [_draw_one(a) for a in figures]
     for out, why in done:

@@ -70,11 +70,6 @@ std::vector<std::filesystem::path> make_figures(const StudySpec& spec, const std
   const std::string cmd = python + " " + quote(script);
   // Each figure's arguments, in report order.
   std::vector<std::vector<std::string>> figures;
-  auto folders = [&out](const std::vector<const CaseResult*>& runs) {
-    std::vector<std::string> v;
-    for (const auto* r : runs) v.push_back((out / r->c.id).string());
-    return v;
-  };
   if (spec.test == "brazilian") {  // tensile strength versus the layers' angle to the load
     figures.push_back({"tensile", (out / "tensile_strength.png").string(), (out / "table.csv").string()});
   } else {  // strength versus dip with Jaeger, one curve per group
@@ -94,9 +89,11 @@ std::vector<std::filesystem::path> make_figures(const StudySpec& spec, const std
     std::string safe;
     if (!g.empty()) safe.push_back('_');
     for (char c : g) safe.push_back((std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_') ? c : '_');
-    const std::vector<std::string> dirs = folders(groups[g]);
-    std::vector<std::string> labels = {"--labels"};
-    for (const auto* r : groups[g]) labels.push_back(fmt::format("{:g} deg", r->c.beta));
+    std::vector<std::string> dirs, labels = {"--labels"};
+    for (const auto* r : groups[g]) {
+      dirs.push_back((out / r->c.id).string());
+      labels.push_back(fmt::format("{:g} deg", r->c.beta));
+    }
     auto figure = [&](const std::string& kind, const std::string& stem, bool with_labels) {
       std::vector<std::string> args = {kind, (out / (stem + safe + ".png")).string()};
       args.insert(args.end(), dirs.begin(), dirs.end());
@@ -113,7 +110,7 @@ std::vector<std::filesystem::path> make_figures(const StudySpec& spec, const std
     figure("fragments", "fragments", true);
   }
   // One Python process draws them all, one figure per core at a time (`batch`: the workers share its imports, and
-  // each figure takes 0.5-2 s, most of it matplotlib's drawing; docs/performance.md, "The serial parts of a short
+  // each figure takes 0.1-1.7 s, most of it matplotlib's drawing; docs/performance.md, "The serial parts of a short
   // run"). It prints `drawn FILE` for each figure it made.
   const auto list = out / ".figures.jsonl", log = out / ".figures.log";
   {

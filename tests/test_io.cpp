@@ -327,6 +327,9 @@ bool python_has_figure_modules() {
   const std::string cmd = std::string(python) + " -c 'import matplotlib, h5py, numpy' > /dev/null 2>&1";
   return fs::exists(python) && std::system(cmd.c_str()) == 0;
 }
+const char* no_figure_modules =
+    " cannot import matplotlib, h5py and numpy (apt-get install python3-matplotlib python3-h5py)";
+const fs::path figure_script = fs::path(RBDEM_SOURCE_DIR) / "python" / "rbdem_figures.py";
 
 bool is_png(const fs::path& p) {
   if (!fs::exists(p) || fs::file_size(p) < 1000) return false;
@@ -334,14 +337,11 @@ bool is_png(const fs::path& p) {
 }
 
 TEST(Io, FigureScriptDrawsEveryFigureOfARun) {
-  if (!python_has_figure_modules())
-    GTEST_SKIP() << python << " cannot import matplotlib, h5py and numpy (apt-get install python3-matplotlib "
-                                "python3-h5py)";
+  if (!python_has_figure_modules()) GTEST_SKIP() << python << no_figure_modules;
   const SmallRun run = small_run();
   const RemoveWhenPassed cleanup{run.dir};
-  const fs::path script = fs::path(RBDEM_SOURCE_DIR) / "python" / "rbdem_figures.py";
-  ASSERT_TRUE(fs::exists(script)) << script;
-  const std::string cmd = std::string(python) + " " + quote(script) + " ";
+  ASSERT_TRUE(fs::exists(figure_script)) << figure_script;
+  const std::string cmd = std::string(python) + " " + quote(figure_script) + " ";
   const fs::path out = run.dir / "figures";
 
   // A sweep table as `rbdem sweep` writes it: two groups, Jaeger's curve.
@@ -387,12 +387,9 @@ TEST(Io, FigureScriptDrawsEveryFigureOfARun) {
 // `batch`: the study reports draw their figures in one Python process, several at a time (study/report.cpp). Each
 // figure is reported in list order, drawn or failed with its reason, and a failed one does not stop the others.
 TEST(Io, FigureBatchReportsEachFigureInListOrder) {
-  if (!python_has_figure_modules())
-    GTEST_SKIP() << python << " cannot import matplotlib, h5py and numpy (apt-get install python3-matplotlib "
-                                "python3-h5py)";
+  if (!python_has_figure_modules()) GTEST_SKIP() << python << no_figure_modules;
   const SmallRun run = small_run();
   const RemoveWhenPassed cleanup{run.dir};
-  const fs::path script = fs::path(RBDEM_SOURCE_DIR) / "python" / "rbdem_figures.py";
   const fs::path out = run.dir / "batch", missing = run.dir / "no_such_run";
   const std::vector<nlohmann::json> lines = {
       {"stress-strain", (out / "curve.png").string(), run.dir.string()},
@@ -405,7 +402,7 @@ TEST(Io, FigureBatchReportsEachFigureInListOrder) {
     std::ofstream f(list);
     for (const auto& l : lines) f << l.dump() << "\n";
   }
-  const std::string c = std::string(python) + " " + quote(script) + " batch " + quote(list) + " --jobs 2 > " +
+  const std::string c = std::string(python) + " " + quote(figure_script) + " batch " + quote(list) + " --jobs 2 > " +
                         quote(log) + " 2>&1";
   const int status = std::system(c.c_str());
   ASSERT_TRUE(WIFEXITED(status));
