@@ -23,7 +23,7 @@ struct MeshOptions {
   std::string out;
 };
 
-void print_statistics(const Scene& scene, const TriMesh& mesh, const Topology& topo, double seconds) {
+void print_statistics(const Scene& scene, const TriMesh& mesh, const Topology<2>& topo, double seconds) {
   double amin = 1e300, amax = 0, lmin = 1e300;
   for (double a : topo.blocks.area) amin = std::min(amin, a), amax = std::max(amax, a);
   for (double l : topo.bonds.length) lmin = std::min(lmin, l);
@@ -68,7 +68,7 @@ int run_mesh(const MeshOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();
   const TriMesh mesh = make_mesh(scene, opt.out);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const Topology topo = build_topology(mesh, scene.specimen.thickness, scene.rock.density);
+  const Topology<2> topo = build_topology(mesh, scene.specimen.thickness, scene.rock.density);
   print_statistics(scene, mesh, topo, seconds);
   if (!opt.out.empty()) {
     if (!scene.mesh.file.empty())

@@ -24,6 +24,7 @@
 #include "apps/cli_common.hpp"
 #include "apps/commands.hpp"
 #include "compare/gate/gate_cache.hpp"
+#include "dem/driver/registry.hpp"
 #include "theory/elasticity.hpp"
 #include "io/results.hpp"
 #include "study/report.hpp"
@@ -190,7 +191,8 @@ int run_study(study::StudySpec spec, const std::filesystem::path& out, int worke
   std::vector<study::CaseResult> rows;
   for (const auto& p : points) rows.push_back(p.mean);
   study::ReportExtras extras;
-  if (spec.test == "triaxial") extras.envelopes = study::write_envelopes(results, out);
+  const ProtocolInfo& test = protocol_info(spec.test);
+  if (test.confined) extras.envelopes = study::write_envelopes(results, out);
   extras.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   extras.workers = ro.workers > 0 ? ro.workers : int(std::thread::hardware_concurrency());
   extras.paper_check = paper_check;
@@ -200,7 +202,7 @@ int run_study(study::StudySpec spec, const std::filesystem::path& out, int worke
 
   std::map<std::string, double> s90;
   for (const auto& g : groups) s90[g.group] = g.strength_90_pa;
-  if (spec.test == "brazilian") {
+  if (test.tensile) {
     fmt::print("\n{:<34} {:>6} {:>12} {:>12} {:>12}  {}\n", "case", "beta", "layers/load", "tensile MPa", "load kN",
                "failure mode");
     for (const auto& r : rows) {

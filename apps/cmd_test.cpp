@@ -1,4 +1,5 @@
-// rbdem ucs, rbdem triaxial, rbdem brazilian: one test of one specimen (dem/driver/ucs.hpp).
+// rbdem ucs, rbdem triaxial, rbdem brazilian (every protocol of the registry, dem/driver/registry.hpp): one test of
+// one specimen, through io::run_case (io/run_case.hpp).
 //
 //   rbdem ucs --beta 60 --out runs/b60                  # the paper specimen at beta = 60 deg
 //   rbdem ucs my.toml --set mesh.size=0.002 --out runs/x
@@ -31,19 +32,17 @@
 #include "apps/cli_common.hpp"
 #include "apps/commands.hpp"
 #include "compare/gate/gate_cache.hpp"
-#include "dem/mesh_cache.hpp"
-#include "dem/specimen_mesh.hpp"
-#include "dem/topology.hpp"
-#include "dem/driver/ucs.hpp"
+#include "dem/driver/registry.hpp"
 #include "io/checkpoint.hpp"
 #include "io/results.hpp"
+#include "io/run_case.hpp"
 
 namespace rbdem::cli {
 
 namespace {
 
 struct TestCommandOptions {
-  std::string test;  // ucs | triaxial | brazilian
+  std::string test;  // the protocol's name
   SceneOptions scene;
   std::optional<double> confining;  // triaxial: --confining PA
   std::string out;
@@ -132,11 +131,12 @@ int run_test_command(const TestCommandOptions& opt) {
   namespace fs = std::filesystem;
   // A second of slack for file systems with coarse time stamps: files older than the command are not listed.
   const auto started = fs::file_time_type::clock::now() - std::chrono::seconds(1);
+  const ProtocolInfo& info = protocol_info(opt.test);
   SceneOptions so = opt.scene;
   if (opt.confining) so.sets.insert(so.sets.begin(), fmt::format("loading.confining_pressure={:.17g}", *opt.confining));
-  if (opt.test == "brazilian") so.sets.insert(so.sets.begin(), "specimen.shape=disc");
+  for (const auto& [key, value] : info.scene_defaults) so.sets.insert(so.sets.begin(), key + "=" + value);
   const Scene scene = resolve_scene(so);
-  check_test_scene(opt.test, scene);
+  info.check(scene);
   print_scene(scene, opt.scene);
   const fs::path out(opt.out);
   const fs::path ckpt_file = out / "checkpoint.h5";
@@ -158,16 +158,18 @@ int run_test_command(const TestCommandOptions& opt) {
   // The gate checks the scene's materials; a disc is checked as the rectangular specimen of the same materials.
   if (scene.mesh.file.empty()) check_cost(scene, opt.test, 1, opt.scene.force, opt.scene.quiet);
   if (!opt.resume && !opt.skip_elastic_gate && !compare::require_elastic_gate(gate_scene(scene))) return check_failed;
-  bool mesh_cached = false;
-  const TriMesh mesh = make_mesh_cached(scene, &mesh_cached);
-  const Topology topo = build_topology(mesh, scene.specimen.thickness, scene.rock.density);
-  fmt::print("{}: {} blocks, {} bonds ({} joint), beta = {} deg{}{}\n", opt.test, topo.blocks.size(),
-             topo.bonds.size(), topo.count(BondKind::joint), scene.joint_set.dip_deg,
-             opt.test == "triaxial" ? fmt::format(", sigma_3 = {:.4g} MPa", scene.loading.confining_pressure / 1e6)
-                                    : std::string(),
-             mesh_cached ? ", mesh from the cache" : "");
-  std::fflush(stdout);
-  RunOptions uo;
+  io::CaseOptions co;
+  co.out = out;
+  co.ready = [&](const Simulation& sim, bool mesh_cached) {
+    const Specimen& sp = sim.specimen();
+    fmt::print("{}: {} blocks, {} bonds ({} joint), beta = {} deg{}{}\n", opt.test, sp.num_blocks(), sp.num_bonds(),
+               sp.count(BondKind::joint), scene.joint_set.dip_deg,
+               info.confined ? fmt::format(", sigma_3 = {:.4g} MPa", scene.loading.confining_pressure / 1e6)
+                             : std::string(),
+               mesh_cached ? ", mesh from the cache" : "");
+    std::fflush(stdout);
+  };
+  RunOptions& uo = co.run;
   ProgressPrinter progress(scene, isatty(fileno(stdout)) && isatty(fileno(stderr)), opt.progress_seconds);
   if (!opt.scene.quiet) uo.progress = [&progress](const RunProgress& p) { progress(p); };
   uo.checkpoint = [&](const TestCheckpoint& c) { io::write_checkpoint(ckpt_file, c); };
@@ -176,7 +178,7 @@ int run_test_command(const TestCommandOptions& opt) {
   uo.allow_supercritical_dt = opt.allow_supercritical_dt;
   if (opt.resume) {
     uo.resume = &resume_from;
-    fmt::print("{}: resuming from {} at step {} (strain {:.4e})\n", opt.test, ckpt_file.string(), resume_from.engine.steps,
+    fmt::print("{}: resuming from {} at step {} (strain {:.4e})\n", opt.test, ckpt_file.string(), resume_from.steps(),
                resume_from.record.curve.empty() ? 0.0 : resume_from.record.curve.back().strain);
   }
   interrupted.store(false);
@@ -184,7 +186,7 @@ int run_test_command(const TestCommandOptions& opt) {
   auto old_term = std::signal(SIGTERM, on_signal);
   TestResult r;
   try {
-    r = run_test(opt.test, scene, topo, uo);
+    r = io::run_case(opt.test, scene, co).result;
   } catch (const RunCancelled& c) {
     std::signal(SIGINT, old_int), std::signal(SIGTERM, old_term);
     progress.finish();
@@ -201,7 +203,6 @@ int run_test_command(const TestCommandOptions& opt) {
   }
   std::signal(SIGINT, old_int), std::signal(SIGTERM, old_term);
   progress.finish();
-  io::write_run(out, scene, mesh, topo, r, r.threads);  // the run's threads compress its result.h5
   if (!r.completed) {
     fmt::print(stderr, "rbdem: run failed: {}\n", r.watchdog_message);
     fmt::print(stderr, "rbdem: wrote {}/summary.json with \"completed\": false (results up to the last sound state); "
@@ -210,23 +211,11 @@ int run_test_command(const TestCommandOptions& opt) {
   }
   std::error_code ec;
   fs::remove(ckpt_file, ec);  // the run is complete: its results supersede the checkpoint
-  if (r.test == "brazilian")
-    fmt::print("brazilian: tensile strength {:.3f} MPa (peak load {:.4g} N, layers at {:g} deg to the load), ",
-               r.tensile_strength / 1e6, r.peak_load, r.layer_angle_deg);
-  else if (r.test == "triaxial")
-    fmt::print("triaxial: sigma_1 {:.2f} MPa, deviator {:.2f} MPa at sigma_3 {:.2f} MPa, axial strain {:.3e}, lateral "
-               "{:.3e}, ",
-               r.peak_stress / 1e6, r.deviator_at_peak / 1e6, r.confining_pressure / 1e6, r.strain_at_peak,
-               r.lateral_strain_at_peak);
-  else
-    fmt::print("ucs: peak {:.2f} MPa at strain {:.3e}, E50 {:.2f} GPa, ", r.peak_stress / 1e6, r.strain_at_peak,
-               r.youngs_modulus / 1e9);
-  fmt::print("{} cracks (rock t/s {}/{}, joint t/s {}/{}), {}, {} steps of {:.3g} s, {:.1f} s wall\n",
-             r.crack_counts.total(), r.crack_counts.rock_tensile, r.crack_counts.rock_shear,
+  fmt::print("{}, {} cracks (rock t/s {}/{}, joint t/s {}/{}), {}, {} steps of {:.3g} s, {:.1f} s wall\n",
+             info.headline(r), r.crack_counts.total(), r.crack_counts.rock_tensile, r.crack_counts.rock_shear,
              r.crack_counts.joint_tensile, r.crack_counts.joint_shear, r.failure_mode, r.steps, r.dt, r.wall_seconds);
-  if (r.jacket_edges_lost > 0)
-    fmt::print("{}: note: up to {} jacket edges carried no pressure (their blocks broke off the specimen)\n", opt.test,
-               r.jacket_edges_lost);
+  if (info.notes)
+    for (const std::string& note : info.notes(r)) fmt::print("{}: note: {}\n", opt.test, note);
   if (!r.quasi_static)
     fmt::print("{}: warning: the test was not quasi-static: {}\n", opt.test, r.quasi_static_reason);
   fmt::print("{}: wrote into {}: {}\n", opt.test, opt.out, fmt::join(files_written(out, started), ", "));
@@ -235,16 +224,14 @@ int run_test_command(const TestCommandOptions& opt) {
 
 }  // namespace
 
-Runner add_test_command(CLI::App& app, const std::string& test) {
+Runner add_test_command(CLI::App& app, const ProtocolInfo& test) {
   auto opt = std::make_shared<TestCommandOptions>();
-  opt->test = test;
-  opt->out = "runs/" + test;
-  const char* what = test == "ucs"        ? "one uniaxial compression test"
-                     : test == "triaxial" ? "one confined (triaxial) compression test: --confining sets sigma_3"
-                                          : "one Brazilian (diametral compression) test of a disc";
-  CLI::App* cmd = app.add_subcommand(test, fmt::format("{}: summary.json, curve.csv, cracks.csv, result.h5", what));
+  opt->test = test.name;
+  opt->out = "runs/" + test.name;
+  CLI::App* cmd =
+      app.add_subcommand(test.name, fmt::format("{}: summary.json, curve.csv, cracks.csv, result.h5", test.description));
   add_scene_options(*cmd, opt->scene);
-  if (test == "triaxial")
+  if (test.confined)
     cmd->add_option("--confining", opt->confining,
                     "confining pressure sigma_3 [Pa] (loading.confining_pressure), e.g. --confining 10e6");
   cmd->add_option("--out,-o", opt->out, "output folder")->capture_default_str();

@@ -6,13 +6,15 @@
 
 #include <CLI/CLI.hpp>
 
+#include "dem/driver/registry.hpp"
+
 namespace rbdem::cli {
 
 using Runner = std::function<int()>;
 
 Runner add_mesh_command(CLI::App& app);
-// rbdem ucs | triaxial | brazilian: one test (apps/cmd_test.cpp).
-Runner add_test_command(CLI::App& app, const std::string& test);
+// rbdem <test>: one test of a protocol of the registry (apps/cmd_test.cpp; dem/driver/registry.hpp).
+Runner add_test_command(CLI::App& app, const ProtocolInfo& test);
 Runner add_sweep_command(CLI::App& app);
 Runner add_calibrate_command(CLI::App& app);
 Runner add_verify_command(CLI::App& app);

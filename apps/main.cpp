@@ -28,7 +28,7 @@
 
 #include "apps/cli_common.hpp"
 #include "apps/commands.hpp"
-#include "dem/engine.hpp"
+#include "dem/simulation.hpp"
 #include "dem/version.hpp"
 
 namespace {
@@ -107,9 +107,7 @@ int main(int argc, char** argv) {
   std::map<CLI::App*, Runner> runners;
   runners[nullptr] = nullptr;
   auto add = [&](Runner r) { runners[app.get_subcommands({}).back()] = std::move(r); };
-  add(add_test_command(app, "ucs"));
-  add(add_test_command(app, "triaxial"));
-  add(add_test_command(app, "brazilian"));
+  for (const rbdem::ProtocolInfo& test : rbdem::protocols()) add(add_test_command(app, test));
   add(add_sweep_command(app));
   add(add_calibrate_command(app));
   add(add_mesh_command(app));

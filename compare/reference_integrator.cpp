@@ -31,6 +31,13 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// The platens attached to the engine, if any.
+PlatensImpl<2>* platens_of(const Engine<2>& engine) {
+  for (BoundaryHooks<2>* h : engine.hooks())
+    if (auto* p = dynamic_cast<PlatensImpl<2>*>(h)) return p;
+  return nullptr;
+}
+
 double thread_cpu_seconds() {
   timespec ts{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
@@ -73,30 +80,32 @@ struct Sundials {
 
 // The right-hand side. Slot s of the ODE vector holds block order[s] (a renumbering for a banded Jacobian).
 struct BlockOde {
-  Engine& engine;
+  Engine<2>& engine;
   std::vector<int> order;
   std::vector<double> fx, fy, m;
 
-  double top0;  // m, the top platen's position at t = 0
+  PlatensImpl<2>* platens;  // the engine's platens, if any
+  double top0;              // m, the top platen's position at t = 0
 
-  BlockOde(Engine& e, std::vector<int> o) : engine(e), order(std::move(o)), top0(e.top_y()) {}
+  BlockOde(Engine<2>& e, std::vector<int> o)
+      : engine(e), order(std::move(o)), platens(platens_of(e)), top0(platens ? platens->top_y() : 0.0) {}
 
   // Loads the state vector (ODE order) into the engine and puts the top platen where it is at time t.
   void load(double t, const double* y) {
-    engine.edit([&](ModelState& st) {
+    engine.edit([&](ModelState<2>& st) {
       for (std::size_t s = 0; s < order.size(); ++s) {
         const std::size_t b = std::size_t(order[s]);
         const double* q = y + 6 * s;
         st.x[b] = q[0], st.y[b] = q[1], st.theta[b] = q[2], st.vx[b] = q[3], st.vy[b] = q[4], st.omega[b] = q[5];
       }
     });
-    engine.set_top_platen(top0 - engine.state().platen_velocity * t);
+    if (platens) platens->set_top_y(top0 - platens->velocity() * t);
   }
 
   void eval(double t, const double* y, double* ydot) {
     load(t, y);
     engine.evaluate_forces(fx, fy, m);
-    const Model& M = engine.model();
+    const Model<2>& M = engine.model();
     for (std::size_t s = 0; s < order.size(); ++s) {
       const std::size_t b = std::size_t(order[s]);
       const double* q = y + 6 * s;
@@ -142,7 +151,7 @@ void set_tolerances(Sundials& s, const BlockStateVector& y0, const Tolerances& t
 
 // The reference integrators' state vector holds the kinematic fields of ModelState's field table (dem/state.hpp), in
 // table order, block by block.
-BlockStateVector get_state(const Engine& engine) {
+BlockStateVector get_state(const Engine<2>& engine) {
   const std::size_t n = engine.model().num_blocks();
   BlockStateVector y(6 * n);
   int k = 0;
@@ -156,12 +165,12 @@ BlockStateVector get_state(const Engine& engine) {
   return y;
 }
 
-void set_state(Engine& engine, const BlockStateVector& y) {
+void set_state(Engine<2>& engine, const BlockStateVector& y) {
   const std::size_t n = engine.model().num_blocks();
   if (y.size() != 6 * n)
     throw std::invalid_argument("set_state: the state vector has " + std::to_string(y.size()) + " entries, the engine " +
                                 std::to_string(n) + " blocks (6 entries each)");
-  engine.edit([&](ModelState& s) {
+  engine.edit([&](ModelState<2>& s) {
     int k = 0;
     s.fields([&](const char*, auto& field, Extent, bool kinematic) {
       if constexpr (std::is_same_v<std::decay_t<decltype(field)>, std::vector<double>>) {
@@ -173,16 +182,16 @@ void set_state(Engine& engine, const BlockStateVector& y) {
   });
 }
 
-void check_reference_scope(const Engine& engine, double damping) {
+void check_reference_scope(const Engine<2>& engine, double damping) {
   if (damping != 0.0)
     throw std::invalid_argument("reference integrator: the equations of motion are undamped; set numerics.damping = 0");
   if (engine.state().breakage)
     throw std::invalid_argument("reference integrator: a bond breaking is an event the ODE does not model; call "
                                 "engine.set_breakage(false)");
-  if (engine.has_platens() && engine.platen_friction() != 0.0)
+  if (const PlatensImpl<2>* platens = platens_of(engine); platens && platens->friction() != 0.0)
     throw std::invalid_argument("reference integrator: frictional platens carry a shear history; set "
                                 "loading.platen_friction = 0");
-  const Model& M = engine.model();
+  const Model<2>& M = engine.model();
   for (std::size_t k = 0; k < M.law.size(); ++k) {
     if (std::find(M.material.begin(), M.material.end(), std::uint8_t(k)) == M.material.end()) continue;  // unused
     const BondKindLaw& law = M.law[k];
@@ -200,7 +209,7 @@ Tolerances Tolerances::scaled(double rtol, double u, double v, double l) {
   return t;
 }
 
-IntegrationResult integrate_explicit(Engine& engine, const BlockStateVector& y0, double t_end, const Tolerances& tol,
+IntegrationResult integrate_explicit(Engine<2>& engine, const BlockStateVector& y0, double t_end, const Tolerances& tol,
                                      ExplicitTable table) {
   const auto start = Clock::now();
   const double cpu_start = thread_cpu_seconds();
@@ -220,7 +229,7 @@ IntegrationResult integrate_explicit(Engine& engine, const BlockStateVector& y0,
   check_flag(ERKStepSetStopTime(s.mem, t_end), "ERKStepSetStopTime");  // land on t_end, no dense output
   sunrealtype t = 0.0;
   check_flag(ERKStepEvolve(s.mem, t_end, s.y, &t, ARK_NORMAL), "ERKStepEvolve");
-  engine.set_top_platen(ode.top0);  // the next integration starts from the same platen position
+  if (ode.platens) ode.platens->set_top_y(ode.top0);  // the next integration starts from the same platen position
   IntegrationResult r;
   r.state = ode.from_ode(N_VGetArrayPointer(s.y));
   long v = 0;
@@ -232,7 +241,7 @@ IntegrationResult integrate_explicit(Engine& engine, const BlockStateVector& y0,
   return r;
 }
 
-IntegrationResult integrate_implicit(Engine& engine, const BlockStateVector& y0, double t_end, const Tolerances& tol,
+IntegrationResult integrate_implicit(Engine<2>& engine, const BlockStateVector& y0, double t_end, const Tolerances& tol,
                                      const ImplicitOptions& options) {
   const auto start = Clock::now();
   const double cpu_start = thread_cpu_seconds();
@@ -243,13 +252,13 @@ IntegrationResult integrate_implicit(Engine& engine, const BlockStateVector& y0,
     // Number the blocks along the longer side: bonded blocks then sit close in the numbering.
     const bool along_x = engine.model().width >= engine.model().height;
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-      const ModelState& st = engine.state();
+      const ModelState<2>& st = engine.state();
       return along_x ? st.x[std::size_t(a)] < st.x[std::size_t(b)] : st.y[std::size_t(a)] < st.y[std::size_t(b)];
     });
     std::vector<int> slot(nb);
     for (std::size_t s = 0; s < nb; ++s) slot[std::size_t(order[s])] = int(s);
     int width = 0;
-    const Model& M = engine.model();
+    const Model<2>& M = engine.model();
     for (std::size_t b = 0; b < M.num_bonds(); ++b)
       width = std::max(width, std::abs(slot[std::size_t(M.bi[b])] - slot[std::size_t(M.bj[b])]));
     half_band = 6 * width + 5;  // every entry of block s couples to every entry of blocks s +- width
@@ -280,7 +289,7 @@ IntegrationResult integrate_implicit(Engine& engine, const BlockStateVector& y0,
   check_flag(ARKStepSetStopTime(s.mem, t_end), "ARKStepSetStopTime");
   sunrealtype t = 0.0;
   check_flag(ARKStepEvolve(s.mem, t_end, s.y, &t, ARK_NORMAL), "ARKStepEvolve");
-  engine.set_top_platen(ode.top0);
+  if (ode.platens) ode.platens->set_top_y(ode.top0);
   IntegrationResult r;
   r.state = ode.from_ode(N_VGetArrayPointer(s.y));
   long v = 0, fe = 0, fi = 0;
@@ -296,14 +305,14 @@ IntegrationResult integrate_implicit(Engine& engine, const BlockStateVector& y0,
   return r;
 }
 
-IntegrationResult central_difference(Engine& engine, const BlockStateVector& y0, double dt, long steps) {
+IntegrationResult central_difference(Engine<2>& engine, const BlockStateVector& y0, double dt, long steps) {
   const auto start = Clock::now();
   const double cpu_start = thread_cpu_seconds();
   std::vector<double> fx, fy, m;
-  const Model& M = engine.model();
+  const Model<2>& M = engine.model();
   auto half_kick = [&](double sign) {
     engine.evaluate_forces(fx, fy, m);
-    engine.edit([&](ModelState& s) {
+    engine.edit([&](ModelState<2>& s) {
       for (std::size_t b = 0; b < M.num_blocks(); ++b) {
         if (M.fixed[b]) continue;
         s.vx[b] += sign * 0.5 * dt * fx[b] / M.mass[b];
@@ -312,7 +321,8 @@ IntegrationResult central_difference(Engine& engine, const BlockStateVector& y0,
       }
     });
   };
-  const double top0 = engine.top_y();
+  PlatensImpl<2>* platens = platens_of(engine);
+  const double top0 = platens ? platens->top_y() : 0.0;
   set_state(engine, y0);
   half_kick(-1.0);  // v(-dt/2): the leapfrog's staggered start
   engine.set_dt(dt);
@@ -320,7 +330,7 @@ IntegrationResult central_difference(Engine& engine, const BlockStateVector& y0,
   half_kick(+1.0);  // v(T) from v(T - dt/2)
   IntegrationResult r;
   r.state = get_state(engine);
-  engine.set_top_platen(top0);  // the next integration starts from the same platen position
+  if (platens) platens->set_top_y(top0);  // the next integration starts from the same platen position
   r.stats.steps = r.stats.attempts = steps;
   r.stats.rhs_evals = steps + 2;
   r.stats.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
@@ -328,7 +338,7 @@ IntegrationResult central_difference(Engine& engine, const BlockStateVector& y0,
   return r;
 }
 
-StateError state_error(const Engine& engine, const BlockStateVector& y, const BlockStateVector& ref,
+StateError state_error(const Engine<2>& engine, const BlockStateVector& y, const BlockStateVector& ref,
                        const BlockStateVector& y0) {
   double dq = 0, uq = 0, dv = 0, vv = 0;
   for (std::size_t b = 0; b < engine.model().num_blocks(); ++b) {
@@ -346,25 +356,26 @@ StateError state_error(const Engine& engine, const BlockStateVector& y, const Bl
   return {std::sqrt(dq / uq), std::sqrt(dv / vv)};
 }
 
-std::unique_ptr<Engine> ReferenceProblem::make_engine() const {
-  EngineOptions o = EngineOptions::from_scene(scene);
-  o.platens = specimen.platens;
-  o.contacts = specimen.platens || specimen.break_joints;
-  o.platen_velocity = specimen.platen_velocity;
-  o.platen_friction = 0.0;
-  o.threads = 1;
-  auto e = std::make_unique<Engine>(*topology, scene, o);
-  e->set_breakage(false);
+std::unique_ptr<SimulationImpl<2>> ReferenceProblem::make_simulation() const {
+  Scene s = scene;
+  s.numerics.threads = 1;
+  auto sim = std::make_unique<SimulationImpl<2>>(s, *topology, SimulationOptions{}, [this](EngineOptions& o) {
+    o.contacts = specimen.platens || specimen.break_joints;
+  });
+  Engine<2>& e = sim->engine();
+  e.set_breakage(false);
   const auto& bd = topology->boundary;
   for (std::size_t k = 0; k < bd.size(); ++k)
-    if (bd.side[k] == Side::bottom) e->fix_block(bd.block[k]);
+    if (bd.side[k] == Side::bottom) e.fix_block(bd.block[k]);
   if (specimen.break_joints)
     for (std::size_t b = 0; b < topology->bonds.size(); ++b)
-      if (topology->bonds.kind[b] == BondKind::joint) e->break_bond(int(b));
+      if (topology->bonds.kind[b] == BondKind::joint) e.break_bond(int(b));
   // The top platen starts where the initial field has moved the top of the specimen, so that it touches it.
-  if (specimen.platens) e->set_top_platen(topology->ymax - specimen.strain * topology->height());
-  check_reference_scope(*e, o.damping);
-  return e;
+  if (specimen.platens)
+    static_cast<PlatensImpl<2>&>(sim->add_platens({specimen.platen_velocity, 0.0}))
+        .set_top_y(topology->ymax - specimen.strain * topology->height());
+  check_reference_scope(e, s.numerics.damping);
+  return sim;
 }
 
 ReferenceProblem make_reference_problem(const ReferenceSpecimen& sp) {
@@ -381,13 +392,13 @@ ReferenceProblem make_reference_problem(const ReferenceSpecimen& sp) {
     m->contact_friction = 0.0;
     m->slip_when_bonded = true;
   }
-  p.topology = std::make_unique<Topology>(build_topology(make_mesh(s), s.specimen.thickness, s.rock.density));
-  p.engine = p.make_engine();
-  p.stability_limit = rbdem::stability_limit(*p.engine);
+  p.topology = std::make_unique<Topology<2>>(build_topology(make_mesh(s), s.specimen.thickness, s.rock.density));
+  p.sim = p.make_simulation();
+  p.stability_limit = p.sim->stability_limit(300, 1);
 
-  const Engine& e = *p.engine;
-  const Topology& topo = *p.topology;
-  const Model& M = e.model();
+  const Engine<2>& e = p.sim->engine();
+  const Topology<2>& topo = *p.topology;
+  const Model<2>& M = e.model();
   const double ymin = topo.ymin, H = topo.height();
   // Mean height of each layer's blocks (layer_rigid).
   const int layers = 1 + *std::max_element(topo.blocks.layer.begin(), topo.blocks.layer.end());

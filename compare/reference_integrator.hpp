@@ -25,7 +25,7 @@
 #include <memory>
 #include <vector>
 
-#include "dem/engine.hpp"
+#include "dem/simulation_impl.hpp"
 #include "dem/scene.hpp"
 #include "dem/topology.hpp"
 
@@ -34,12 +34,12 @@ namespace rbdem {
 // A state vector: for block b, entries 6b .. 6b+5 are x, y, theta, vx, vy, omega (m, m, rad, m/s, m/s, rad/s).
 using BlockStateVector = std::vector<double>;
 
-BlockStateVector get_state(const Engine& engine);
+BlockStateVector get_state(const Engine<2>& engine);
 // Sets positions and velocities and refreshes the engine's derived data (cos/sin of theta).
-void set_state(Engine& engine, const BlockStateVector& y);
+void set_state(Engine<2>& engine, const BlockStateVector& y);
 
 // Throws std::invalid_argument naming the setting to change when the engine is outside the scope above.
-void check_reference_scope(const Engine& engine, double damping);
+void check_reference_scope(const Engine<2>& engine, double damping);
 
 // Error tolerances: relative rtol on every entry, absolute atol per kind of entry.
 struct Tolerances {
@@ -68,7 +68,7 @@ struct IntegrationResult {
 enum class ExplicitTable { fehlberg_13_7_8, verner_8_5_6, dormand_prince_7_4_5 };
 
 // Explicit adaptive Runge-Kutta from y0 at t = 0 to t_end (hit exactly, no interpolation).
-IntegrationResult integrate_explicit(Engine& engine, const BlockStateVector& y0, double t_end, const Tolerances& tol,
+IntegrationResult integrate_explicit(Engine<2>& engine, const BlockStateVector& y0, double t_end, const Tolerances& tol,
                                      ExplicitTable table = ExplicitTable::fehlberg_13_7_8);
 
 enum class ImplicitTable { sdirk_5_3_4, kvaerno_7_4_5, trbdf2_3_3_2 };
@@ -82,12 +82,12 @@ struct ImplicitOptions {
 };
 
 // Implicit adaptive DIRK (ARKStep) from y0 at t = 0 to t_end.
-IntegrationResult integrate_implicit(Engine& engine, const BlockStateVector& y0, double t_end, const Tolerances& tol,
+IntegrationResult integrate_implicit(Engine<2>& engine, const BlockStateVector& y0, double t_end, const Tolerances& tol,
                                      const ImplicitOptions& options = {});
 
 // The engine's own central difference (step() with the engine's options) over `steps` steps of dt from the
 // synchronous state y0, returning the synchronous state at steps x dt (see the header comment).
-IntegrationResult central_difference(Engine& engine, const BlockStateVector& y0, double dt, long steps);
+IntegrationResult central_difference(Engine<2>& engine, const BlockStateVector& y0, double dt, long steps);
 
 // Relative errors of `y` against `ref` at the same time, with y0 the common start: the root mean square over blocks
 // of the position difference (x, y and radius x theta) divided by that of the reference's displacement from y0;
@@ -95,7 +95,7 @@ IntegrationResult central_difference(Engine& engine, const BlockStateVector& y0,
 struct StateError {
   double position = 0, velocity = 0;
 };
-StateError state_error(const Engine& engine, const BlockStateVector& y, const BlockStateVector& ref,
+StateError state_error(const Engine<2>& engine, const BlockStateVector& y, const BlockStateVector& ref,
                        const BlockStateVector& y0);
 
 // --- the small specimen of the reference studies (tests/test_reference.cpp, benchmarks/bench_reference.cpp) ---
@@ -124,12 +124,13 @@ struct ReferenceSpecimen {
 struct ReferenceProblem {
   ReferenceSpecimen specimen;
   Scene scene;
-  std::unique_ptr<Topology> topology;  // the engine keeps a reference to it
-  std::unique_ptr<Engine> engine;
+  std::unique_ptr<Topology<2>> topology;
+  std::unique_ptr<SimulationImpl<2>> sim;  // its engine is the problem's (Engine<2>: sim->engine())
   BlockStateVector y0;
-  double stability_limit = 0;          // s, of the undamped central difference (stability_limit())
-  // A fresh engine on the same topology (each integrator run gets its own).
-  std::unique_ptr<Engine> make_engine() const;
+  double stability_limit = 0;              // s, of the undamped central difference (stability_limit())
+  // A fresh simulation of the same topology, its engine in the reference scope (each integrator run gets its own).
+  std::unique_ptr<SimulationImpl<2>> make_simulation() const;
+  Engine<2>& engine() const { return sim->engine(); }
 };
 ReferenceProblem make_reference_problem(const ReferenceSpecimen& specimen);
 

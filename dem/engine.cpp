@@ -9,7 +9,6 @@
 #include <omp.h>
 
 #include "dem/stages/bond_kernel.hpp"
-#include "dem/scene_keys.hpp"
 
 namespace rbdem {
 
@@ -17,8 +16,6 @@ EngineOptions EngineOptions::from_scene(const Scene& scene) {
   EngineOptions o;
   o.damping = scene.numerics.damping;
   o.mass_scaling = scene.numerics.mass_scaling;
-  o.platen_velocity = scene.loading.platen_velocity;
-  o.platen_friction = scene.loading.platen_friction;
   o.threads = scene.numerics.threads;
   o.skip_bonded_pairs = scene.numerics.skip_bonded_pairs;
   o.update_after_breaks = scene.numerics.update_after_breaks;
@@ -26,27 +23,23 @@ EngineOptions EngineOptions::from_scene(const Scene& scene) {
   return o;
 }
 
-Engine::Engine(const Topology& topo, const Scene& scene, const EngineOptions& options)
+Engine<2>::Engine(const Topology<2>& topo, const Scene& scene, const EngineOptions& options)
     : options_(options), model_(build_model(topo, scene, options.mass_scaling)) {
   const std::size_t nb = model_.num_blocks(), nbond = model_.num_bonds();
-  ModelState& s = state_;
+  ModelState<2>& s = state_;
   s.x = model_.x0, s.y = model_.y0;
   s.theta.assign(nb, 0.0), s.vx.assign(nb, 0.0), s.vy.assign(nb, 0.0), s.omega.assign(nb, 0.0);
   s.fx.assign(nb, 0.0), s.fy.assign(nb, 0.0), s.moment.assign(nb, 0.0);
   s.free_face.assign(nb, 0);
   for (int b : topo.boundary.block) s.free_face[std::size_t(b)] = 1;
   s.broken.assign(nbond, 0), s.fs_lin.assign(nbond, 0.0), s.drive.assign(nbond, 0.0);
-  s.top_fs.assign(nb, 0.0), s.bottom_fs.assign(nb, 0.0);
-  s.top_y = model_.ymax;
-  s.platen_velocity = options_.platen_velocity;
   s.rebuild = true;
 
-  Workspace& w = work_;
+  Workspace<2>& w = work_;
   w.slot.assign(nbond);
   w.cfx.assign(nb, 0.0), w.cfy.assign(nb, 0.0), w.cm.assign(nb, 0.0);
 
   detection_.contacts = options_.contacts;
-  detection_.platens = options_.platens;
   detection_.skip_bonded_pairs = options_.skip_bonded_pairs;
   detection_.update_after_breaks = options_.update_after_breaks;
   detection_.search_free_faces_only = options_.search_free_faces_only;
@@ -57,11 +50,17 @@ Engine::Engine(const Topology& topo, const Scene& scene, const EngineOptions& op
   s.dt = critical_step();
 }
 
-StepContext Engine::context(bool advance) const {
+void Engine<2>::attach(BoundaryHooks<2>* hooks) {
+  hooks_.push_back(hooks);
+  state_.rebuild = true;  // the next broad phase gives the component its candidates
+  work_.grid.valid = false;
+}
+
+StepContext Engine<2>::context(bool advance) const {
   return {advance ? state_.dt : 0.0, advance, threads()};
 }
 
-void Engine::refresh() {
+void Engine<2>::refresh() {
   stages::update_rotations(state_, work_, threads());
   stages::refresh_keep(model_, state_, work_);
   stages::clear_accumulators(work_);  // a step cut short (an exception) may have left forces in them
@@ -69,35 +68,34 @@ void Engine::refresh() {
   work_.grid.valid = false, work_.broken_now.clear();  // the next broad phase starts from the state as it is
 }
 
-void Engine::step() {
+void Engine<2>::step() {
   // One parallel region per step (docs/performance.md, "A fourth round"): the threads meet at barriers
   // between the stages instead of starting a team for each. A step with bond events or a contact rebuild leaves the
   // region after the bond stage, runs those as before (each on its own team), and opens a second region for the
   // block stages. Every stage does the same work in the same order either way, so the numbers are the same.
   const StepContext c = context(true);
-  ModelState& s = state_;
-  Workspace& w = work_;
+  ModelState<2>& s = state_;
+  Workspace<2>& w = work_;
   stages::bond_forces_begin(model_, w, c);
   stages::rebalance(w);
   stages::rebuild_check_begin(w, c.threads);
   bool finite = true, serial = false;
   std::exception_ptr error;
-  // The block stages on thread t of nt: contacts and platens into their records, their sums, the jacket and the
-  // external loads on the first thread, then the integrator. Returns false when a position is not finite.
-  Workspace::Partition& part = w.part;
+  // The block stages on thread t of nt: contacts and the components' shares into their records, their sums and the
+  // components' ends on the first thread, then the integrator. Returns false when a position is not finite.
+  Workspace<2>::Partition& part = w.part;
   const auto block_stages = [&](int t, int nt) {
     const bool timed = nt == part.threads;
     double t0 = omp_get_wtime();
     stages::contact_forces_share(model_, s, w, c, t, nt);
-    stages::platen_forces_share(model_, s, w, options_.platen_friction, options_.platens, c, t, nt);
+    for (BoundaryHooks<2>* h : hooks_)
+      if (h->shares()) h->forces_share(model_, s, w, c, t, nt);
     double busy = omp_get_wtime() - t0;
 #pragma omp barrier
 #pragma omp master
     try {
       stages::contact_forces_end(s, w, c);
-      stages::platen_forces_end(s, w, options_.platens, c);
-      stages::jacket_forces(model_, s, w, c);
-      stages::external_forces(w);
+      for (BoundaryHooks<2>* h : hooks_) h->forces_end(model_, s, w, c);
     } catch (...) {
       error = std::current_exception();
     }
@@ -111,7 +109,7 @@ void Engine::step() {
   };
   const auto begin_block_stages = [&] {
     stages::contact_forces_begin(model_, s, w, c);
-    stages::platen_forces_begin(model_, s, w, c);
+    for (BoundaryHooks<2>* h : hooks_) h->forces_begin(model_, s, w, c);
   };
 #pragma omp parallel num_threads(c.threads) reduction(&& : finite)
   {
@@ -123,7 +121,7 @@ void Engine::step() {
 #pragma omp barrier
 #pragma omp master
     {
-      serial = stages::events_pending(w) || stages::rebuild_due(model_, s, w);
+      serial = stages::events_pending(w) || stages::rebuild_due(model_, s, w, hooks_);
       if (!serial) begin_block_stages();
     }
 #pragma omp barrier
@@ -131,66 +129,61 @@ void Engine::step() {
   }
   if (serial) {
     stages::bond_events(model_, s, w, on_crack, c.threads);
-    stages::detect_contacts(model_, s, w, detection_, c.threads);
+    stages::detect_contacts(model_, s, w, detection_, hooks_, c.threads);
     begin_block_stages();
 #pragma omp parallel num_threads(c.threads) reduction(&& : finite)
     finite = block_stages(omp_get_thread_num(), omp_get_num_threads());
   }
   if (error) std::rethrow_exception(error);
   stages::integrate_end(s, w, finite);  // throws when the run diverged
-  s.top_y -= s.platen_velocity * s.dt;
+  for (BoundaryHooks<2>* h : hooks_) h->after_step(model_, s, w, s.dt);
   s.time += s.dt;
   ++s.steps;
 }
 
-void Engine::evaluate_forces(std::vector<double>& fx, std::vector<double>& fy, std::vector<double>& moment) {
+void Engine<2>::evaluate_forces(std::vector<double>& fx, std::vector<double>& fy, std::vector<double>& moment) {
   const StepContext c = context(false);
   stages::update_rotations(state_, work_, c.threads);
   stages::bond_forces(model_, state_, work_, c);
-  stages::detect_contacts(model_, state_, work_, detection_, c.threads);
+  stages::detect_contacts(model_, state_, work_, detection_, hooks_, c.threads);
   stages::contact_forces(model_, state_, work_, c);
-  stages::platen_forces(model_, state_, work_, options_.platen_friction, options_.platens, c);
-  stages::jacket_forces(model_, state_, work_, c);
-  stages::external_forces(work_);
+  for (BoundaryHooks<2>* h : hooks_) {
+    h->forces_begin(model_, state_, work_, c);
+    if (h->shares()) h->forces_share(model_, state_, work_, c, 0, 1);
+  }
+  for (BoundaryHooks<2>* h : hooks_) h->forces_end(model_, state_, work_, c);
   stages::gather_forces(model_, work_, fx, fy, moment);
 }
 
-void Engine::restore(const ModelState& s) {
+void Engine<2>::restore(const ModelState<2>& s) {
   check_state_fits(s, model_.num_blocks(), model_.num_bonds());
   state_ = s;
   refresh();
   state_.rebuild = s.rebuild;  // a snapshot carries its own broad-phase schedule
 }
 
-void Engine::edit(const std::function<void(ModelState&)>& change) {
+void Engine<2>::edit(const std::function<void(ModelState<2>&)>& change) {
   change(state_);
   check_state_fits(state_, model_.num_blocks(), model_.num_bonds());
   refresh();
 }
 
-void Engine::break_bond(int b) {
-  edit([&](ModelState& s) {
+void Engine<2>::break_bond(int b) {
+  edit([&](ModelState<2>& s) {
     const std::size_t k = std::size_t(b);
     s.broken[k] = 1;
     s.free_face[std::size_t(model_.bi[k])] = s.free_face[std::size_t(model_.bj[k])] = 1;
   });
 }
 
-void Engine::fix_block(int b) { model_.fixed[std::size_t(b)] = 1; }
+void Engine<2>::fix_block(int b, bool fixed) { model_.fixed[std::size_t(b)] = fixed ? 1 : 0; }
 
-void Engine::set_block_mass(int b, double mass, double inertia) {
+void Engine<2>::set_block_mass(int b, double mass, double inertia) {
   const std::size_t k = std::size_t(b);
   model_.mass[k] = mass, model_.inv_mass[k] = 1.0 / mass, model_.inertia[k] = inertia;
 }
 
-void Engine::set_external_load(int b, double fx, double fy, double m) {
-  auto& loads = work_.external;
-  const auto at = std::find_if(loads.begin(), loads.end(), [&](const auto& e) { return e.block == b; });
-  if (at != loads.end()) *at = {b, fx, fy, m};
-  else loads.push_back({b, fx, fy, m});
-}
-
-double Engine::critical_step() const {
+double Engine<2>::critical_step() const {
   // docs/theory.md, section 8: dt_crit = min over blocks of sqrt(m / k_trans) and sqrt(I / k_rot), with k the sums
   // of the normal and shear stiffnesses acting on the block (parallel bond + linear part in compression; platens).
   const std::size_t nb = model_.num_blocks();
@@ -208,18 +201,7 @@ double Engine::critical_step() const {
       kr[std::size_t(blk)] += bond * k.kbnI + knA * rn * rn + ksA * rt * rt;
     }
   }
-  if (options_.platens) {
-    const auto& E = topology().boundary;
-    for (std::size_t e = 0; e < E.size(); ++e) {
-      const Side s = E.side[e];
-      if (s != Side::top && s != Side::bottom) continue;
-      const std::size_t blk = std::size_t(E.block[e]);
-      const double k = model_.platen_kn[blk] * model_.thickness * E.length[e];
-      kt[blk] += k * (1.0 + 1.0 / model_.law[model_.block_material[blk]].kappa);
-      const double r = 0.5 * model_.radius[blk];
-      kr[blk] += k * r * r;
-    }
-  }
+  for (const BoundaryHooks<2>* h : hooks_) h->add_stiffness(model_, kt, kr);
   double dt = 1e300;
   for (std::size_t b = 0; b < nb; ++b) {
     if (kt[b] > 0) dt = std::min(dt, std::sqrt(model_.mass[b] / kt[b]));
@@ -228,26 +210,26 @@ double Engine::critical_step() const {
   return dt;
 }
 
-BondForces Engine::bond_forces(int b) const {
+BondForces Engine<2>::bond_forces(int b) const {
   BondForces out;
   const std::size_t k = std::size_t(b);
   if (state_.broken[k]) return out;
   const stages::BondEval ev = stages::eval_bond(model_, state_, work_, b, 0.0, state_.fs_lin[k], 1.0);
   const double keep = work_.keep[k];
   out.fn_b = keep * ev.fnb, out.fs_b = keep * ev.fsb, out.m_b = keep * ev.mb, out.fn_lin = ev.fnl, out.fs_lin = ev.fsl;
-  const double L = model_.frame.L[k], A = model_.frame.A[k];
-  model_.law[model_.material[k]].bond.strength.stresses(ev.fnb, ev.fsb, ev.mb, A, A * L * L / 12.0, 0.5 * L,
-                                                         out.sigma, out.tau);
+  const ParallelBond& law = model_.law[model_.material[k]].bond;
+  const ParallelBond::Section sec = law.section(model_.frame.L[k], model_.thickness);
+  law.strength.stresses(ev.fnb, ev.fsb, ev.mb, sec.A, sec.I, sec.R, out.sigma, out.tau);
   return out;
 }
 
-std::size_t Engine::active_contacts() const {
+std::size_t Engine<2>::active_contacts() const {
   return std::size_t(std::count_if(state_.contacts.fn.begin(), state_.contacts.fn.end(), [](double f) { return f > 0; }));
 }
 
-Energies Engine::energies() const {
+Energies Engine<2>::energies() const {
   Energies e;
-  const ModelState& s = state_;
+  const ModelState<2>& s = state_;
   for (std::size_t b = 0; b < model_.num_blocks(); ++b)
     e.kinetic += 0.5 * (model_.mass[b] * (s.vx[b] * s.vx[b] + s.vy[b] * s.vy[b]) +
                         model_.inertia[b] * s.omega[b] * s.omega[b]);
@@ -270,61 +252,11 @@ Energies Engine::energies() const {
     if (!s.broken[std::size_t(b)]) e.strain += bond_energy[std::size_t(b)];
   for (std::size_t c = 0; c < s.contacts.size(); ++c)
     e.strain += s.contacts.law[c].strain_energy(s.contacts.fn[c], s.contacts.fs[c], s.contacts.chord[c]);
-  e.strain += s.platen_energy;
+  for (const BoundaryHooks<2>* h : hooks_) e.strain += h->stored_energy();
   e.damping = s.e_damping;
   e.friction = s.e_friction;
-  e.work_platen = s.e_work;
-  e.work_jacket = s.e_work_jacket;
+  for (const BoundaryHooks<2>* h : hooks_) e.work += h->work_done();
   return e;
 }
-
-
-namespace scene_keys {
-
-// [numerics]: time stepping, damping, threads, the contact-search savings, the elastic start, checkpoints.
-void declare_numerics(Keys& k) {
-  k.add(real("numerics.damping", "-", 0.0, 0.99, "Cundall local damping coefficient alpha",
-             [](Scene& s) -> double& { return s.numerics.damping; }));
-  k.add(positive("numerics.dt_safety", "-", 0.7,
-                 "fraction of the critical time step used (above 0.7 the failure phase was found unstable: "
-                 "docs/performance.md)",
-                 [](Scene& s) -> double& { return s.numerics.dt_safety; }));
-  k.add(real("numerics.dt", "s", 0.0, 1.0,
-             "requested time step; 0 = automatic; a step above the critical one is refused",
-             [](Scene& s) -> double& { return s.numerics.dt; }));
-  k.add(real("numerics.mass_scaling", "-", 1.0, 1e8,
-             "density multiplier for quasi-static runs (dt grows as its square root); reported",
-             [](Scene& s) -> double& { return s.numerics.mass_scaling; }));
-  k.add(integer("numerics.threads", "-", 0, 1024, "OpenMP threads for one run; 0 = all cores",
-                [](Scene& s) -> int& { return s.numerics.threads; }));
-  k.add(boolean("numerics.elastic_start",
-                "start failure runs from the static elastic state just below the first bond failure",
-                [](Scene& s) -> bool& { return s.numerics.elastic_start; }));
-  k.add(real("numerics.elastic_start_fraction", "-", 0.0, 0.99,
-             "fraction of the first-break load at which the explicit run takes over from the static state",
-             [](Scene& s) -> double& { return s.numerics.elastic_start_fraction; }, true));
-  k.add(boolean("numerics.skip_bonded_pairs",
-                "no narrow phase for pairs joined by an intact bond (false: clip them too and discard the "
-                "result, the same answer at a higher cost; docs/performance.md)",
-                [](Scene& s) -> bool& { return s.numerics.skip_bonded_pairs; }));
-  k.add(boolean("numerics.search_free_faces_only",
-                "contact search only among blocks with a broken bond or a boundary edge (false: all blocks, "
-                "which adds corner contacts inside intact rock; docs/performance.md)",
-                [](Scene& s) -> bool& { return s.numerics.search_free_faces_only; }));
-  k.add(boolean("numerics.update_after_breaks",
-                "after bond breaks, add the broken pairs and the blocks that gained a free face to the contact "
-                "lists instead of rebuilding them (false: rebuild, the same answer at a higher cost; "
-                "docs/performance.md)",
-                [](Scene& s) -> bool& { return s.numerics.update_after_breaks; }));
-  k.add(integer("numerics.checkpoint_every_steps", "-", 0, 2000000000,
-                "rbdem ucs, triaxial and brazilian write checkpoint.h5 every this many explicit steps (0 = off); "
-                "--resume continues",
-                [](Scene& s) -> int& { return s.numerics.checkpoint_every_steps; }));
-  k.add(real("numerics.checkpoint_every_seconds", "s", 0.0, 1e7,
-             "rbdem ucs, triaxial and brazilian write checkpoint.h5 every this much wall-clock time (0 = off)",
-             [](Scene& s) -> double& { return s.numerics.checkpoint_every_seconds; }));
-}
-
-}  // namespace scene_keys
 
 }  // namespace rbdem

@@ -1,8 +1,9 @@
-// The explicit RB-DEM engine: a Model (constant data), a ModelState (the snapshot) and the stages of one step
-// (dem/stages/stages.hpp): rigid triangular blocks (x, y, theta), linear parallel bonds on shared edges, polygon
-// contacts after breakage and between blocks that were never neighbours, two rigid platens, central difference
-// time integration with Cundall local damping (docs/theory.md, sections 5 to 8; docs/model.md;
-// docs/architecture.md).
+// The explicit RB-DEM engine of the 2D model: a Model (constant data), a ModelState (the snapshot) and the stages of
+// one step (dem/stages/stages.hpp): rigid triangular blocks (x, y, theta), linear parallel bonds on shared edges,
+// polygon contacts after breakage and between blocks that were never neighbours, the boundary components attached
+// to it (their hooks, dem/boundary/hooks.hpp), central difference time integration with Cundall local damping
+// (docs/theory.md, sections 5 to 8; docs/model.md; docs/architecture.md). Code above the engine sees it through
+// SimulationImpl<2> (dem/simulation_impl.hpp).
 //
 // The engine keeps its own invariants: callers read the state, and change it only through restore(), edit()
 // (any change to the kinematics, followed by a refresh of everything derived) or the named operations below.
@@ -15,45 +16,29 @@
 #include <stdexcept>
 #include <vector>
 
+#include "dem/boundary/hooks.hpp"
 #include "dem/model.hpp"
 #include "dem/scene.hpp"
+#include "dem/simulation.hpp"
 #include "dem/stages/stages.hpp"
 #include "dem/state.hpp"
 #include "dem/topology.hpp"
 
 namespace rbdem {
 
-// Thrown when the run blows up (positions no longer finite): the step is too large or the scene unphysical.
-class InstabilityError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
 struct EngineOptions {
   double damping = 0.7;          // Cundall local damping alpha
   double mass_scaling = 1.0;     // density multiplier
-  double platen_velocity = 0.0;  // m/s, top platen moves down at this speed; bottom fixed
-  double platen_friction = 0.0;  // Coulomb coefficient block-platen
   int threads = 0;               // 0 = all; the most the run may use
   // When set, each step uses min(*thread_budget, threads) threads (at least one): a sweep hands the cores of its
   // idle workers to the runs still going. Results do not depend on the thread count.
   const std::atomic<int>* thread_budget = nullptr;
-  bool platens = true;           // false: free blocks (unit tests)
   bool contacts = true;          // false: no block-block contacts (diagnostics)
   bool skip_bonded_pairs = true;       // numerics.skip_bonded_pairs: no narrow phase for intact-bonded pairs
   bool search_free_faces_only = true;  // numerics.search_free_faces_only: broad phase over free-face blocks only
   bool update_after_breaks = true;     // numerics.update_after_breaks: contact lists updated after bond breaks
 
   static EngineOptions from_scene(const Scene& scene);
-};
-
-struct Energies {
-  double kinetic = 0;      // J
-  double strain = 0;       // J, stored in bonds, contacts and platen contacts
-  double damping = 0;      // J, dissipated by local damping (cumulative)
-  double friction = 0;     // J, dissipated by sliding contacts (cumulative, approximate)
-  double work_platen = 0;  // J, work done by the top platen (cumulative)
-  double work_jacket = 0;  // J, work done by the confining pressure (cumulative)
 };
 
 // The forces of one bond in its co-rotated frame (diagnostics, static comparisons, energies).
@@ -63,9 +48,13 @@ struct BondForces {
   double sigma = 0, tau = 0;           // parallel bond peripheral stresses (tension positive)
 };
 
-class Engine {
+template <int dim>
+class Engine;
+
+template <>
+class Engine<2> {
  public:
-  Engine(const Topology& topo, const Scene& scene, const EngineOptions& options);
+  Engine(const Topology<2>& topo, const Scene& scene, const EngineOptions& options);
 
   // --- stepping ---
   void step();
@@ -75,36 +64,38 @@ class Engine {
   void set_dt(double dt) { state_.dt = dt; }
   double dt() const { return state_.dt; }
   // Block-wise estimate of the critical step (docs/theory.md, section 8): min over blocks of sqrt(m / k_trans) and
-  // sqrt(I / k_rot). About half the exact limit of the lattice (stability_limit() in static_solve.hpp).
+  // sqrt(I / k_rot), the attached components' stiffness included. About half the exact limit of the lattice
+  // (stability_limit() in static_solve.hpp).
   double critical_step() const;
 
   // --- the model and its state ---
-  const Model& model() const { return model_; }
-  const ModelState& state() const { return state_; }
-  const Topology& topology() const { return *model_.topology; }
+  const Model<2>& model() const { return model_; }
+  const ModelState<2>& state() const { return state_; }
+  const Topology<2>& topology() const { return *model_.topology; }
   // Replaces the state by a snapshot of a run of the same scene and topology. Throws std::invalid_argument when it
   // does not fit (another scene or mesh).
-  void restore(const ModelState& s);
+  void restore(const ModelState<2>& s);
   // Changes the state through `change`, then refreshes everything derived from it (rotations, bond damage, the
   // pair list at the next step). For placing blocks (the static start, tests) and similar set-ups.
-  void edit(const std::function<void(ModelState&)>& change);
+  void edit(const std::function<void(ModelState<2>&)>& change);
   // Breaks bond b now (tests, prepared specimens): its pair becomes a contact that carries the linear part on.
   void break_bond(int b);
-  // Fixes block b in place (its velocity stays zero), or sets its mass and inertia (tests).
-  void fix_block(int b);
+  // Fixes block b in place (the integrator keeps its state: block groups, tests), or frees it again; sets a block's
+  // mass and inertia (tests).
+  void fix_block(int b, bool fixed = true);
   void set_block_mass(int b, double mass, double inertia);
-  // A constant external load on block b (N, N, N m), added to the forces every step.
-  void set_external_load(int b, double fx, double fy, double m);
+  // A boundary component's hooks, called after those attached before (their forces are summed in that order). The
+  // component must outlive the engine.
+  void attach(BoundaryHooks<2>* hooks);
+  const stages::Hooks& hooks() const { return hooks_; }
 
   // --- forces without stepping (reference integrators, compare/reference_integrator.hpp) ---
   // The generalized force (F_x, F_y, M) on every block at the current state, through the same stages as step()
-  // (bonds, contacts, platens, external loads, gathered in step()'s fixed order), without advancing time, any
-  // history or any energy account; the top platen stands at top_y. The pair list is refreshed when blocks moved
-  // more than half a skin. Shear histories enter as they are: the forces are a function of the positions and
-  // velocities alone when no shear history is carried (frictionless contacts and platens, linear parts that
-  // cannot stick: see check_reference_scope).
+  // (bonds, contacts, the components, gathered in step()'s fixed order), without advancing time, any history or
+  // any energy account. The pair list is refreshed when blocks moved more than half a skin. Shear histories enter
+  // as they are: the forces are a function of the positions and velocities alone when no shear history is carried
+  // (frictionless contacts and platens, linear parts that cannot stick: see check_reference_scope).
   void evaluate_forces(std::vector<double>& fx, std::vector<double>& fy, std::vector<double>& moment);
-  void set_top_platen(double top_y) { state_.top_y = top_y; }
 
   // --- diagnostics ---
   BondForces bond_forces(int bond) const;  // the forces of a bond in the current state
@@ -121,27 +112,18 @@ class Engine {
   }
   // How the bonds and blocks are split among the threads. The split follows the threads' measured speed and no
   // result depends on it; tests move it to check that.
-  Workspace::Partition& partition() { return work_.part; }
+  Workspace<2>::Partition& partition() { return work_.part; }
   // The broad phase's grid and how often it was rebuilt and updated (diagnostics, tests).
-  const Workspace::BroadGrid& broad_phase() const { return work_.grid; }
-  bool has_platens() const { return options_.platens; }
-  double platen_friction() const { return options_.platen_friction; }
+  const Workspace<2>::BroadGrid& broad_phase() const { return work_.grid; }
 
   // Convenience reads of the state.
   double time() const { return state_.time; }
   long steps() const { return state_.steps; }
   const std::vector<Crack>& cracks() const { return state_.cracks; }
-  double top_y() const { return state_.top_y; }
-  double top_force() const { return state_.top_force; }        // N, compression positive
-  double bottom_force() const { return state_.bottom_force; }  // N, compression positive
-  double platen_displacement() const { return model_.ymax - state_.top_y; }
 
   // --- what the driver controls ---
   void set_breakage(bool on) { state_.breakage = on; }  // off: an elastic lattice (tests, stability checks)
   void set_strain_for_log(double strain) { state_.strain_for_log = strain; }
-  // The confining pressure on the jacket (Pa; dem/stages/jacket.cpp).
-  void set_confining_pressure(double p) { state_.confining_pressure = p; }
-  void set_platen_velocity(double v) { state_.platen_velocity = v; }
   // Called for each new crack (after it is logged).
   std::function<void(const Crack&)> on_crack;
 
@@ -150,9 +132,10 @@ class Engine {
   void refresh();
 
   EngineOptions options_;
-  Model model_;
-  ModelState state_;
-  Workspace work_;
+  Model<2> model_;
+  ModelState<2> state_;
+  Workspace<2> work_;
+  stages::Hooks hooks_;
   stages::DetectionOptions detection_;
   int nthreads_ = 1;  // the most threads the run may use
 };

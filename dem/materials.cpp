@@ -51,7 +51,7 @@ const MaterialParams& material_params(const Scene& scene, std::size_t id) {
   }
 }
 
-MaterialMap assign_materials(const Topology& topo, const Scene& scene) {
+MaterialMap assign_materials(const Topology<2>& topo, const Scene& scene) {
   const std::size_t layers = std::max<std::size_t>(
       topo.layer_names.size(),
       topo.blocks.layer.empty() ? 0 : std::size_t(1 + *std::max_element(topo.blocks.layer.begin(),

@@ -31,7 +31,7 @@ struct MaterialMap {
   std::vector<std::uint8_t> block;  // material id per block (material_rock or material_rock2)
 };
 
-MaterialMap assign_materials(const Topology& topo, const Scene& scene);
+MaterialMap assign_materials(const Topology<2>& topo, const Scene& scene);
 
 // The scene's parameters of material `id`.
 const MaterialParams& material_params(const Scene& scene, std::size_t id);

@@ -8,10 +8,10 @@
 
 namespace rbdem {
 
-StressTensor average_stress(const Engine& engine, double cx, double cy, double radius) {
-  const Model& m = engine.model();
-  const ModelState& s = engine.state();
-  const Topology& topo = engine.topology();
+StressTensor average_stress(const Engine<2>& engine, double cx, double cy, double radius) {
+  const Model<2>& m = engine.model();
+  const ModelState<2>& s = engine.state();
+  const Topology<2>& topo = engine.topology();
   std::vector<char> inside(m.num_blocks(), 0);
   StressTensor out;
   for (std::size_t b = 0; b < m.num_blocks(); ++b)
@@ -21,7 +21,7 @@ StressTensor average_stress(const Engine& engine, double cx, double cy, double r
       ++out.blocks;
     }
   if (out.blocks == 0) return out;
-  Workspace w;
+  Workspace<2> w;
   stages::update_rotations(s, w, 1);
   double sxx = 0, syy = 0, sxy = 0, syx = 0;
   for (std::size_t k = 0; k < m.num_bonds(); ++k) {
@@ -44,9 +44,9 @@ StressTensor average_stress(const Engine& engine, double cx, double cy, double r
   return out;
 }
 
-std::vector<double> diametral_load(const Engine& engine, const TriMesh& mesh, double force) {
-  const Model& m = engine.model();
-  const Topology& topo = engine.topology();
+std::vector<double> diametral_load(const Engine<2>& engine, const TriMesh& mesh, double force) {
+  const Model<2>& m = engine.model();
+  const Topology<2>& topo = engine.topology();
   const double tol = 1e-9 * topo.width();
   const double xc = 0.5 * (topo.xmin + topo.xmax);
   std::vector<double> load(3 * m.num_blocks(), 0.0);

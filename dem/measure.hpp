@@ -19,11 +19,11 @@ struct StressTensor {
 
 // The average stress of the blocks whose centroids lie within `radius` of (cx, cy), from the bonds' forces in the
 // engine's current state (intact bonds; contacts are not counted).
-StressTensor average_stress(const Engine& engine, double cx, double cy, double radius);
+StressTensor average_stress(const Engine<2>& engine, double cx, double cy, double radius);
 
 // The generalized load (3 entries per block) of two opposite point forces P (N) along the vertical diameter of a
 // disc: -P at its top point and +P at its bottom point (each shared among the blocks that hold that node), for the
 // static solve (StaticOptions::load). Throws std::invalid_argument when the mesh has no node at a point.
-std::vector<double> diametral_load(const Engine& engine, const TriMesh& mesh, double force);
+std::vector<double> diametral_load(const Engine<2>& engine, const TriMesh& mesh, double force);
 
 }  // namespace rbdem

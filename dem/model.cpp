@@ -10,20 +10,15 @@
 
 #include "common/fault_injection.hpp"
 #include "dem/materials.hpp"
-#include "dem/scene_keys.hpp"
 
 namespace rbdem {
 
-BondStiffness Model::stiffness(int b) const {
+BondStiffness Model<2>::stiffness(int b) const {
   const std::size_t k = std::size_t(b);
-  const BondKindLaw& kl = law[material[k]];
-  const double K = frame.K[k], L = frame.L[k];
-  const double A = L * thickness;
-  return {K, K / kl.kappa, K * L * L / kl.inertia_divisor, K, K / kl.kappa, kl.mu, kl.slip_bonded,
-          A, A * L * L / 12.0, L};
+  return law[material[k]].stiffness(frame.K[k], frame.L[k], thickness);
 }
 
-LinearContact Model::pair_law(int i, int j, int bond) const {
+LinearContact Model<2>::pair_law(int i, int j, int bond) const {
   if (bond >= 0) {  // a broken bond: the very law its linear part had (the bond's K, K / kappa and L)
     const std::size_t k = std::size_t(bond);
     return {frame.K[k], frame.Ks[k], law[material[k]].mu, frame.inv_L[k]};
@@ -36,19 +31,13 @@ LinearContact Model::pair_law(int i, int j, int bond) const {
   return LinearContact::per_area(kn, kn / kl.kappa, kl.mu, std::sqrt(3.0) * r, thickness);
 }
 
-LinearContact Model::platen_law(int block, double mu) const {
-  const std::size_t b = std::size_t(block);
-  return LinearContact::per_area(platen_kn[b], platen_kn[b] / law[block_material[b]].kappa, mu, platen_lref[b],
-                                 thickness);
-}
-
-bool Model::has_intact_bond(int b, const std::vector<std::uint8_t>& broken) const {
+bool Model<2>::has_intact_bond(int b, const std::vector<std::uint8_t>& broken) const {
   for (int o = csr_offset[std::size_t(b)]; o < csr_offset[std::size_t(b) + 1]; ++o)
     if (!broken[std::size_t(csr_entry[std::size_t(o)] >> 1)]) return true;
   return false;
 }
 
-bool Model::bonded(int i, int j, const std::vector<std::uint8_t>& broken) const {
+bool Model<2>::bonded(int i, int j, const std::vector<std::uint8_t>& broken) const {
   for (int o = csr_offset[i]; o < csr_offset[i + 1]; ++o) {
     const int b = csr_entry[o] >> 1;
     if (!broken[std::size_t(b)] && (bi[b] == j || bj[b] == j)) return true;
@@ -56,9 +45,9 @@ bool Model::bonded(int i, int j, const std::vector<std::uint8_t>& broken) const 
   return false;
 }
 
-Model build_model(const Topology& topo, const Scene& scene, double mass_scaling) {
+Model<2> build_model(const Topology<2>& topo, const Scene& scene, double mass_scaling) {
   constexpr double deg = std::numbers::pi / 180.0;
-  Model m;
+  Model<2> m;
   m.topology = &topo;
   m.thickness = topo.thickness;
   m.width = topo.width(), m.height = topo.height();
@@ -99,9 +88,9 @@ Model build_model(const Topology& topo, const Scene& scene, double mass_scaling)
     kl.kappa = mat[k]->stiffness_ratio;
     kl.mu = mat[k]->contact_friction;
     kl.slip_bonded = mat[k]->slip_when_bonded;
-    kl.inertia_divisor = fault_injected("bond_inertia") ? 6.0 : 12.0;
+    kl.bond.inertia_divisor = fault_injected("bond_inertia") ? 6.0 : 12.0;
     kl.bond.inv_kappa = 1.0 / mat[k]->stiffness_ratio;
-    kl.bond.inertia_factor = 1.0 / kl.inertia_divisor;
+    kl.bond.inertia_factor = 1.0 / kl.bond.inertia_divisor;
     kl.bond.strength = {mat[k]->tensile_strength, mat[k]->cohesion, std::tan(mat[k]->friction_deg * deg),
                         mat[k]->moment_factor};
     const double sc = mat[k]->tensile_strength;
@@ -123,9 +112,9 @@ Model build_model(const Topology& topo, const Scene& scene, double mass_scaling)
     f.n0x[b] = N.nx[b], f.n0y[b] = N.ny[b];
     f.L[b] = L, f.inv_L[b] = 1.0 / L;
     f.K[b] = kl.modulus / N.d[b] * L * m.thickness;
-    f.Ks[b] = f.K[b] * kl.bond.inv_kappa;
-    f.KI[b] = f.K[b] * L * L * kl.bond.inertia_factor;
-    f.A[b] = L * m.thickness;
+    f.Ks[b] = kl.bond.kernel_shear(f.K[b]);
+    f.KI[b] = kl.bond.kernel_rotational(f.K[b], L);
+    f.A[b] = kl.bond.section(L, m.thickness).A;
     f.rupture[b] = kl.bond.rupture_index(f.K[b], L);
     const BondStrength& st = kl.bond.strength;
     f.mu_bonded[b] = kl.bonded_mu();
@@ -171,100 +160,11 @@ Model build_model(const Topology& topo, const Scene& scene, double mass_scaling)
     for (int o = m.csr_offset[b]; o < m.csr_offset[b + 1]; ++o)
       m.gather[width * b + std::size_t(o - m.csr_offset[b])] = m.csr_entry[std::size_t(o)];
 
-  // Platen stiffness: the platen acts as the mirror image of the block, d = 2 x inradius.
-  m.platen_kn.resize(nb);
-  for (std::size_t b = 0; b < nb; ++b) m.platen_kn[b] = m.law[m.block_material[b]].modulus / (2.0 * m.inradius[b]);
-  // L_ref of a platen contact: the block's edge on the platen, else the inradius-based length of a fresh contact.
-  m.platen_lref.resize(nb);
-  for (std::size_t b = 0; b < nb; ++b) m.platen_lref[b] = 2.0 * std::sqrt(3.0) * m.inradius[b];
-  for (std::size_t e = 0; e < topo.boundary.size(); ++e)
-    if (topo.boundary.side[e] == Side::top || topo.boundary.side[e] == Side::bottom)
-      m.platen_lref[std::size_t(topo.boundary.block[e])] = topo.boundary.length[e];
-
-  if (topo.boundary.ax.size() != topo.boundary.size() || topo.boundary.by.size() != topo.boundary.size())
-    throw std::invalid_argument("build_model: the topology's boundary edges have no end points (ax, ay, bx, by)");
-  for (std::size_t e = 0; e < topo.boundary.size(); ++e) {
-    const Side side = topo.boundary.side[e];
-    if (side == Side::top || side == Side::bottom) continue;
-    const int b = topo.boundary.block[e];
-    m.jacket.block.push_back(b);
-    m.jacket.ax.push_back(topo.boundary.ax[e] - G.cx[std::size_t(b)]);
-    m.jacket.ay.push_back(topo.boundary.ay[e] - G.cy[std::size_t(b)]);
-    m.jacket.bx.push_back(topo.boundary.bx[e] - G.cx[std::size_t(b)]);
-    m.jacket.by.push_back(topo.boundary.by[e] - G.cy[std::size_t(b)]);
-  }
-
   double mean_length = 0;
   for (double L : N.length) mean_length += L;
   mean_length = nbond ? mean_length / double(nbond) : 1e-3;
   m.skin = 0.2 * mean_length;
   return m;
 }
-
-
-namespace scene_keys {
-
-// The keys of one material; `section` is "rock", "joint", "joint2" or "rock2".
-void add_material(Keys& k, const std::string& section, std::function<MaterialParams&(Scene&)> m) {
-  const std::string p = section + ".";
-  const std::string what = section == "rock"    ? "bonds inside a layer"
-                           : section == "joint"  ? "bonds across layers (joints)"
-                           : section == "joint2" ? "joints of the second set and of the interfaces joint2.groups names"
-                                                 : "bonds inside the layers rock2.groups names";
-  k.add(positive(p + "effective_modulus", "Pa", 1e14,
-                 "effective modulus E* of " + what + ": k_n = E*/d (linear part and parallel bond)",
-                 [m](Scene& s) -> double& { return m(s).effective_modulus; }));
-  k.add(positive(p + "stiffness_ratio", "-", 100.0, "normal to shear stiffness ratio kappa = k_n/k_s of " + what,
-                 [m](Scene& s) -> double& { return m(s).stiffness_ratio; }));
-  k.add(positive(p + "tensile_strength", "Pa", 1e12, "parallel bond tensile strength sigma_c of " + what,
-                 [m](Scene& s) -> double& { return m(s).tensile_strength; }));
-  k.add(positive(p + "cohesion", "Pa", 1e12, "parallel bond cohesion c of " + what,
-                 [m](Scene& s) -> double& { return m(s).cohesion; }));
-  k.add(real(p + "friction_deg", "deg", 0.0, 89.0,
-             "parallel bond friction angle phi_b: shear strength c - sigma_n tan(phi_b) of " + what,
-             [m](Scene& s) -> double& { return m(s).friction_deg; }));
-  k.add(real(p + "contact_friction", "-", 0.0, 10.0,
-             "Coulomb coefficient mu of the linear part and of contacts after breakage, " + what,
-             [m](Scene& s) -> double& { return m(s).contact_friction; }));
-  k.add(real(p + "moment_factor", "-", 0.0, 1.0,
-             "moment contribution factor beta_m in the bond tensile stress of " + what,
-             [m](Scene& s) -> double& { return m(s).moment_factor; }));
-  k.add(real(p + "fracture_energy", "J/m^2", 0.0, 1e6,
-             "fracture energy G_f of " + what + ": after its strength is reached a bond softens linearly and "
-             "breaks when it has dissipated G_f per unit bond area, whatever the mesh (crack band); 0 = "
-             "brittle, as in the seed paper (breaks at its strength)",
-             [m](Scene& s) -> double& { return m(s).fracture_energy; }));
-  k.add(real(p + "weibull_modulus", "-", 0.0, 100.0,
-             "heterogeneity of " + what + ": each bond's tensile strength and cohesion are the stated values times a "
-             "factor drawn from a Weibull distribution of this modulus m, scaled to mean 1 (coefficient of variation "
-             "0.36 at m = 3, 0.12 at m = 10); the fracture energy stays the same; 0 = every bond at the stated "
-             "strength (mesh.strength_seed picks the realization)",
-             [m](Scene& s) -> double& { return m(s).weibull_modulus; }));
-  k.add(boolean(p + "slip_when_bonded",
-                "true: the linear part slides at mu F_n even while the parallel bond is intact (PFC's linear "
-                "parallel bond); false: a bonded interface sticks until its bond breaks, " + what,
-                [m](Scene& s) -> bool& { return m(s).slip_when_bonded; }));
-}
-
-// [rock], [joint], [joint2], [rock2]: the bond and contact laws of each material, and the block densities.
-void declare_materials(Keys& k) {
-  add_material(k, "rock", [](Scene& s) -> MaterialParams& { return s.rock; });
-  k.add(positive("rock.density", "kg/m^3", 1e5, "block density",
-                 [](Scene& s) -> double& { return s.rock.density; }));
-  add_material(k, "joint", [](Scene& s) -> MaterialParams& { return s.joint; });
-  add_material(k, "joint2", [](Scene& s) -> MaterialParams& { return s.joint2; });
-  k.add(text("joint2.groups",
-             "interfaces (physical curve names of the mesh, comma separated) whose joints get this material besides "
-             "the second generated joint set; empty = the second set only",
-             [](Scene& s) -> std::string& { return s.joint2.groups; }));
-  add_material(k, "rock2", [](Scene& s) -> MaterialParams& { return s.rock2; });
-  k.add(positive("rock2.density", "kg/m^3", 1e5, "block density of the layers of this rock",
-                 [](Scene& s) -> double& { return s.rock2.density; }));
-  k.add(text("rock2.groups",
-             "layers (physical surface names or layer numbers, comma separated) made of this rock; empty = none",
-             [](Scene& s) -> std::string& { return s.rock2.groups; }));
-}
-
-}  // namespace scene_keys
 
 }  // namespace rbdem

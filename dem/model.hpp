@@ -6,6 +6,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -13,9 +14,40 @@
 #include "dem/laws/linear_contact.hpp"
 #include "dem/laws/parallel_bond.hpp"
 #include "dem/scene.hpp"
+#include "dem/static_result.hpp"
 #include "dem/topology.hpp"
 
 namespace rbdem {
+
+// The stiffnesses of one bond in the linearised form (the static solve, the stability estimate, the energies), and
+// the linearised law of its linear part.
+struct BondStiffness {
+  double kbnA, kbsA, kbnI;  // parallel bond: N/m, N/m, N m
+  double knA, ksA, mu;      // linear part (closed edge): N/m, N/m, -
+  bool slip_bonded;         // the linear part slides while the bond is intact
+  double A, I, L;           // m^2, m^4, m: the section (ParallelBond::section) and the edge length
+
+  // The linear part's state (StaticResult::LinearState) at the opening dn and shear displacement ds of the bond
+  // point: open unless closed (dn < 0); closed, it sticks while |k_s A ds| <= mu k_n A (-dn), else it slides.
+  std::uint8_t linear_state(double dn, double ds) const {
+    if (!(dn < 0.0)) return StaticResult::open;
+    return !slip_bonded || std::abs(ksA * ds) <= mu * (-knA * dn)
+               ? StaticResult::stick
+               : (ds > 0 ? StaticResult::slip_positive : StaticResult::slip_negative);
+  }
+  // Its shear force in `state`: -k_s A ds sticking, -+ mu k_n A (-dn) sliding, 0 open.
+  double linear_shear(std::uint8_t state, double dn, double ds) const {
+    if (state == StaticResult::stick) return -ksA * ds;
+    if (state == StaticResult::open) return 0.0;
+    return (state == StaticResult::slip_positive ? -1.0 : 1.0) * mu * (-knA * dn);
+  }
+  // d F_s / d dn of a sliding linear part (F_s = sign(ds) mu k_n A dn): the non-symmetric term of the static
+  // stiffness; 0 in the other states.
+  double slip_coupling(std::uint8_t state) const {
+    if (state != StaticResult::slip_positive && state != StaticResult::slip_negative) return 0.0;
+    return -(state == StaticResult::slip_positive ? 1.0 : -1.0) * mu * knA;
+  }
+};
 
 // The laws and parameters of one material (dem/materials.hpp: rock, joint, joint2, rock2).
 struct BondKindLaw {
@@ -23,10 +55,16 @@ struct BondKindLaw {
   double kappa = 1;           // k_n / k_s
   double mu = 0;              // Coulomb coefficient of the linear part and of later contacts of this kind
   bool slip_bonded = false;   // the linear part of an intact bond slides at mu F_n (else it sticks: mu = inf)
-  double inertia_divisor = 12.0;  // I = t L^3 / inertia_divisor (12; common/fault_injection.hpp plants 6)
   ParallelBond bond;
   // The Coulomb coefficient of the linear part while the bond is intact.
   double bonded_mu() const { return slip_bonded ? mu : std::numeric_limits<double>::infinity(); }
+  // The linearised stiffnesses of a bond of normal stiffness K (N/m) on an edge of length L (m) in a slice of
+  // thickness t (m): the parallel bond's K, K / kappa and K L^2 / 12 (ParallelBond::rotational), the closed linear
+  // part's K and K / kappa, and the section.
+  BondStiffness stiffness(double K, double L, double t) const {
+    const ParallelBond::Section sec = bond.section(L, t);
+    return {K, K / kappa, bond.rotational(K, L), K, K / kappa, mu, slip_bonded, sec.A, sec.I, L};
+  }
 };
 
 // Constant per-bond data, one array per field, in bond order. Lever arms from each centroid to the edge midpoint
@@ -44,16 +82,12 @@ struct BondFrames {
   std::size_t size() const { return L.size(); }
 };
 
-// The stiffnesses of one bond (diagnostics, the static solve).
-struct BondStiffness {
-  double kbnA, kbsA, kbnI;  // parallel bond: N/m, N/m, N m
-  double knA, ksA, mu;      // linear part (closed edge): N/m, N/m, -
-  bool slip_bonded;         // the linear part slides while the bond is intact
-  double A, I, L;           // m^2, m^4, m
-};
+template <int dim>
+struct Model;
 
-struct Model {
-  const Topology* topology = nullptr;
+template <>
+struct Model<2> {
+  const Topology<2>* topology = nullptr;
   double thickness = 1.0, width = 0, height = 0;  // m
   double xmin = 0, xmax = 0, ymin = 0, ymax = 0;  // m, the specimen's bounding box
 
@@ -83,25 +117,12 @@ struct Model {
   std::vector<int> gather;
   int gather_width = 3;
 
-  // platens: the half-plane contact of each block (k_n from the block's mirror image, d = 2 inradius)
-  std::vector<double> platen_kn;    // Pa/m
-  std::vector<double> platen_lref;  // m, the block's edge on the platen, else the inradius-based length
   double skin = 0;                  // m, broad-phase skin (0.2 mean edge lengths)
-
-  // The jacket: the outer edges a confining pressure acts on (every boundary edge not on a platen), with their end
-  // points in the block's reference frame (relative to the reference centroid), outside to the right of a -> b.
-  struct JacketEdges {
-    std::vector<int> block;
-    std::vector<double> ax, ay, bx, by;  // m
-    std::size_t size() const { return block.size(); }
-  } jacket;
 
   BondStiffness stiffness(int bond) const;
   // The linear contact law of a pair of blocks after their bond broke (bond >= 0) or that were never
   // neighbours (bond = -1).
   LinearContact pair_law(int i, int j, int bond) const;
-  // The linear contact law of a block against a platen.
-  LinearContact platen_law(int block, double mu) const;
   // Whether blocks i and j share an intact bond, given the bonds' broken flags.
   bool bonded(int i, int j, const std::vector<std::uint8_t>& broken) const;
   // Whether block b has at least one intact bond.
@@ -110,6 +131,6 @@ struct Model {
 
 // Builds the model of `topo` with the scene's materials and mass scaling. The model keeps a pointer to `topo`,
 // which must outlive it.
-Model build_model(const Topology& topo, const Scene& scene, double mass_scaling);
+Model<2> build_model(const Topology<2>& topo, const Scene& scene, double mass_scaling);
 
 }  // namespace rbdem

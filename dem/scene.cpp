@@ -1,8 +1,6 @@
 // Scene registry, TOML reader, overrides and printers. See scene.hpp.
 #include "dem/scene.hpp"
 
-#include "dem/scene_keys.hpp"
-
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -15,6 +13,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 #include <toml++/toml.h>
+
+#include "dem/scene_keys.hpp"
 
 namespace rbdem {
 
@@ -466,43 +466,5 @@ std::string parameter_reference() {
                        parameter_text(defaults, e.info.key), e.info.doc);
   return out;
 }
-
-
-namespace scene_keys {
-
-Entry real(std::string key, std::string unit, double lo, double hi, std::string doc,
-           std::function<double&(Scene&)> get, bool lo_exclusive) {
-  ParamInfo info{std::move(key), ParamKind::real, std::move(unit), std::move(doc), lo, hi, lo_exclusive, {}};
-  return {std::move(info), [get](Scene& s) -> ValueRef { return &get(s); }};
-}
-Entry positive(std::string key, std::string unit, double hi, std::string doc, std::function<double&(Scene&)> get) {
-  return real(std::move(key), std::move(unit), 0.0, hi, std::move(doc), std::move(get), true);
-}
-Entry integer(std::string key, std::string unit, int lo, int hi, std::string doc, std::function<int&(Scene&)> get) {
-  ParamInfo info{std::move(key), ParamKind::integer, std::move(unit), std::move(doc), double(lo), double(hi), false, {}};
-  return {std::move(info), [get](Scene& s) -> ValueRef { return &get(s); }};
-}
-Entry boolean(std::string key, std::string doc, std::function<bool&(Scene&)> get) {
-  ParamInfo info{std::move(key), ParamKind::boolean, "-", std::move(doc), 0, 1, false, {}};
-  return {std::move(info), [get](Scene& s) -> ValueRef { return &get(s); }};
-}
-Entry choice(std::string key, std::vector<std::string> choices, std::string doc,
-             std::function<std::string&(Scene&)> get) {
-  ParamInfo info{std::move(key), ParamKind::choice, "-", std::move(doc), 0, 0, false, std::move(choices)};
-  return {std::move(info), [get](Scene& s) -> ValueRef { return &get(s); }};
-}
-Entry text(std::string key, std::string doc, std::function<std::string&(Scene&)> get) {
-  ParamInfo info{std::move(key), ParamKind::text, "-", std::move(doc), 0, 0, false, {}};
-  return {std::move(info), [get](Scene& s) -> ValueRef { return &get(s); }};
-}
-
-// [elastic]: the elastic gate (compare/gate/elastic_gate.hpp).
-void declare_elastic(Keys& k) {
-  k.add(positive("elastic.tolerance", "-", 1.0,
-                 "elastic gate: largest relative difference of DEM and Amadei moduli accepted",
-                 [](Scene& s) -> double& { return s.elastic.tolerance; }));
-}
-
-}  // namespace scene_keys
 
 }  // namespace rbdem

@@ -1,14 +1,13 @@
-// How a module declares its scene section. The scene (dem/scene.hpp) is one registry of keys, each with its unit,
-// allowed range, default and doc string; every section is declared by the module that reads it, through the
-// builders below, and dem/scene.cpp collects them in file order:
-//   [specimen] [joint_set] [joint_set2] [mesh]  dem/specimen_mesh.cpp  declare_geometry
-//   [rock] [joint] [joint2] [rock2] dem/model.cpp           declare_materials
-//   [loading]                       dem/driver/ucs.cpp      declare_loading
-//   [numerics]                      dem/engine.cpp          declare_numerics
-//   [elastic]                       dem/scene.cpp           declare_elastic (read by compare/gate, which the DEM
-//                                                                            library does not link)
-//   [output]                        dem/driver/monitors.cpp declare_output
-// Internal to the DEM library.
+// How the scene's sections are declared. The scene (dem/scene.hpp) is one registry of keys, each with its unit,
+// allowed range, default and doc string; dem/scene_keys.cpp declares every section through the builders below, and
+// dem/scene.cpp collects them in this order:
+//   [specimen] [joint_set] [joint_set2] [mesh]  declare_geometry   read by the meshing (dem/specimen_mesh.cpp)
+//   [rock] [joint] [joint2] [rock2]             declare_materials  read by the model (dem/model.cpp)
+//   [loading]                                   declare_loading    read by the tests between platens
+//   [numerics]                                  declare_numerics   read by the engine and the driver
+//   [elastic]                                   declare_elastic    read by compare/gate
+//   [output]                                    declare_output     read by the recorders (dem/driver/monitors.cpp)
+// Internal to the scene library.
 #pragma once
 
 #include <functional>

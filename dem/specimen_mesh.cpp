@@ -9,7 +9,6 @@
 #include <fmt/format.h>
 
 #include "dem/gmsh_module.hpp"
-#include "dem/scene_keys.hpp"
 
 namespace rbdem {
 
@@ -159,88 +158,5 @@ TriMesh make_mesh(const Scene& scene, const std::filesystem::path& msh_out) {
   if (!scene.mesh.file.empty()) return read_msh(scene.mesh.file);
   return mesh_specimen(SpecimenGeometry::from_scene(scene), scene.mesh.size, msh_out);
 }
-
-
-namespace scene_keys {
-
-namespace {
-// The keys of one joint set; `section` is "joint_set" or "joint_set2".
-void declare_joint_set(Keys& k, const std::string& section, std::function<JointSetParams&(Scene&)> set) {
-  const bool second = section == "joint_set2";
-  const std::string p = section + ".";
-  k.add(real(p + "dip_deg", "deg", second ? -180.0 : 0.0, second ? 180.0 : 90.0,
-             second ? "dip of the second set from the horizontal (or from joint_set.dip_deg when follows_set1 = "
-                      "true); above 90 deg the set dips the other way"
-                    : "joint dip from the horizontal; the load is vertical (0 = joints normal to the load)",
-             [set](Scene& s) -> double& { return set(s).dip_deg; }));
-  k.add(positive(p + "spacing", "m", 100.0, "normal distance between neighbouring joints",
-                 [set](Scene& s) -> double& { return set(s).spacing; }));
-  k.add(real(p + "offset", "m", -100.0, 100.0,
-             "shift of the joint set along its normal; 0 puts a joint through the specimen centre",
-             [set](Scene& s) -> double& { return set(s).offset; }));
-  k.add(boolean(p + "enabled",
-                second ? "true adds a second joint set (its joints get the [joint2] material)"
-                       : "false gives intact rock (no joints)",
-                [set](Scene& s) -> bool& { return set(s).enabled; }));
-  k.add(real(p + "persistence", "-", 0.0, 1.0,
-             "joint length / (joint length + rock bridge length) along each joint; 1 = through-going joints; below 1 "
-             "each joint is a row of pieces joint_length long separated by intact rock bridges",
-             [set](Scene& s) -> double& { return set(s).persistence; }, true));
-  k.add(positive(p + "joint_length", "m", 100.0, "length of each joint piece when persistence < 1",
-                 [set](Scene& s) -> double& { return set(s).joint_length; }));
-  k.add(real(p + "stagger", "-", 0.0, 1.0,
-             "shift of the joint pieces from one joint to the next along the set, as a fraction of their period "
-             "(joint + bridge length); 0.5 = en echelon",
-             [set](Scene& s) -> double& { return set(s).stagger; }));
-  if (second)
-    k.add(boolean(p + "follows_set1",
-                  "true: dip_deg is measured from joint_set.dip_deg, so the two sets keep their angle when a study "
-                  "turns the first set",
-                  [set](Scene& s) -> bool& { return set(s).follows_set1; }));
-}
-}  // namespace
-
-// [specimen], [joint_set], [joint_set2], [mesh]: the specimen geometry and its mesh.
-void declare_geometry(Keys& k) {
-  // [specimen]
-  k.add(choice("specimen.shape", {"rectangle", "disc"},
-               "rectangle: width x height (uniaxial and confined compression); disc: diameter (the Brazilian test)",
-               [](Scene& s) -> std::string& { return s.specimen.shape; }));
-  k.add(positive("specimen.width", "m", 100.0, "specimen width (horizontal) of a rectangle",
-                 [](Scene& s) -> double& { return s.specimen.width; }));
-  k.add(positive("specimen.height", "m", 100.0, "specimen height (load axis, vertical) of a rectangle",
-                 [](Scene& s) -> double& { return s.specimen.height; }));
-  k.add(positive("specimen.diameter", "m", 100.0, "diameter of a disc (the Brazilian test; loaded along the vertical)",
-                 [](Scene& s) -> double& { return s.specimen.diameter; }));
-  k.add(real("specimen.contact_arc_deg", "deg", 0.0, 60.0,
-             "a disc's top and bottom are flattened over this angle 2 alpha (the contact arc of loading jaws, "
-             "ISRM: about 10 deg), so that the flat platens load an arc rather than a point; 0 = a full disc",
-             [](Scene& s) -> double& { return s.specimen.contact_arc_deg; }));
-  k.add(positive("specimen.thickness", "m", 100.0, "out-of-plane thickness t (bond area A = L t)",
-                 [](Scene& s) -> double& { return s.specimen.thickness; }));
-  k.add(choice("specimen.model", {"plane_strain", "plane_stress"},
-               "2D interpretation of the continuum constants (FE model and Amadei's formula)",
-               [](Scene& s) -> std::string& { return s.specimen.model; }));
-  // [joint_set], [joint_set2]
-  declare_joint_set(k, "joint_set", [](Scene& s) -> JointSetParams& { return s.joint_set; });
-  declare_joint_set(k, "joint_set2", [](Scene& s) -> JointSetParams& { return s.joint_set2; });
-  // [mesh]
-  k.add(positive("mesh.size", "m", 1.0, "target triangle edge length h (one rigid block per triangle)",
-                 [](Scene& s) -> double& { return s.mesh.size; }));
-  k.add(integer("mesh.seed", "-", 0, 1000000,
-                 "mesh realization: 0 = the reference mesh; another seed grades the nodes along every side and joint "
-                 "(+-2.5 %, same segment count) so gmsh lays a different mesh of the same size and quality; the same "
-                 "seed gives the same mesh (docs/studies.md, \"Realizations\")",
-                 [](Scene& s) -> int& { return s.mesh.seed; }));
-  k.add(integer("mesh.strength_seed", "-", 0, 1000000,
-                 "realization of the bond strength factors of the materials with a weibull_modulus (the same seed "
-                 "gives the same strengths on the same mesh); a study's realizations = N runs seeds 0 .. N-1 of "
-                 "both this and mesh.seed",
-                 [](Scene& s) -> int& { return s.mesh.strength_seed; }));
-  k.add(text("mesh.file", "user mesh (.msh; physical surfaces = layers); empty = mesh the specimen",
-             [](Scene& s) -> std::string& { return s.mesh.file; }));
-}
-
-}  // namespace scene_keys
 
 }  // namespace rbdem

@@ -1,4 +1,4 @@
-// The state's size and index checks, walking the field table. See state.hpp.
+// The state's size and index checks and its snapshot, walking the field table. See state.hpp.
 #include "dem/state.hpp"
 
 #include <algorithm>
@@ -8,9 +8,11 @@
 
 #include <fmt/format.h>
 
+#include "dem/record_columns.hpp"
+
 namespace rbdem {
 
-void check_state_fits(const ModelState& s, std::size_t blocks, std::size_t bonds) {
+void check_state_fits(const ModelState<2>& s, std::size_t blocks, std::size_t bonds) {
   const std::size_t eligible = s.eligible.size(), contacts = s.contacts.size();
   std::string bad;
   auto in_range = [](const std::vector<int>& v, std::size_t n) {
@@ -56,6 +58,82 @@ void check_state_fits(const ModelState& s, std::size_t blocks, std::size_t bonds
     throw std::invalid_argument(fmt::format("the state does not fit this model ({} blocks and {} bonds in the state, "
                                             "{} and {} here): it was written for another scene or mesh ({})",
                                             s.x.size(), s.broken.size(), blocks, bonds, bad.substr(1, bad.size() - 2)));
+}
+
+namespace {
+
+// A record column as a snapshot column: enums as bytes, the rest as they are.
+template <class V>
+auto snapshot_column(const std::vector<V>& v) {
+  if constexpr (std::is_enum_v<V>) {
+    std::vector<std::uint8_t> out(v.size());
+    for (std::size_t k = 0; k < v.size(); ++k) out[k] = std::uint8_t(v[k]);
+    return out;
+  } else {
+    return v;
+  }
+}
+
+}  // namespace
+
+void save_state(const ModelState<2>& state, Snapshot& snap) {
+  state.fields([&](const char* name, const auto& field, Extent extent, bool) {
+    using T = std::decay_t<decltype(field)>;
+    const std::string n = name;
+    if constexpr (std::is_same_v<T, ContactPairs>) {
+      snap.add(n + "/i", extent, field.i);
+      snap.add(n + "/j", extent, field.j);
+      snap.add(n + "/bond", extent, field.bond);
+      std::vector<double> law;  // K, Ks, mu, 1 / L_ref of each pair: bit-exact
+      law.reserve(4 * field.law.size());
+      for (const LinearContact& c : field.law) law.insert(law.end(), {c.K, c.Ks, c.mu, c.inv_lref});
+      snap.add(n + "/law", extent, std::move(law));
+      snap.add(n + "/fs", extent, field.fs);
+      snap.add(n + "/fn", extent, field.fn);
+      snap.add(n + "/chord", extent, field.chord);
+      snap.add(n + "/key", extent, field.key);
+    } else if constexpr (std::is_same_v<T, std::vector<Crack>>) {
+      write_columns(2, field, [&](const Field& f, const auto& column, bool stored) {
+        if (stored) snap.add(n + "/" + f.name, extent, snapshot_column(column));
+      });
+    } else {
+      snap.add(n, extent, field);
+    }
+  });
+}
+
+void load_state(const Snapshot& snap, ModelState<2>& state) {
+  state.fields([&](const char* name, auto& field, Extent, bool) {
+    using T = std::decay_t<decltype(field)>;
+    const std::string n = name;
+    if constexpr (std::is_same_v<T, ContactPairs>) {
+      field.i = snap.get<std::vector<int>>(n + "/i");
+      field.j = snap.get<std::vector<int>>(n + "/j");
+      field.bond = snap.get<std::vector<int>>(n + "/bond");
+      const auto& law = snap.get<std::vector<double>>(n + "/law");
+      if (law.size() % 4 != 0) throw std::invalid_argument("the snapshot's contact laws are not four numbers each");
+      field.law.resize(law.size() / 4);
+      for (std::size_t k = 0; k < field.law.size(); ++k)
+        field.law[k] = {law[4 * k], law[4 * k + 1], law[4 * k + 2], law[4 * k + 3]};
+      field.fs = snap.get<std::vector<double>>(n + "/fs");
+      field.fn = snap.get<std::vector<double>>(n + "/fn");
+      field.chord = snap.get<std::vector<double>>(n + "/chord");
+      field.key = snap.get<std::vector<std::uint64_t>>(n + "/key");
+    } else if constexpr (std::is_same_v<T, std::vector<Crack>>) {
+      field = read_columns<Crack>(2, [&](const Field& f, auto& column) {
+        using V = typename std::decay_t<decltype(column)>::value_type;
+        if constexpr (std::is_enum_v<V>) {
+          const auto& bytes = snap.get<std::vector<std::uint8_t>>(n + "/" + f.name);
+          column.resize(bytes.size());
+          for (std::size_t k = 0; k < bytes.size(); ++k) column[k] = V(bytes[k]);
+        } else {
+          column = snap.get<std::vector<V>>(n + "/" + f.name);
+        }
+      });
+    } else {
+      field = snap.get<T>(n);
+    }
+  });
 }
 
 }  // namespace rbdem

@@ -15,18 +15,11 @@
 
 #include "dem/laws/linear_contact.hpp"
 #include "dem/laws/parallel_bond.hpp"
+#include "dem/records.hpp"
+#include "dem/snapshot.hpp"
 #include "dem/topology.hpp"
 
 namespace rbdem {
-
-struct Crack {
-  double time = 0, strain = 0;   // s, axial strain when the bond broke
-  double x = 0, y = 0;           // m, bond position when it broke
-  int bond = -1;
-  BondKind kind = BondKind::rock;
-  BreakMode mode = BreakMode::tensile;
-  double sigma = 0, tau = 0;     // Pa, the bond stresses that broke it
-};
 
 // Block-block contact pairs with their history, sorted by key = (i << 32) | j, i < j.
 struct ContactPairs {
@@ -38,10 +31,11 @@ struct ContactPairs {
   std::size_t size() const { return key.size(); }
 };
 
-// Which index space a field's entries belong to (restore checks each against the model).
-enum class Extent : std::uint8_t { blocks, bonds, contacts, eligible, free, scalar };
+template <int dim>
+struct ModelState;
 
-struct ModelState {
+template <>
+struct ModelState<2> {
   // --- blocks: kinematic state, centroid (m), rotation (rad), velocities at the half step (m/s, rad/s) ---
   std::vector<double> x, y, theta, vx, vy, omega;
   std::vector<double> fx, fy, moment;          // total force of the last step without damping (N, N m)
@@ -57,20 +51,7 @@ struct ModelState {
   ContactPairs contacts;
   std::vector<int> eligible;                   // blocks with a free face at the last broad-phase rebuild
   std::vector<double> ref_x, ref_y;            // their positions then (m)
-  double ref_top = 0;                          // top platen position then (m)
   bool rebuild = true;                         // the next step rebuilds the pair list
-
-  // --- boundary state: the platens ---
-  double top_y = 0;                            // m, top platen position (the bottom one is fixed at Model::ymin)
-  double platen_velocity = 0;                  // m/s, closing speed of the top platen
-  double top_force = 0, bottom_force = 0;      // N, compression positive, of the last step
-  std::vector<int> top_candidates, bottom_candidates;
-  std::vector<double> top_fs, bottom_fs;       // per block platen shear history (N)
-
-  // --- boundary state: the confining pressure (the jacket) ---
-  double confining_pressure = 0;               // Pa, on every outer edge that is not on a platen
-  int jacket_lost = 0, jacket_lost_max = 0;    // jacket edges without pressure now / at most so far (blocks that
-                                               // lost every bond and contact: the rule in dem/stages/jacket.cpp)
 
   // --- clock ---
   double dt = 0, time = 0;                     // s
@@ -79,9 +60,7 @@ struct ModelState {
   double strain_for_log = 0;                   // axial strain the driver reports with new cracks
 
   // --- energy accounts (cumulative, J) ---
-  double e_damping = 0, e_friction = 0, e_work = 0;
-  double e_work_jacket = 0;                    // J, work of the confining pressure
-  double platen_energy = 0;                    // J, elastic energy in the platen contacts at the last step
+  double e_damping = 0, e_friction = 0;
 
   std::vector<Crack> cracks;                   // the crack log, in order of breakage
 
@@ -120,19 +99,7 @@ struct ModelState {
     f("eligible", s.eligible, Extent::eligible, false);
     f("ref_x", s.ref_x, Extent::eligible, false);
     f("ref_y", s.ref_y, Extent::eligible, false);
-    f("ref_top", s.ref_top, Extent::scalar, false);
     f("rebuild", s.rebuild, Extent::scalar, false);
-    f("top_y", s.top_y, Extent::scalar, false);
-    f("platen_velocity", s.platen_velocity, Extent::scalar, false);
-    f("top_force", s.top_force, Extent::scalar, false);
-    f("bottom_force", s.bottom_force, Extent::scalar, false);
-    f("top_candidates", s.top_candidates, Extent::free, false);
-    f("bottom_candidates", s.bottom_candidates, Extent::free, false);
-    f("top_fs", s.top_fs, Extent::blocks, false);
-    f("bottom_fs", s.bottom_fs, Extent::blocks, false);
-    f("confining_pressure", s.confining_pressure, Extent::scalar, false);
-    f("jacket_lost", s.jacket_lost, Extent::scalar, false);
-    f("jacket_lost_max", s.jacket_lost_max, Extent::scalar, false);
     f("dt", s.dt, Extent::scalar, false);
     f("time", s.time, Extent::scalar, false);
     f("steps", s.steps, Extent::scalar, false);
@@ -140,15 +107,18 @@ struct ModelState {
     f("strain_for_log", s.strain_for_log, Extent::scalar, false);
     f("e_damping", s.e_damping, Extent::scalar, false);
     f("e_friction", s.e_friction, Extent::scalar, false);
-    f("e_work", s.e_work, Extent::scalar, false);
-    f("e_work_jacket", s.e_work_jacket, Extent::scalar, false);
-    f("platen_energy", s.platen_energy, Extent::scalar, false);
     f("cracks", s.cracks, Extent::free, false);
   }
 };
 
 // Throws std::invalid_argument when `s` does not fit a model of `blocks` blocks and `bonds` bonds (another scene or
 // mesh): every field's length against its extent, and every block or bond index it holds in range.
-void check_state_fits(const ModelState& s, std::size_t blocks, std::size_t bonds);
+void check_state_fits(const ModelState<2>& s, std::size_t blocks, std::size_t bonds);
+
+// The state's fields into a snapshot, walking the field table (the contact pairs and the crack log as columns under
+// "contacts/" and "cracks/"), and back. load_state throws std::invalid_argument when a field is missing or of
+// another type; the sizes are check_state_fits'.
+void save_state(const ModelState<2>& state, Snapshot& snapshot);
+void load_state(const Snapshot& snapshot, ModelState<2>& state);
 
 }  // namespace rbdem

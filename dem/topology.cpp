@@ -11,19 +11,19 @@
 
 namespace rbdem {
 
-std::size_t Topology::count(BondKind k) const {
+std::size_t Topology<2>::count(BondKind k) const {
   return std::size_t(std::count(bonds.kind.begin(), bonds.kind.end(), k));
 }
 
-double Topology::total_length(BondKind k) const {
+double Topology<2>::total_length(BondKind k) const {
   double s = 0;
   for (std::size_t b = 0; b < bonds.size(); ++b)
     if (bonds.kind[b] == k) s += bonds.length[b];
   return s;
 }
 
-Topology build_topology(const TriMesh& mesh, double thickness, double density) {
-  Topology topo;
+Topology<2> build_topology(const TriMesh& mesh, double thickness, double density) {
+  Topology<2> topo;
   topo.thickness = thickness;
   const std::size_t nt = mesh.triangles.size();
   auto& B = topo.blocks;

@@ -20,47 +20,53 @@
 #include <string>
 #include <vector>
 
+#include "dem/dim.hpp"
+#include "dem/records.hpp"
 #include "mesh/trimesh.hpp"
 
 namespace rbdem {
 
-enum class BondKind : std::uint8_t { rock = 0, joint = 1 };
 enum class Side : std::uint8_t { bottom = 0, right = 1, top = 2, left = 3, other = 4 };
 
-struct BlockGeometry {
-  std::vector<double> cx, cy;          // centroid, m
-  std::vector<double> area;            // m^2
-  std::vector<double> mass;            // kg (density x thickness x area)
-  std::vector<double> inertia;         // kg m^2, polar, about the centroid
-  std::vector<double> radius;          // m, largest centroid-to-vertex distance (bounding circle)
-  std::vector<std::array<double, 6>> shape;  // vertices relative to the centroid, counter-clockwise (x0,y0,...)
-  std::vector<int> layer;
-  std::size_t size() const { return cx.size(); }
-};
+template <int dim>
+struct Topology;
 
-struct BondGeometry {
-  std::vector<int> i, j;               // blocks, i < j
-  std::vector<int> node_a, node_b;     // mesh nodes of the shared edge
-  std::vector<double> mx, my;          // edge midpoint, m
-  std::vector<double> length;          // L, m
-  std::vector<double> nx, ny;          // unit normal from block i to block j
-  std::vector<double> d;               // centroid distance along the normal, m
-  std::vector<BondKind> kind;
-  std::vector<int> interface;          // index into Topology::interface_names, -1 for none
-  std::size_t size() const { return i.size(); }
-};
+// The topology of a triangle mesh.
+template <>
+struct Topology<2> {
+  struct BlockGeometry {
+    std::vector<double> cx, cy;          // centroid, m
+    std::vector<double> area;            // m^2
+    std::vector<double> mass;            // kg (density x thickness x area)
+    std::vector<double> inertia;         // kg m^2, polar, about the centroid
+    std::vector<double> radius;          // m, largest centroid-to-vertex distance (bounding circle)
+    std::vector<std::array<double, 6>> shape;  // vertices relative to the centroid, counter-clockwise (x0,y0,...)
+    std::vector<int> layer;
+    std::size_t size() const { return cx.size(); }
+  };
 
-struct BoundaryEdges {
-  std::vector<int> block;
-  std::vector<int> node_a, node_b;     // in the block's counter-clockwise order: the outside is right of a -> b
-  std::vector<double> ax, ay, bx, by;  // their coordinates, m
-  std::vector<double> mx, my;          // edge midpoint, m (the contact point of a platen on this edge)
-  std::vector<double> length;
-  std::vector<Side> side;
-  std::size_t size() const { return block.size(); }
-};
+  struct BondGeometry {
+    std::vector<int> i, j;               // blocks, i < j
+    std::vector<int> node_a, node_b;     // mesh nodes of the shared edge
+    std::vector<double> mx, my;          // edge midpoint, m
+    std::vector<double> length;          // L, m
+    std::vector<double> nx, ny;          // unit normal from block i to block j
+    std::vector<double> d;               // centroid distance along the normal, m
+    std::vector<BondKind> kind;
+    std::vector<int> interface;          // index into Topology::interface_names, -1 for none
+    std::size_t size() const { return i.size(); }
+  };
 
-struct Topology {
+  struct BoundaryEdges {
+    std::vector<int> block;
+    std::vector<int> node_a, node_b;     // in the block's counter-clockwise order: the outside is right of a -> b
+    std::vector<double> ax, ay, bx, by;  // their coordinates, m
+    std::vector<double> mx, my;          // edge midpoint, m (the contact point of a platen on this edge)
+    std::vector<double> length;
+    std::vector<Side> side;
+    std::size_t size() const { return block.size(); }
+  };
+
   BlockGeometry blocks;
   BondGeometry bonds;
   BoundaryEdges boundary;
@@ -78,6 +84,6 @@ struct Topology {
 
 // Builds blocks, bonds, boundary tags and adjacency. Throws SceneError when an edge has more than two triangles
 // or a triangle is degenerate. Free edges off the bounding box (holes, curved sides) are tagged Side::other.
-Topology build_topology(const TriMesh& mesh, double thickness, double density);
+Topology<2> build_topology(const TriMesh& mesh, double thickness, double density);
 
 }  // namespace rbdem

@@ -1,12 +1,14 @@
-// result.h5 and result.xdmf of a UCS run, and the reader. See result_h5.hpp; the layout is in docs/outputs.md.
+// result.h5 and result.xdmf of a run, and the reader. See result_h5.hpp; the layout is in docs/outputs.md. The
+// curve, the crack log and the frames' scalars are written by walking their records' field tables
+// (dem/records.hpp, io/record_h5.hpp).
 #include "io/result_h5.hpp"
 
 #include <hdf5.h>
 
 #include <algorithm>
 #include <array>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <mutex>
 #include <stdexcept>
@@ -16,6 +18,7 @@
 #include <fmt/format.h>
 
 #include "io/h5.hpp"
+#include "io/record_h5.hpp"
 #include "io/results.hpp"
 
 namespace rbdem::io {
@@ -41,176 +44,129 @@ std::string xml_escape(const std::string& s) {
   return r;
 }
 
-void check_consistent(const TriMesh& mesh, const Topology& topo, const TestResult& r) {
-  const std::size_t nt = mesh.triangles.size();
-  if (topo.blocks.size() != nt || mesh.layer.size() != nt)
-    throw std::invalid_argument(fmt::format("write_result_h5: the topology has {} blocks but the mesh {} triangles "
-                                            "({} layer ids): pass the mesh the topology was built from",
-                                            topo.blocks.size(), nt, mesh.layer.size()));
+void check_consistent(const Specimen& sp, const TestResult& r) {
+  const std::size_t nb = sp.num_blocks();
+  const std::size_t verts = std::size_t(block_vertices(sp.dim));
+  if (sp.cells.size() != verts * nb || sp.blocks.centroid.size() != std::size_t(sp.dim) * nb)
+    throw std::invalid_argument(fmt::format("write_result_h5: the specimen has {} blocks but {} cell vertices and {} "
+                                            "centroid components: pass the specimen of the simulation that ran",
+                                            nb, sp.cells.size(), sp.blocks.centroid.size()));
   for (const auto& f : r.frames)
-    if (f.x.size() != nt || f.y.size() != nt || f.theta.size() != nt || f.cracks > r.cracks.size())
+    if (f.blocks() != nb || f.dim != sp.dim || f.cracks > r.cracks.size())
       throw std::invalid_argument(fmt::format("write_result_h5: frame at step {} has {} blocks and {} cracks, the "
-                                              "mesh {} blocks and the log {} cracks",
-                                              f.step, f.x.size(), f.cracks, nt, r.cracks.size()));
+                                              "specimen {} blocks and the log {} cracks",
+                                              f.step, f.blocks(), f.cracks, nb, r.cracks.size()));
   for (const auto& c : r.cracks)
-    if (c.bond < 0 || std::size_t(c.bond) >= topo.bonds.size())
-      throw std::invalid_argument(fmt::format("write_result_h5: crack on bond {} but the topology has {} bonds",
-                                              c.bond, topo.bonds.size()));
+    if (c.bond < 0 || std::size_t(c.bond) >= sp.num_bonds())
+      throw std::invalid_argument(fmt::format("write_result_h5: crack on bond {} but the specimen has {} bonds",
+                                              c.bond, sp.num_bonds()));
 }
 
-}  // namespace
+// /mesh: the nodes, the cells, the layers, the disconnected cells ParaView draws, the centroids.
+void write_mesh(const Writer& w, hid_t file, const Specimen& sp) {
+  const Id g = w.group(file, "mesh");
+  const std::size_t nb = sp.num_blocks(), dim = std::size_t(sp.dim), verts = std::size_t(block_vertices(sp.dim));
+  w.dataset(g, "nodes", sp.nodes, dim);
+  std::vector<std::int32_t> conn(verts * nb), layer(sp.blocks.layer.begin(), sp.blocks.layer.end());
+  for (std::size_t k = 0; k < conn.size(); ++k) conn[k] = std::int32_t(k);
+  w.dataset(g, sp.dim == 2 ? "triangles" : "tetrahedra", sp.cells, verts);
+  w.dataset(g, "layer", layer);
+  w.dataset(g, "block_connectivity", conn, verts);
+  w.dataset(g, "centroid", sp.blocks.centroid, dim);
+  if (!sp.layer_names.empty()) w.attribute_strings(g, "layer_names", sp.layer_names);
+}
 
-// -------------------------------------------------------------------------------------------------------------------
+// /bonds, with the breakage record from the crack log.
+void write_bonds(const Writer& w, hid_t file, const Specimen& sp, const std::vector<Crack>& cracks) {
+  const auto& B = sp.bonds;
+  const std::size_t nb = sp.num_bonds();
+  const Id g = w.group(file, "bonds");
+  std::vector<std::int32_t> kind(nb), mode(nb);  // mode 0: intact
+  std::vector<double> t_break(nb, std::numeric_limits<double>::quiet_NaN()), e_break = t_break;
+  for (std::size_t b = 0; b < nb; ++b) kind[b] = std::int32_t(B.kind[b]);
+  for (const auto& c : cracks) {
+    const auto b = std::size_t(c.bond);
+    t_break[b] = c.time, e_break[b] = c.strain, mode[b] = std::int32_t(c.mode);
+  }
+  w.dataset(g, "i", B.i), w.dataset(g, "j", B.j);
+  if (sp.dim == 2) {  // the edge's two nodes
+    std::vector<std::int32_t> a(nb), b(nb);
+    for (std::size_t k = 0; k < nb; ++k) a[k] = B.nodes[2 * k], b[k] = B.nodes[2 * k + 1];
+    w.dataset(g, "node_a", a), w.dataset(g, "node_b", b);
+  } else {
+    w.dataset(g, "nodes", B.nodes, std::size_t(sp.dim));
+  }
+  w.dataset(g, "kind", kind), w.dataset(g, sp.dim == 2 ? "length" : "area", B.size);
+  w.dataset(g, "midpoint", B.midpoint, std::size_t(sp.dim));
+  w.dataset(g, "break_time", t_break), w.dataset(g, "break_strain", e_break), w.dataset(g, "break_mode", mode);
+}
 
-namespace {
+// /frames/NNNNN: the poses by component (in double: the exact state), the cells' vertices for display, the
+// damage count per block, and the frame's scalars.
+void write_frames(const Writer& w, hid_t file, const Specimen& sp, const TestResult& r) {
+  const Id g = w.group(file, "frames");
+  w.attribute(g, "count", std::int64_t(r.frames.size()));
+  const std::size_t nb = sp.num_blocks(), dim = std::size_t(sp.dim), verts = std::size_t(block_vertices(sp.dim));
+  const int components = pose_size(sp.dim);
+  std::vector<std::int32_t> damage(nb, 0);
+  std::size_t counted = 0;  // cracks already in `damage`
+  // Vertices are for display (ParaView, figures): single precision resolves 10 nm on a 10 cm specimen and halves
+  // the file; the exact state is the pose in double.
+  std::vector<float> vertices(3 * verts * nb, 0.0f);
+  std::vector<double> pose(static_cast<std::size_t>(components)), at(dim);
+  for (std::size_t k = 0; k < r.frames.size(); ++k) {
+    const Frame& f = r.frames[k];
+    if (f.cracks < counted) std::fill(damage.begin(), damage.end(), 0), counted = 0;
+    for (; counted < f.cracks; ++counted) {
+      const auto b = std::size_t(r.cracks[counted].bond);
+      ++damage[std::size_t(sp.bonds.i[b])], ++damage[std::size_t(sp.bonds.j[b])];
+    }
+    // Rigid blocks: vertex v of block t is the block's pose applied to its shape vertex, in the order of its cell.
+    for (std::size_t t = 0; t < nb; ++t) {
+      for (int c = 0; c < components; ++c) pose[std::size_t(c)] = f.component(c)[t];
+      for (std::size_t v = 0; v < verts; ++v) {
+        place(sp.dim, pose.data(), &sp.blocks.shape[(t * verts + v) * dim], at.data());
+        for (std::size_t d = 0; d < dim; ++d) vertices[3 * (verts * t + v) + d] = float(at[d]);
+      }
+    }
+    const Id fg = w.group(g, frame_name(k));
+    for (int c = 0; c < components; ++c)
+      w.dataset(fg, pose_name(sp.dim, c), std::vector<double>(f.component(c), f.component(c) + nb));
+    w.dataset(fg, "vertices", vertices, 3);
+    w.dataset(fg, "damage", damage);
+    write_attributes(w, fg, sp.dim, f);
+  }
+}
 
-void write_h5_file(const std::string& tmp, const Scene& scene, const TriMesh& mesh, const Topology& topo,
-                   const TestResult& r, int threads) {
+void write_h5_file(const std::string& tmp, const Scene& scene, const Specimen& sp, const TestResult& r,
+                   int threads) {
   const Writer w(tmp, threads);
-  const std::size_t nt = mesh.triangles.size(), nb = topo.bonds.size();
   {
     Id file = w.create_file();
-
     {  // /scene
       const Id g = w.group(file, "scene");
       w.attribute(g, "toml", to_toml(scene));
       w.attribute(g, "json", scene_json(scene).dump(2));
     }
-
-    {  // /mesh
-      const Id g = w.group(file, "mesh");
-      std::vector<double> nodes;
-      nodes.reserve(2 * mesh.nodes.size());
-      for (const auto& p : mesh.nodes) nodes.insert(nodes.end(), {p[0], p[1]});
-      w.dataset(g, "nodes", nodes, 2);
-      std::vector<std::int32_t> tri, conn, layer(mesh.layer.begin(), mesh.layer.end());
-      tri.reserve(3 * nt), conn.reserve(3 * nt);
-      for (std::size_t t = 0; t < nt; ++t)
-        for (int k = 0; k < 3; ++k) {
-          tri.push_back(mesh.triangles[t][std::size_t(k)]);
-          conn.push_back(std::int32_t(3 * t + std::size_t(k)));
-        }
-      w.dataset(g, "triangles", tri, 3);
-      w.dataset(g, "layer", layer);
-      w.dataset(g, "block_connectivity", conn, 3);
-      std::vector<double> centroid;
-      centroid.reserve(2 * nt);
-      for (std::size_t t = 0; t < nt; ++t) centroid.insert(centroid.end(), {topo.blocks.cx[t], topo.blocks.cy[t]});
-      w.dataset(g, "centroid", centroid, 2);
-      if (!mesh.layer_names.empty()) w.attribute_strings(g, "layer_names", mesh.layer_names);
-    }
-
-    {  // /bonds, with the breakage record from the crack log
-      const auto& B = topo.bonds;
-      const Id g = w.group(file, "bonds");
-      std::vector<std::int32_t> kind(nb), mode(nb);  // mode 0: intact
-      std::vector<double> mid, t_break(nb, std::numeric_limits<double>::quiet_NaN()), e_break = t_break;
-      mid.reserve(2 * nb);
-      for (std::size_t b = 0; b < nb; ++b) {
-        kind[b] = std::int32_t(B.kind[b]);
-        mid.insert(mid.end(), {B.mx[b], B.my[b]});
-      }
-      for (const auto& c : r.cracks) {
-        const auto b = std::size_t(c.bond);
-        t_break[b] = c.time, e_break[b] = c.strain, mode[b] = std::int32_t(c.mode);
-      }
-      w.dataset(g, "i", B.i), w.dataset(g, "j", B.j);
-      w.dataset(g, "node_a", B.node_a), w.dataset(g, "node_b", B.node_b);
-      w.dataset(g, "kind", kind), w.dataset(g, "length", B.length), w.dataset(g, "midpoint", mid, 2);
-      w.dataset(g, "break_time", t_break), w.dataset(g, "break_strain", e_break), w.dataset(g, "break_mode", mode);
-    }
-
-    {  // /history: the curve, column by column
-      const Id g = w.group(file, "history");
-      const std::size_t n = r.curve.size();
-      std::vector<std::int64_t> step(n);
-      std::vector<double> time(n), strain(n), st(n), sb(n), ek(n), es(n), lat(n), vol(n);
-      std::array<std::vector<std::int32_t>, 4> broken;
-      for (auto& v : broken) v.resize(n);
-      for (std::size_t k = 0; k < n; ++k) {
-        const CurvePoint& p = r.curve[k];
-        step[k] = p.step, time[k] = p.time, strain[k] = p.strain, st[k] = p.stress_top, sb[k] = p.stress_bottom;
-        ek[k] = p.kinetic, es[k] = p.strain_energy, lat[k] = p.lateral_strain, vol[k] = volumetric_strain(p);
-        for (std::size_t c = 0; c < 4; ++c) broken[c][k] = p.broken[c];
-      }
-      w.dataset(g, "step", step), w.dataset(g, "time_s", time), w.dataset(g, "strain", strain);
-      w.dataset(g, "stress_top_pa", st), w.dataset(g, "stress_bottom_pa", sb);
-      w.dataset(g, "kinetic_j", ek), w.dataset(g, "strain_energy_j", es), w.dataset(g, "lateral_strain", lat);
-      w.dataset(g, "volumetric_strain", vol);
-      w.dataset(g, "broken_rock_tensile", broken[0]), w.dataset(g, "broken_rock_shear", broken[1]);
-      w.dataset(g, "broken_joint_tensile", broken[2]), w.dataset(g, "broken_joint_shear", broken[3]);
-    }
-
-    {  // /cracks: the crack log in order
-      const Id g = w.group(file, "cracks");
-      const std::size_t n = r.cracks.size();
-      std::vector<double> time(n), strain(n), x(n), y(n), sigma(n), tau(n);
-      std::vector<std::int32_t> kind(n), mode(n), bond(n);
-      for (std::size_t k = 0; k < n; ++k) {
-        const Crack& c = r.cracks[k];
-        time[k] = c.time, strain[k] = c.strain, x[k] = c.x, y[k] = c.y, sigma[k] = c.sigma, tau[k] = c.tau;
-        kind[k] = std::int32_t(c.kind), mode[k] = std::int32_t(c.mode), bond[k] = c.bond;
-      }
-      w.dataset(g, "time_s", time), w.dataset(g, "strain", strain), w.dataset(g, "x_m", x), w.dataset(g, "y_m", y);
-      w.dataset(g, "kind", kind), w.dataset(g, "mode", mode), w.dataset(g, "bond", bond);
-      w.dataset(g, "sigma_pa", sigma), w.dataset(g, "tau_pa", tau);
-      w.dataset(g, "orientation_deg", crack_orientations_deg(r.cracks, topo));
-    }
-
-    {  // /frames/NNNNN
-      const Id g = w.group(file, "frames");
-      w.attribute(g, "count", std::int64_t(r.frames.size()));
-      std::vector<std::int32_t> damage(nt, 0);
-      std::size_t counted = 0;  // cracks already in `damage`
-      // Vertices are for display (ParaView, figures): single precision resolves 10 nm on a 10 cm specimen and halves
-      // the file; the exact state is x, y, theta in double.
-      std::vector<float> vertices(9 * nt);
-      for (std::size_t k = 0; k < r.frames.size(); ++k) {
-        const Frame& f = r.frames[k];
-        if (f.cracks < counted) std::fill(damage.begin(), damage.end(), 0), counted = 0;
-        for (; counted < f.cracks; ++counted) {
-          const auto b = std::size_t(r.cracks[counted].bond);
-          ++damage[std::size_t(topo.bonds.i[b])], ++damage[std::size_t(topo.bonds.j[b])];
-        }
-        // Rigid blocks: vertex v of block t is (x, y) + R(theta) shape_v, in the order of mesh.triangles[t].
-        for (std::size_t t = 0; t < nt; ++t) {
-          const double c = std::cos(f.theta[t]), s = std::sin(f.theta[t]);
-          const auto& sh = topo.blocks.shape[t];
-          for (std::size_t v = 0; v < 3; ++v) {
-            float* p = &vertices[9 * t + 3 * v];
-            p[0] = float(f.x[t] + c * sh[2 * v] - s * sh[2 * v + 1]);
-            p[1] = float(f.y[t] + s * sh[2 * v] + c * sh[2 * v + 1]);
-            p[2] = 0.0f;
-          }
-        }
-        const Id fg = w.group(g, frame_name(k));
-        w.dataset(fg, "x", f.x), w.dataset(fg, "y", f.y), w.dataset(fg, "theta", f.theta);
-        w.dataset(fg, "vertices", vertices, 3);
-        w.dataset(fg, "damage", damage);
-        w.attribute(fg, "step", std::int64_t(f.step));
-        w.attribute(fg, "time", f.time), w.attribute(fg, "strain", f.strain), w.attribute(fg, "stress", f.stress);
-        w.attribute(fg, "label", f.label);
-        w.attribute(fg, "cracks", std::int64_t(f.cracks));
-      }
-    }
-
-    {  // /summary
-      const Id g = w.group(file, "summary");
-      w.attribute(g, "json", run_summary(scene, r).dump(2));
-    }
+    write_mesh(w, file, sp);
+    write_bonds(w, file, sp, r.cracks);
+    write_table(w, w.group(file, "history"), sp.dim, r.curve);
+    write_table(w, w.group(file, "cracks"), sp.dim, r.cracks);  // the crack log in order
+    write_frames(w, file, sp, r);
+    w.attribute(w.group(file, "summary"), "json", run_summary(scene, r).dump(2));
     w.save(file);
   }  // the file is closed here, before the caller renames it
 }
 
 }  // namespace
 
-void write_result_h5(const std::filesystem::path& path, const Scene& scene, const TriMesh& mesh, const Topology& topo,
+void write_result_h5(const std::filesystem::path& path, const Scene& scene, const Specimen& specimen,
                      const TestResult& r, int threads) {
-  check_consistent(mesh, topo, r);
+  check_consistent(specimen, r);
   const std::lock_guard<std::mutex> lock(h5::lock());
   const std::string tmp = path.string() + ".tmp";
   try {
-    write_h5_file(tmp, scene, mesh, topo, r, threads);
+    write_h5_file(tmp, scene, specimen, r, threads);
   } catch (...) {
     std::error_code ec;
     std::filesystem::remove(tmp, ec);  // never leave a half file behind
@@ -220,23 +176,25 @@ void write_result_h5(const std::filesystem::path& path, const Scene& scene, cons
 }
 
 void write_result_xdmf(const std::filesystem::path& xdmf_path, const std::filesystem::path& h5_path,
-                       std::size_t num_blocks, const std::vector<Frame>& frames) {
+                       const Specimen& specimen, const std::string& test, const std::vector<Frame>& frames) {
   namespace fs = std::filesystem;
   // Reference the h5 file relative to the XDMF file, so the run folder can be moved as a whole.
   const fs::path dir = fs::absolute(xdmf_path).parent_path();
   fs::path h5 = fs::absolute(h5_path).lexically_normal().lexically_relative(dir.lexically_normal());
   if (h5.empty()) h5 = fs::absolute(h5_path);
   const std::string ref = xml_escape(h5.generic_string());
-  const std::size_t T = num_blocks;
+  const std::size_t T = specimen.num_blocks(), verts = std::size_t(block_vertices(specimen.dim));
+  const char* cell = cell_type(specimen.dim);
 
-  std::string s =
+  std::string s = fmt::format(
       "<?xml version=\"1.0\" ?>\n"
       "<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
-      "<!-- rbdem UCS run: one rigid triangle per block, drawn disconnected (3 vertices per block) so cracks open.\n"
+      "<!-- rbdem {} run: one rigid block per cell, drawn disconnected ({} vertices per block) so cracks open.\n"
       "     Open this file in ParaView (Xdmf3 reader); the time is the run's time in s. -->\n"
       "<Xdmf Version=\"3.0\">\n"
       "  <Domain>\n"
-      "    <Grid Name=\"ucs\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+      "    <Grid Name=\"{}\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
+      xml_escape(test), verts, xml_escape(test));
   for (std::size_t k = 0; k < frames.size(); ++k) {
     const Frame& f = frames[k];
     const std::string fr = "/frames/" + frame_name(k);
@@ -245,15 +203,15 @@ void write_result_xdmf(const std::filesystem::path& xdmf_path, const std::filesy
     s += fmt::format(
         "        <Information Name=\"frame\" Value=\"step {} strain {:.6g} stress_pa {:.6g} label {} cracks {}\"/>\n",
         f.step, f.strain, f.stress, xml_escape(f.label.empty() ? "-" : f.label), f.cracks);
-    s += fmt::format("        <Topology TopologyType=\"Triangle\" NumberOfElements=\"{}\">\n", T);
-    s += fmt::format("          <DataItem Dimensions=\"{} 3\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">"
+    s += fmt::format("        <Topology TopologyType=\"{}\" NumberOfElements=\"{}\">\n", cell, T);
+    s += fmt::format("          <DataItem Dimensions=\"{} {}\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">"
                      "{}:/mesh/block_connectivity</DataItem>\n",
-                     T, ref);
+                     T, verts, ref);
     s += "        </Topology>\n";
     s += "        <Geometry GeometryType=\"XYZ\">\n";
     s += fmt::format("          <DataItem Dimensions=\"{} 3\" NumberType=\"Float\" Precision=\"4\" Format=\"HDF\">"
                      "{}:{}/vertices</DataItem>\n",
-                     3 * T, ref, fr);
+                     verts * T, ref, fr);
     s += "        </Geometry>\n";
     auto attribute = [&](const char* name, const char* type, int precision, const std::string& dataset) {
       s += fmt::format("        <Attribute Name=\"{}\" AttributeType=\"Scalar\" Center=\"Cell\">\n", name);
@@ -264,7 +222,7 @@ void write_result_xdmf(const std::filesystem::path& xdmf_path, const std::filesy
     };
     attribute("layer", "Int", 4, "/mesh/layer");
     attribute("damage", "Int", 4, fr + "/damage");
-    attribute("rotation", "Float", 8, fr + "/theta");
+    if (specimen.dim == 2) attribute("rotation", "Float", 8, fr + "/theta");
     s += "      </Grid>\n";
   }
   s += "    </Grid>\n  </Domain>\n</Xdmf>\n";
@@ -276,70 +234,23 @@ StoredRun read_result_h5(const std::filesystem::path& path, bool with_positions)
   const Reader rd(path.string());
   const Id file = rd.open_file();
   StoredRun out;
-
   {
     const Id g = rd.group(file, "scene");
     out.scene_toml = rd.attribute_string(g, "toml");
     out.scene_json = rd.attribute_string(g, "json");
   }
   out.summary_json = rd.attribute_string(rd.group(file, "summary"), "json");
-
   {
     const Id g = rd.group(file, "mesh");
-    const auto nodes = rd.dataset<double>(g, "nodes");
-    const auto tri = rd.dataset<std::int32_t>(g, "triangles");
-    const auto layer = rd.dataset<std::int32_t>(g, "layer");
-    for (std::size_t k = 0; k + 1 < nodes.size(); k += 2) out.mesh.nodes.push_back({nodes[k], nodes[k + 1]});
-    for (std::size_t k = 0; k + 2 < tri.size(); k += 3) out.mesh.triangles.push_back({tri[k], tri[k + 1], tri[k + 2]});
-    out.mesh.layer.assign(layer.begin(), layer.end());
-    if (H5Aexists(g, "layer_names") > 0) out.mesh.layer_names = rd.attribute_strings(g, "layer_names");
+    std::vector<hsize_t> dims;
+    out.nodes = rd.dataset<double>(g, "nodes", &dims);
+    out.dim = dims.size() == 2 ? int(dims[1]) : 2;
+    out.cells = rd.dataset<std::int32_t>(g, out.dim == 2 ? "triangles" : "tetrahedra");
+    out.layer = rd.dataset<std::int32_t>(g, "layer");
+    if (H5Aexists(g, "layer_names") > 0) out.layer_names = rd.attribute_strings(g, "layer_names");
   }
-
-  {
-    const Id g = rd.group(file, "history");
-    const auto step = rd.dataset<std::int64_t>(g, "step");
-    const auto time = rd.dataset<double>(g, "time_s"), strain = rd.dataset<double>(g, "strain");
-    const auto st = rd.dataset<double>(g, "stress_top_pa"), sb = rd.dataset<double>(g, "stress_bottom_pa");
-    const auto ek = rd.dataset<double>(g, "kinetic_j"), es = rd.dataset<double>(g, "strain_energy_j");
-    const std::array<std::vector<std::int32_t>, 4> broken = {
-        rd.dataset<std::int32_t>(g, "broken_rock_tensile"), rd.dataset<std::int32_t>(g, "broken_rock_shear"),
-        rd.dataset<std::int32_t>(g, "broken_joint_tensile"), rd.dataset<std::int32_t>(g, "broken_joint_shear")};
-    const std::size_t n = step.size();
-    const auto lat = H5Lexists(g, "lateral_strain", H5P_DEFAULT) > 0 ? rd.dataset<double>(g, "lateral_strain")
-                                                                    : std::vector<double>(n, 0.0);
-    for (const auto* v : {&time, &strain, &st, &sb, &ek, &es, &lat})
-      if (v->size() != n) fail(path.string(), "reading /history (columns of different lengths)");
-    for (const auto& v : broken)
-      if (v.size() != n) fail(path.string(), "reading /history (columns of different lengths)");
-    out.curve.resize(n);
-    for (std::size_t k = 0; k < n; ++k) {
-      CurvePoint& p = out.curve[k];
-      p.step = step[k], p.time = time[k], p.strain = strain[k], p.stress_top = st[k], p.stress_bottom = sb[k];
-      p.kinetic = ek[k], p.strain_energy = es[k], p.lateral_strain = lat[k];
-      for (std::size_t c = 0; c < 4; ++c) p.broken[c] = broken[c][k];
-    }
-  }
-
-  {
-    const Id g = rd.group(file, "cracks");
-    const auto time = rd.dataset<double>(g, "time_s"), strain = rd.dataset<double>(g, "strain");
-    const auto x = rd.dataset<double>(g, "x_m"), y = rd.dataset<double>(g, "y_m");
-    const auto sigma = rd.dataset<double>(g, "sigma_pa"), tau = rd.dataset<double>(g, "tau_pa");
-    const auto kind = rd.dataset<std::int32_t>(g, "kind"), mode = rd.dataset<std::int32_t>(g, "mode");
-    const auto bond = rd.dataset<std::int32_t>(g, "bond");
-    const std::size_t n = time.size();
-    for (const auto* v : {&strain, &x, &y, &sigma, &tau})
-      if (v->size() != n) fail(path.string(), "reading /cracks (columns of different lengths)");
-    for (const auto* v : {&kind, &mode, &bond})
-      if (v->size() != n) fail(path.string(), "reading /cracks (columns of different lengths)");
-    out.cracks.resize(n);
-    for (std::size_t k = 0; k < n; ++k) {
-      Crack& c = out.cracks[k];
-      c.time = time[k], c.strain = strain[k], c.x = x[k], c.y = y[k], c.sigma = sigma[k], c.tau = tau[k];
-      c.kind = BondKind(kind[k]), c.mode = BreakMode(mode[k]), c.bond = bond[k];
-    }
-  }
-
+  out.curve = read_table<CurvePoint>(rd, rd.group(file, "history"), out.dim, path.string());
+  out.cracks = read_table<Crack>(rd, rd.group(file, "cracks"), out.dim, path.string());
   {
     const Id g = rd.group(file, "frames");
     const auto count = rd.attribute<std::int64_t>(g, "count");
@@ -347,16 +258,12 @@ StoredRun read_result_h5(const std::filesystem::path& path, bool with_positions)
     for (std::size_t k = 0; k < out.frames.size(); ++k) {
       const Id fg = rd.group(g, frame_name(k));
       Frame& f = out.frames[k];
-      f.step = long(rd.attribute<std::int64_t>(fg, "step"));
-      f.time = rd.attribute<double>(fg, "time");
-      f.strain = rd.attribute<double>(fg, "strain");
-      f.stress = rd.attribute<double>(fg, "stress");
-      f.label = rd.attribute_string(fg, "label");
-      f.cracks = std::size_t(rd.attribute<std::int64_t>(fg, "cracks"));
-      if (with_positions) {
-        f.x = rd.dataset<double>(fg, "x");
-        f.y = rd.dataset<double>(fg, "y");
-        f.theta = rd.dataset<double>(fg, "theta");
+      f.dim = out.dim;
+      read_attributes(rd, fg, out.dim, f);
+      if (!with_positions) continue;
+      for (int c = 0; c < pose_size(out.dim); ++c) {
+        const auto v = rd.dataset<double>(fg, pose_name(out.dim, c));
+        f.pose.insert(f.pose.end(), v.begin(), v.end());
       }
     }
   }

@@ -14,21 +14,38 @@
 
 #include <fmt/format.h>
 #include <fmt/os.h>
+#include <fmt/ranges.h>
+
+#include "dem/record_columns.hpp"
 
 namespace rbdem::io {
 
-nlohmann::json run_summary(const Scene& scene, const TestResult& r) {
-  nlohmann::json j;
-  j["version"] = version_text();
-  j["test"] = r.test;
-  j["beta_deg"] = scene.joint_set.dip_deg;
-  j["spacing_m"] = scene.joint_set.spacing;
-  j["peak_stress_pa"] = r.peak_stress;
-  j["strain_at_peak"] = r.strain_at_peak;
-  j["youngs_modulus_pa"] = r.youngs_modulus;
-  j["blocks"] = r.blocks;
-  j["bonds"] = r.bonds;
-  j["bonds_by_kind"] = {{"rock", r.rock_bonds}, {"joint", r.joint_bonds}};
+namespace {
+
+// The keys of the headline numbers: null in the summary of a run that did not complete.
+constexpr const char* measured_keys[] = {
+    "peak_stress_pa", "strain_at_peak", "youngs_modulus_pa", "platen_force_mismatch",
+    "platen_force_mismatch_at_peak", "kinetic_to_strain_energy_at_peak", "kinetic_to_strain_energy_loading",
+    "crack_band_angle_deg", "tensile_fraction", "lateral_strain_at_peak", "poisson_ratio_at_half_peak",
+    "crack_initiation_stress_pa", "crack_damage_stress_pa", "residual_stress_pa", "crack_initiation_to_peak",
+    "crack_damage_to_peak", "residual_to_peak"};
+
+// The signals (docs/theory.md, section 10): null where not defined.
+void add_signals(nlohmann::json& j, const TestResult& r) {
+  auto defined = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+  auto to_peak = [&](double v) {
+    return std::isfinite(v) && r.peak_stress > 0 ? nlohmann::json(v / r.peak_stress) : nlohmann::json(nullptr);
+  };
+  j["poisson_ratio_at_half_peak"] = defined(r.poisson_ratio_at_half_peak);
+  j["crack_initiation_stress_pa"] = defined(r.crack_initiation_stress);
+  j["crack_damage_stress_pa"] = defined(r.crack_damage_stress);
+  j["residual_stress_pa"] = defined(r.residual_stress);
+  j["crack_initiation_to_peak"] = to_peak(r.crack_initiation_stress);
+  j["crack_damage_to_peak"] = to_peak(r.crack_damage_stress);
+  j["residual_to_peak"] = to_peak(r.residual_stress);
+}
+
+void add_cracks(nlohmann::json& j, const TestResult& r) {
   j["cracks"] = {{"rock_tensile", r.crack_counts.rock_tensile},
                  {"rock_shear", r.crack_counts.rock_shear},
                  {"joint_tensile", r.crack_counts.joint_tensile},
@@ -37,6 +54,33 @@ nlohmann::json run_summary(const Scene& scene, const TestResult& r) {
   j["cracks_by_material"] = nlohmann::json::object();
   for (const auto& m : r.cracks_by_material)
     j["cracks_by_material"][m.material] = {{"bonds", m.bonds}, {"tensile", m.tensile}, {"shear", m.shear}};
+  double total = 0;
+  for (const auto& f : r.fragments) total += f.area;
+  const double largest = r.fragments.empty() ? 0.0 : r.fragments.front().area;
+  int single = 0;
+  for (const auto& f : r.fragments) single += f.blocks == 1;
+  j["fragments"] = {{"count", r.fragments.size()},
+                    {"single_blocks", single},
+                    {"largest_area_m2", largest},
+                    {"largest_area_fraction", total > 0 ? largest / total : 0.0}};
+}
+
+}  // namespace
+
+nlohmann::json run_summary(const Scene& scene, const TestResult& r) {
+  nlohmann::json j;
+  j["version"] = version_text();
+  j["test"] = r.test;
+  j["dimension"] = r.dimension;
+  j["beta_deg"] = scene.joint_set.dip_deg;
+  j["spacing_m"] = scene.joint_set.spacing;
+  j["peak_stress_pa"] = r.peak_stress;
+  j["strain_at_peak"] = r.strain_at_peak;
+  j["youngs_modulus_pa"] = r.youngs_modulus;
+  j["blocks"] = r.blocks;
+  j["bonds"] = r.bonds;
+  j["bonds_by_kind"] = {{"rock", r.rock_bonds}, {"joint", r.joint_bonds}};
+  add_cracks(j, r);
   j["failure_mode"] = r.failure_mode;
   j["crack_band_angle_deg"] = r.crack_band_angle_deg;
   j["tensile_fraction"] = r.tensile_fraction;
@@ -58,55 +102,18 @@ nlohmann::json run_summary(const Scene& scene, const TestResult& r) {
   j["energy_ratio_max"] = r.energy_ratio_max;
   j["confining_pressure_pa"] = r.confining_pressure;
   j["lateral_strain_at_peak"] = r.lateral_strain_at_peak;
-  // The signals (docs/theory.md, section 10): null where not defined.
-  auto defined = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
-  auto to_peak = [&](double v) {
-    return std::isfinite(v) && r.peak_stress > 0 ? nlohmann::json(v / r.peak_stress) : nlohmann::json(nullptr);
-  };
-  j["poisson_ratio_at_half_peak"] = defined(r.poisson_ratio_at_half_peak);
-  j["crack_initiation_stress_pa"] = defined(r.crack_initiation_stress);
-  j["crack_damage_stress_pa"] = defined(r.crack_damage_stress);
-  j["residual_stress_pa"] = defined(r.residual_stress);
-  j["crack_initiation_to_peak"] = to_peak(r.crack_initiation_stress);
-  j["crack_damage_to_peak"] = to_peak(r.crack_damage_stress);
-  j["residual_to_peak"] = to_peak(r.residual_stress);
-  {
-    double total = 0;
-    for (const auto& f : r.fragments) total += f.area;
-    const double largest = r.fragments.empty() ? 0.0 : r.fragments.front().area;
-    int single = 0;
-    for (const auto& f : r.fragments) single += f.blocks == 1;
-    j["fragments"] = {{"count", r.fragments.size()},
-                      {"single_blocks", single},
-                      {"largest_area_m2", largest},
-                      {"largest_area_fraction", total > 0 ? largest / total : 0.0}};
-  }
-  if (r.test == "triaxial") {
-    j["deviator_at_peak_pa"] = r.deviator_at_peak;
-    j["axial_strain_at_peak"] = r.strain_at_peak;
-    j["isotropic_strain"] = r.isotropic_strain;
-    j["jacket_edges_lost"] = r.jacket_edges_lost;
-  }
-  if (r.test == "brazilian") {
-    j["tensile_strength_pa"] = r.tensile_strength;
-    j["peak_load_n"] = r.peak_load;
-    j["layer_angle_deg"] = r.layer_angle_deg;
-    j["diameter_m"] = r.diameter;
-  }
+  add_signals(j, r);
+  for (const ResultValue& v : r.own) j[v.key] = v.value;  // the protocol's own numbers
   j["completed"] = r.completed;
   j["watchdog"] = r.completed ? nlohmann::json(nullptr)
                               : nlohmann::json{{"cause", r.watchdog_cause},
                                                {"step", r.watchdog_step},
                                                {"message", r.watchdog_message}};
-  if (!r.completed)  // a broken run has no headline numbers: never a plausible value from it
-    for (const char* key : {"peak_stress_pa", "strain_at_peak", "youngs_modulus_pa", "platen_force_mismatch",
-                            "platen_force_mismatch_at_peak", "kinetic_to_strain_energy_at_peak",
-                            "kinetic_to_strain_energy_loading", "crack_band_angle_deg", "tensile_fraction",
-                            "lateral_strain_at_peak", "deviator_at_peak_pa", "axial_strain_at_peak",
-                            "tensile_strength_pa", "peak_load_n", "poisson_ratio_at_half_peak",
-                            "crack_initiation_stress_pa", "crack_damage_stress_pa", "residual_stress_pa",
-                            "crack_initiation_to_peak", "crack_damage_to_peak", "residual_to_peak"})
-      if (j.contains(key)) j[key] = nullptr;
+  if (!r.completed) {  // a broken run has no headline numbers: never a plausible value from it
+    for (const char* key : measured_keys) j[key] = nullptr;
+    for (const ResultValue& v : r.own)
+      if (v.measured) j[v.key] = nullptr;
+  }
   j["scene"] = scene_json(scene);
   return j;
 }
@@ -166,31 +173,41 @@ void write_text_atomic(const std::filesystem::path& file, const std::string& tex
   std::filesystem::rename(tmp, file);
 }
 
-void write_curve_csv(const std::filesystem::path& file, const std::vector<CurvePoint>& curve) {
-  std::string s =
-      "step,time_s,strain,stress_top_pa,stress_bottom_pa,kinetic_j,strain_energy_j,"
-      "broken_rock_tensile,broken_rock_shear,broken_joint_tensile,broken_joint_shear,lateral_strain,"
-      "volumetric_strain\n";
-  for (const auto& p : curve)
-    s += fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{},{},{},{},{:.9g},{:.9g}\n", p.step, p.time,
-                     p.strain, p.stress_top, p.stress_bottom, p.kinetic, p.strain_energy, p.broken[0], p.broken[1],
-                     p.broken[2], p.broken[3], p.lateral_strain, volumetric_strain(p));
-  write_text_atomic(file, s);
+namespace {
+
+// One CSV cell of a field's value: doubles with the field's significant digits, the enumerations by name.
+template <class V>
+void append_cell(std::string& s, const V& v, int digits) {
+  if constexpr (std::is_same_v<V, double>) fmt::format_to(std::back_inserter(s), "{:.{}g}", v, digits);
+  else if constexpr (std::is_enum_v<V>) s += name_of(v);
+  else fmt::format_to(std::back_inserter(s), "{}", v);
 }
 
-void write_cracks_csv(const std::filesystem::path& file, const std::vector<Crack>& cracks,
-                      const std::vector<double>& orientation_deg) {
-  if (orientation_deg.size() != cracks.size())
-    throw std::invalid_argument(fmt::format("write_cracks_csv({}): {} orientations for {} cracks", file.string(),
-                                            orientation_deg.size(), cracks.size()));
-  std::string s = "time_s,strain,x_m,y_m,kind,mode,bond,sigma_pa,tau_pa,orientation_deg\n";
-  for (std::size_t k = 0; k < cracks.size(); ++k) {
-    const Crack& c = cracks[k];
-    s += fmt::format("{:.9g},{:.9g},{:.9g},{:.9g},{},{},{},{:.6g},{:.6g},{:.6g}\n", c.time, c.strain, c.x, c.y,
-                     c.kind == BondKind::rock ? "rock" : "joint", c.mode == BreakMode::shear ? "shear" : "tensile",
-                     c.bond, c.sigma, c.tau, orientation_deg[k]);
-  }
-  write_text_atomic(file, s);
+// The rows of a record table as CSV, one column per field of its table (dem/records.hpp), in its order.
+template <class Record>
+std::string csv_table(int dim, const std::vector<Record>& rows) {
+  std::vector<std::string> header;
+  std::vector<std::string> cells(rows.size());
+  write_columns(dim, rows, [&](const Field& field, const auto& column, bool) {
+    header.push_back(field.name);
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      if (header.size() > 1) cells[k] += ',';
+      append_cell(cells[k], column[k], field.digits);
+    }
+  });
+  std::string s = fmt::format("{}\n", fmt::join(header, ","));
+  for (const auto& row : cells) s += row + "\n";
+  return s;
+}
+
+}  // namespace
+
+void write_curve_csv(const std::filesystem::path& file, int dim, const std::vector<CurvePoint>& curve) {
+  write_text_atomic(file, csv_table(dim, curve));
+}
+
+void write_cracks_csv(const std::filesystem::path& file, int dim, const std::vector<Crack>& cracks) {
+  write_text_atomic(file, csv_table(dim, cracks));
 }
 
 void write_fragments_csv(const std::filesystem::path& file, const std::vector<Fragment>& fragments) {
@@ -212,18 +229,16 @@ void write_crack_rate_csv(const std::filesystem::path& file, const std::vector<C
   write_text_atomic(file, s);
 }
 
-void write_run(const std::filesystem::path& dir, const Scene& scene, const TriMesh& mesh, const Topology& topo,
-               const TestResult& r, int threads) {
+void write_run(const std::filesystem::path& dir, const Scene& scene, const Specimen& specimen, const TestResult& r,
+               int threads) {
   std::filesystem::create_directories(dir);
   write_text_atomic(dir / "scene.toml", to_toml(scene));
-  write_curve_csv(dir / "curve.csv", r.curve);
-  write_cracks_csv(dir / "cracks.csv", r.cracks,
-                   r.crack_orientation_deg.size() == r.cracks.size() ? r.crack_orientation_deg
-                                                                      : crack_orientations_deg(r.cracks, topo));
+  write_curve_csv(dir / "curve.csv", specimen.dim, r.curve);
+  write_cracks_csv(dir / "cracks.csv", specimen.dim, r.cracks);
   write_fragments_csv(dir / "fragments.csv", r.fragments);
   write_crack_rate_csv(dir / "crack_rate.csv", r.crack_rate);
-  write_result_h5(dir / "result.h5", scene, mesh, topo, r, threads);
-  write_result_xdmf(dir / "result.xdmf", dir / "result.h5", topo.blocks.size(), r.frames);
+  write_result_h5(dir / "result.h5", scene, specimen, r, threads);
+  write_result_xdmf(dir / "result.xdmf", dir / "result.h5", specimen, r.test, r.frames);
   write_text_atomic(dir / "summary.json", run_summary(scene, r).dump(2) + "\n");
 }
 

@@ -6,27 +6,26 @@
 
 #include <nlohmann/json.hpp>
 
+#include "dem/driver/result.hpp"
 #include "dem/scene.hpp"
-#include "dem/topology.hpp"
-#include "mesh/trimesh.hpp"
-#include "dem/driver/ucs.hpp"
+#include "dem/specimen.hpp"
 
 namespace rbdem::io {
 
-// The summary.json object of a UCS run (contract in docs/outputs.md).
+// The summary.json object of a test run (contract in docs/outputs.md): the shared numbers, the protocol's own
+// (TestResult::own) and the resolved scene.
 nlohmann::json run_summary(const Scene& scene, const TestResult& r);
 
 // Writes scene.toml, curve.csv, cracks.csv, fragments.csv, crack_rate.csv, result.h5, result.xdmf and summary.json
 // into `dir` (created if needed), each atomically. summary.json is written last, so a folder with a summary.json
-// holds a complete result. `mesh` and `topo` are the ones the run used.
+// holds a complete result. `specimen` is the one of the simulation that ran.
 // `threads`: how many threads compress result.h5 (the cores the run may still use; 1 beside other runs).
-void write_run(const std::filesystem::path& dir, const Scene& scene, const TriMesh& mesh, const Topology& topo,
-               const TestResult& r, int threads = 1);
+void write_run(const std::filesystem::path& dir, const Scene& scene, const Specimen& specimen, const TestResult& r,
+               int threads = 1);
 
-void write_curve_csv(const std::filesystem::path& file, const std::vector<CurvePoint>& curve);
-// One row per crack; `orientation_deg` holds each crack's edge angle (TestResult::crack_orientation_deg, same size).
-void write_cracks_csv(const std::filesystem::path& file, const std::vector<Crack>& cracks,
-                      const std::vector<double>& orientation_deg);
+// One row per curve point and per crack, one column per field of the record's table (dem/records.hpp).
+void write_curve_csv(const std::filesystem::path& file, int dim, const std::vector<CurvePoint>& curve);
+void write_cracks_csv(const std::filesystem::path& file, int dim, const std::vector<Crack>& cracks);
 // One row per fragment (dem/driver/signals.hpp), in the given order (largest first).
 void write_fragments_csv(const std::filesystem::path& file, const std::vector<Fragment>& fragments);
 // One row per strain bin of the crack rate.

@@ -15,8 +15,9 @@
 
 #include <fmt/format.h>
 
-#include "theory/elasticity.hpp"
+#include "dem/driver/registry.hpp"
 #include "io/results.hpp"
+#include "theory/elasticity.hpp"
 
 #ifndef RBDEM_SOURCE_DIR
 #define RBDEM_SOURCE_DIR ""
@@ -70,12 +71,13 @@ std::vector<std::filesystem::path> make_figures(const StudySpec& spec, const std
   const std::string cmd = python + " " + quote(script);
   // Each figure's arguments, in report order.
   std::vector<std::vector<std::string>> figures;
-  if (spec.test == "brazilian") {  // tensile strength versus the layers' angle to the load
+  const ProtocolInfo& test = protocol_info(spec.test);
+  if (test.tensile) {  // tensile strength versus the layers' angle to the load
     figures.push_back({"tensile", (out / "tensile_strength.png").string(), (out / "table.csv").string()});
   } else {  // strength versus dip with Jaeger, one curve per group
     figures.push_back({"strength", (out / "strength.png").string(), (out / "table.csv").string(), "--group", "group"});
   }
-  if (spec.test == "triaxial")  // sigma_1 against sigma_3 per dip, with Jaeger's lines
+  if (test.confined)  // sigma_1 against sigma_3 per dip, with Jaeger's lines
     figures.push_back({"envelope", (out / "envelope.png").string(), (out / "table.csv").string(),
                        (out / "envelope.csv").string()});
   // Stress-strain curves and crack maps per group.
@@ -104,7 +106,7 @@ std::vector<std::filesystem::path> make_figures(const StudySpec& spec, const std
     figure("crack-grid", "cracks", false);
     // The signals of each case (docs/outputs.md): stages on the curve (compression tests), crack orientations,
     // crack rate, fragments.
-    if (spec.test != "brazilian") figure("stages", "stages", true);
+    if (!test.tensile) figure("stages", "stages", true);
     figure("rose", "rose", true);
     figure("crack-rate", "crack_rate", true);
     figure("fragments", "fragments", true);
@@ -225,7 +227,7 @@ std::filesystem::path write_report(const StudySpec& spec, const std::vector<Case
                     b.joint.cohesion / 1e6, b.joint.friction_deg, b.joint.contact_friction,
                     b.loading.platen_velocity, b.numerics.damping);
   if (!extras.elastic_gate_markdown.empty()) md += "## Elastic gate\n\n" + extras.elastic_gate_markdown + "\n\n";
-  if (spec.test == "brazilian") {
+  if (protocol_info(spec.test).tensile) {
     md += brazilian_section(results, extras.points);
   } else {
     md += compression_section(results, groups, extras);

@@ -23,8 +23,9 @@
 #include "dem/laws/parallel_bond.hpp"
 #include "dem/mesh_cache.hpp"
 #include "dem/specimen_mesh.hpp"
-#include "dem/topology.hpp"
+#include "dem/driver/registry.hpp"
 #include "io/results.hpp"
+#include "io/run_case.hpp"
 #include "study/toml_file.hpp"
 
 namespace rbdem::study {
@@ -70,9 +71,11 @@ StudySpec load_study(const std::filesystem::path& path) {
   check_keys(*st, {"name", "description", "test", "base", "dips", "realizations", "set"}, where + " [study]");
   if (auto t = st->get_as<std::string>("test")) {
     spec.test = t->get();
-    if (spec.test != "ucs" && spec.test != "triaxial" && spec.test != "brazilian")
-      throw SceneError(fmt::format("{}: study.test = '{}': expected \"ucs\", \"triaxial\" or \"brazilian\"", where,
-                                   spec.test));
+    try {
+      protocol_info(spec.test);
+    } catch (const SceneError& e) {
+      throw SceneError(fmt::format("{}: study.test: {}", where, e.what()));
+    }
   }
   spec.name = st->get_as<std::string>("name") ? st->get_as<std::string>("name")->get() : path.stem().string();
   if (auto d = st->get_as<std::string>("description")) spec.description = d->get();
@@ -98,7 +101,8 @@ StudySpec load_study(const std::filesystem::path& path) {
                                    where, toml_value_text(*n, where + " study.realizations"), max_realizations));
     spec.realizations = int(r->get());
   }
-  if (spec.test == "brazilian" && spec.base.mesh.file.empty()) spec.base.specimen.shape = "disc";
+  if (spec.base.mesh.file.empty())  // the test's own keys (a disc for the Brazilian test), before the study's set
+    for (const auto& [key, value] : protocol_info(spec.test).scene_defaults) set_parameter(spec.base, key, value);
   if (auto set = st->get_as<toml::table>("set"))
     for (const auto& [k, v] : *set)
       set_parameter(spec.base, k.str(), toml_value_text(v, where + " study.set." + std::string(k.str())));
@@ -199,7 +203,7 @@ std::vector<Case> expand(const StudySpec& spec) {
           d.id += fmt::format("/seed={}", d.scene.mesh.seed);
         }
         validate(d.scene);
-        check_test_scene(d.test, d.scene);
+        protocol_info(d.test).check(d.scene);
         cases.push_back(std::move(d));
       }
   return cases;
@@ -226,16 +230,15 @@ CaseResult run_one(const Case& c, const std::filesystem::path& dir, const std::a
   const auto t0 = std::chrono::steady_clock::now();
   std::filesystem::remove_all(dir);  // an interrupted run leaves partial files: start clean
   std::filesystem::create_directories(dir);
-  Scene scene = c.scene;
-  scene.numerics.threads = max_threads;  // cases run side by side, each with the threads it is given (`threads`)
-  const TriMesh mesh = make_mesh_cached(scene);
-  const Topology topo = build_topology(mesh, scene.specimen.thickness, scene.rock.density);
-  rbdem::RunOptions uo;
-  uo.cancel = cancel;
-  uo.thread_budget = threads;
-  const TestResult r = run_test(c.test, scene, topo, uo);
-  // The cores the case holds now (one beside a running case, more once the others are done).
-  io::write_run(dir, c.scene, mesh, topo, r, std::max(1, threads ? threads->load() : 1));
+  io::CaseOptions co;
+  co.out = dir;
+  co.threads = max_threads;  // cases run side by side, each with the threads it is given (`threads`)
+  co.run.cancel = cancel;
+  co.run.thread_budget = threads;
+  // The cores the case holds when it ends (one beside a running case, more once the others are done) compress its
+  // result.h5.
+  co.write_threads = [threads] { return threads ? threads->load() : 1; };
+  const TestResult r = io::run_case(c.test, c.scene, co).result;
   if (!r.completed) throw std::runtime_error(r.watchdog_message);  // its summary says so; the case is not done
   CaseResult cr;
   cr.c = c;
@@ -443,7 +446,7 @@ std::string fmt_count(const nlohmann::json& v) { return fmt::format("{:.10g}", v
 std::string case_columns(const CaseResult& r, double strength_90) {
   const auto& s = r.summary;
   const auto& c = s["cracks"];
-  const bool brazilian = r.c.test == "brazilian";
+  const bool brazilian = protocol_info(r.c.test).tensile;
   std::string t = fmt::format(",{:g},{:.9g},{:.9g},{:.9g},{},{:.4g},{:.4g},{},{},{},{},{},{},{:.4g},{:.9g},{:.9g}",
                               r.c.beta, s["peak_stress_pa"].get<double>(), s["strain_at_peak"].get<double>(),
                               s["youngs_modulus_pa"].get<double>(), s["failure_mode"].get<std::string>(),

@@ -34,7 +34,7 @@
 #include <nlohmann/json.hpp>
 
 #include "dem/scene.hpp"
-#include "dem/driver/ucs.hpp"
+#include "dem/driver/driver.hpp"
 
 namespace rbdem::study {
 

@@ -10,11 +10,11 @@
 #include <Eigen/Dense>
 #include <fmt/format.h>
 
-#include "dem/engine.hpp"
+#include "dem/simulation_impl.hpp"
 
 namespace rbdem::compare {
 
-GaugeStrain gauge_strain(const Topology& topo, const std::vector<double>& ux, const std::vector<double>& uy,
+GaugeStrain gauge_strain(const Topology<2>& topo, const std::vector<double>& ux, const std::vector<double>& uy,
                          double end_fraction) {
   const auto& B = topo.blocks;
   const double lo = topo.ymin + end_fraction * topo.height(), hi = topo.ymax - end_fraction * topo.height();
@@ -60,22 +60,23 @@ Scene elastic_test_scene(const Scene& scene) {
   return s;
 }
 
-VirtualTest virtual_test(const Topology& topo, const Scene& scene, double beta_deg, double end_fraction,
+VirtualTest virtual_test(const Topology<2>& topo, const Scene& scene, double beta_deg, double end_fraction,
                          StaticResult* state, bool linear_parts_closed) {
-  const Scene s = elastic_test_scene(scene);
-  EngineOptions eo = EngineOptions::from_scene(s);
-  eo.threads = 1;  // the static solve does not use the engine's threads; angles run in parallel instead
-  const Engine engine(topo, s, eo);
+  Scene s = elastic_test_scene(scene);
+  s.numerics.threads = 1;  // the static solve does not use the run's threads; angles run in parallel instead
+  SimulationImpl<2> impl(s, topo);
+  Simulation& sim = impl;
+  sim.add_platens({s.loading.platen_velocity, s.loading.platen_friction});
   StaticOptions so;
   so.platen_displacement = 1e-5 * topo.height();
   so.linear_parts_always_closed = linear_parts_closed;
-  StaticResult r = solve_static(engine, so);
+  StaticResult r = sim.solve_static(so);
   VirtualTest t;
   t.beta_deg = beta_deg;
   t.platen_displacement = r.platen_displacement;
   t.stress = -0.5 * (r.top_force + r.bottom_force) / (topo.width() * topo.thickness);
   t.platen_modulus = r.apparent_modulus;
-  t.gauge = gauge_strain(topo, r.ux, r.uy, end_fraction);
+  t.gauge = gauge_strain(topo, r.component(0), r.component(1), end_fraction);
   t.gauge_modulus = t.stress / t.gauge.eps_yy;
   t.S12 = t.gauge.eps_xx / t.stress;
   t.S22 = t.gauge.eps_yy / t.stress;
@@ -144,7 +145,7 @@ theory::TIConstants isotropic_constants(const VirtualTest& test, theory::Plane p
   return theory::constants_from_compliance(a, plane);
 }
 
-void JointBondStats::add(const Topology& topo) {
+void JointBondStats::add(const Topology<2>& topo) {
   for (std::size_t b = 0; b < topo.bonds.size(); ++b)
     if (topo.bonds.kind[b] == BondKind::joint) {
       sum_length += topo.bonds.length[b];
@@ -197,7 +198,7 @@ double JointInterfaces::mean_k_s() const {
   return sum_length_compliance_s > 0 ? sum_length / sum_length_compliance_s : std::numeric_limits<double>::infinity();
 }
 
-JointInterfaces joint_interfaces(const Topology& topo, const Scene& scene, double intact_E) {
+JointInterfaces joint_interfaces(const Topology<2>& topo, const Scene& scene, double intact_E) {
   const MaterialMap materials = assign_materials(topo, scene);
   const double inf = std::numeric_limits<double>::infinity();
   JointInterfaces out;

@@ -46,7 +46,7 @@ struct GaugeStrain {
 };
 
 // Least-squares affine fit over the blocks whose centroid lies at least end_fraction x height from both platens.
-GaugeStrain gauge_strain(const Topology& topo, const std::vector<double>& ux, const std::vector<double>& uy,
+GaugeStrain gauge_strain(const Topology<2>& topo, const std::vector<double>& ux, const std::vector<double>& uy,
                          double end_fraction);
 
 // One static virtual uniaxial test.
@@ -71,7 +71,7 @@ Scene elastic_test_scene(const Scene& scene);
 // Runs the static solve on `topo` (built from the scene's mesh at dip beta_deg) and measures it. When `state` is
 // given it receives the static solution (block displacements for field comparisons).
 // linear_parts_closed: every linear part closed and sticking (a linear DEM; diagnostics).
-VirtualTest virtual_test(const Topology& topo, const Scene& scene, double beta_deg, double end_fraction,
+VirtualTest virtual_test(const Topology<2>& topo, const Scene& scene, double beta_deg, double end_fraction,
                          StaticResult* state = nullptr, bool linear_parts_closed = false);
 
 struct ComplianceFit {
@@ -96,7 +96,7 @@ theory::TIConstants isotropic_constants(const VirtualTest& test, theory::Plane p
 struct JointBondStats {
   double sum_length = 0, sum_length_d = 0;  // m, m^2
   std::size_t count = 0;
-  void add(const Topology& topo);
+  void add(const Topology<2>& topo);
   void merge(const JointBondStats& o) {
     sum_length += o.sum_length, sum_length_d += o.sum_length_d, count += o.count;
   }
@@ -152,6 +152,6 @@ struct JointInterfaces {
 };
 
 // The joint bonds of `topo` (kind == joint) as interfaces; intact_E: the rock's E for the penalty.
-JointInterfaces joint_interfaces(const Topology& topo, const Scene& scene, double intact_E);
+JointInterfaces joint_interfaces(const Topology<2>& topo, const Scene& scene, double intact_E);
 
 }  // namespace rbdem::compare

@@ -59,7 +59,7 @@ struct DemJob {
   double beta_deg = 0;
   bool intact = false;
   TriMesh mesh;
-  Topology topo;            // kept for the gauge of the FE model with the joints and its interfaces
+  Topology<2> topo;         // kept for the gauge of the FE model with the joints and its interfaces
   VirtualTest test;
   VirtualTest rock_test;    // the same mesh with the joint bonds given the rock's bond parameters
   JointBondStats joints;
@@ -313,7 +313,7 @@ ElasticReport run_elastic_gate(const Scene& scene_in, const ElasticGateOptions& 
     job.joints.add(job.topo);
     if (same_mesh_rock && !job.intact)
       job.rock_test = virtual_test(job.topo, rock_joints_scene(s), job.beta_deg, options.end_fraction);
-    if (options.fields && !job.intact) job.ux = std::move(state.ux), job.uy = std::move(state.uy);
+    if (options.fields && !job.intact) job.ux = state.component(0), job.uy = state.component(1);
     log(fmt::format("  DEM {:<10} {:>6} blocks, E_static {:7.2f} GPa, E_gauge {:7.2f} GPa, {:.2f} s{}",
                     job.intact ? "intact" : fmt::format("beta {:g}", job.beta_deg), job.test.blocks,
                     job.test.platen_modulus / 1e9, job.test.gauge_modulus / 1e9, job.test.solve_seconds,

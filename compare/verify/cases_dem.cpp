@@ -9,19 +9,20 @@
 #include "compare/verify/dem_measures.hpp"
 #include "compare/verify/specimens.hpp"
 #include "compare/verify/verify.hpp"
+#include "dem/boundary/components.hpp"
 #include "dem/engine.hpp"
 #include "dem/specimen_mesh.hpp"
 #include "dem/static_solve.hpp"
+#include "dem/driver/driver.hpp"
 #include "dem/topology.hpp"
-#include "dem/driver/ucs.hpp"
 
 namespace rbdem::verify {
 
 namespace {
 
+// Free blocks: an engine with no boundary components attached, on one thread.
 EngineOptions free_blocks(const Scene& s) {
   EngineOptions o = EngineOptions::from_scene(s);
-  o.platens = false;
   o.threads = 1;
   return o;
 }
@@ -48,9 +49,9 @@ CaseResult bond_moment(const Context&) {
   r.unit = "N m";
   const Scene scene = elastic_scene();
   const double a = 1e-3, b = 0.8e-3, t = 1.0, dth = 1e-7;
-  const Topology topo = build_topology(rhombus(a, b), t, 2700.0);
-  Engine e(topo, scene, free_blocks(scene));
-  e.edit([&](ModelState& s) { s.theta[1] = dth; });
+  const Topology<2> topo = build_topology(rhombus(a, b), t, 2700.0);
+  Engine<2> e(topo, scene, free_blocks(scene));
+  e.edit([&](ModelState<2>& s) { s.theta[1] = dth; });
   const double L = 2 * a, d = 2 * b / 3;
   r.reference_value = -(scene.rock.effective_modulus / d) * t * L * L * L / 12.0 * dth;
   r.measured = e.bond_forces(0).m_b;
@@ -174,10 +175,10 @@ CaseResult static_vs_explicit(const Context& ctx) {
 RigidMotionMeasure rigid_motion_forces() {
   const Scene scene = elastic_scene();
   SpecimenGeometry g;
-  const Topology topo = build_topology(mesh_specimen(g, 0.005), 1.0, 2700.0);
-  Engine e(topo, scene, free_blocks(scene));
+  const Topology<2> topo = build_topology(mesh_specimen(g, 0.005), 1.0, 2700.0);
+  Engine<2> e(topo, scene, free_blocks(scene));
   const double q = 1.0, c = std::cos(q), s = std::sin(q), tx = 0.3, ty = -0.2;
-  e.edit([&](ModelState& st) {
+  e.edit([&](ModelState<2>& st) {
     for (std::size_t b = 0; b < st.num_blocks(); ++b) {
       const double x = st.x[b], y = st.y[b];
       st.x[b] = tx + c * x - s * y;
@@ -202,15 +203,16 @@ RigidMotionMeasure rigid_motion_forces() {
 PairPeriodMeasure bonded_pair_period(double steps_per_period) {
   const Scene scene = elastic_scene();
   const double a = 1e-3, b = 0.8e-3, t = 1.0;
-  const Topology topo = build_topology(rhombus(a, b), t, 2700.0);
-  Engine e(topo, scene, free_blocks(scene));
+  const Topology<2> topo = build_topology(rhombus(a, b), t, 2700.0);
+  Engine<2> e(topo, scene, free_blocks(scene));
   e.fix_block(0);
   const double k = 2.0 * scene.rock.effective_modulus * (2 * a) * t / (2 * b / 3);
   const double mass = 2700.0 * t * a * b;  // triangle of base 2a and height b
   const double preload = 1e3;              // N
-  e.set_external_load(1, 0.0, -preload, 0.0);
+  BlockGroupImpl<2> load(e, {"preload", {1}, GroupSettings::Mode::force, {0.0, -preload, 0.0}});
+  e.attach(&load);
   const double y_eq = e.state().y[1] - preload / k;
-  e.edit([&](ModelState& s) { s.y[1] = y_eq + 0.3 * preload / k; });  // amplitude 30 % of the preload: stays closed
+  e.edit([&](ModelState<2>& s) { s.y[1] = y_eq + 0.3 * preload / k; });  // amplitude 30 % of the preload: stays closed
   PairPeriodMeasure m;
   m.expected = 2 * std::numbers::pi * std::sqrt(mass / k);
   e.set_dt(m.expected / steps_per_period);
@@ -233,14 +235,14 @@ ImpactMeasure frictionless_impact(double angle_deg) {
   Scene scene = elastic_scene();
   scene.rock.contact_friction = scene.joint.contact_friction = 0.0;
   const double a = 1e-3;
-  const Topology topo = build_topology(facing_triangles(a), 1.0, 2700.0);
-  Engine e(topo, scene, free_blocks(scene));
+  const Topology<2> topo = build_topology(facing_triangles(a), 1.0, 2700.0);
+  Engine<2> e(topo, scene, free_blocks(scene));
   const double v = 1.0, q = angle_deg * std::numbers::pi / 180;
-  e.edit([&](ModelState& s) {
+  e.edit([&](ModelState<2>& s) {
     s.vx[0] = v * std::cos(q), s.vy[0] = -v * std::sin(q);
     s.vx[1] = -v * std::cos(q);
   });
-  const Model& M = e.model();
+  const Model<2>& M = e.model();
   const double k = scene.rock.effective_modulus / (M.inradius[0] + M.inradius[1]) * a * std::sqrt(2.0);
   e.set_dt(0.02 * std::sqrt(M.mass[0] / k));
   const double e0 = e.energies().kinetic;
@@ -261,8 +263,8 @@ SofteningPullMeasure softening_pull(double a, double fracture_energy, bool shear
   scene.rock.effective_modulus = 160e9, scene.rock.stiffness_ratio = 1.5;
   scene.rock.tensile_strength = 7.5e6, scene.rock.cohesion = 7.5e6, scene.rock.friction_deg = 40.0;
   scene.rock.fracture_energy = fracture_energy;
-  const Topology topo = build_topology(rhombus(a, 0.8 * a), 1.0, 2700.0);
-  Engine e(topo, scene, free_blocks(scene));
+  const Topology<2> topo = build_topology(rhombus(a, 0.8 * a), 1.0, 2700.0);
+  Engine<2> e(topo, scene, free_blocks(scene));
   e.fix_block(0), e.fix_block(1);
   e.set_dt(1e-12);
   const BondFrames& f = e.model().frame;
@@ -275,7 +277,7 @@ SofteningPullMeasure softening_pull(double a, double fracture_energy, bool shear
   SofteningPullMeasure m;
   double previous = 0, moved = 0;
   for (int k = 0; k < 400000 && !m.broke; ++k) {
-    e.edit([&](ModelState& s) { s.x[j] += step * ux, s.y[j] += step * uy; });
+    e.edit([&](ModelState<2>& s) { s.x[j] += step * ux, s.y[j] += step * uy; });
     moved += step;
     e.step();
     m.broke = e.state().broken[0] != 0;
@@ -299,13 +301,14 @@ SlopeMeasure static_and_explicit_moduli(double beta_deg, bool slip_when_bonded) 
   scene.joint_set.dip_deg = beta_deg;
   scene.numerics.elastic_start = false;
   scene.loading.max_strain = 2e-4;
-  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const Engine engine(topo, scene, EngineOptions::from_scene(scene));
+  const TriMesh mesh = make_mesh(scene);
+  const auto sim = Simulation::create(scene, mesh);
+  sim->add_platens({scene.loading.platen_velocity, scene.loading.platen_friction});
   SlopeMeasure m;
-  m.static_state = solve_static(engine);
-  const TestResult run = run_ucs(scene, topo);
+  m.static_state = sim->solve_static();
+  const TestResult run = run_test("ucs", scene, mesh);
   m.explicit_modulus = slope(run.curve, 0.3 * scene.loading.max_strain);
-  m.curve_points = run.curve.size(), m.cracks = run.cracks.size(), m.blocks = topo.blocks.size();
+  m.curve_points = run.curve.size(), m.cracks = run.cracks.size(), m.blocks = sim->num_blocks();
   m.steps = run.steps;
   return m;
 }

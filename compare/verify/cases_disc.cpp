@@ -16,7 +16,7 @@
 
 #include "compare/gate/dem_constants.hpp"
 #include "compare/verify/verify.hpp"
-#include "dem/engine.hpp"
+#include "dem/simulation_impl.hpp"
 #include "dem/measure.hpp"
 #include "dem/specimen_mesh.hpp"
 #include "dem/static_solve.hpp"
@@ -50,10 +50,8 @@ struct DemDisc {
 };
 
 DemDisc dem_disc(const Scene& s, const TriMesh& mesh, double P, double radius_fraction) {
-  const Topology topo = build_topology(mesh, s.specimen.thickness, s.rock.density);
-  EngineOptions o = EngineOptions::from_scene(s);
-  o.platens = false, o.contacts = false, o.threads = 1;
-  Engine e(topo, s, o);
+  SimulationImpl<2> sim(s, mesh, {}, [](EngineOptions& o) { o.contacts = false, o.threads = 1; });
+  const Topology<2>& topo = sim.topology();
   DemDisc d;
   d.cx = 0.5 * (topo.xmin + topo.xmax), d.cy = 0.5 * (topo.ymin + topo.ymax), d.R = 0.5 * topo.width();
   int anchor = 0;
@@ -65,10 +63,10 @@ DemDisc dem_disc(const Scene& s, const TriMesh& mesh, double P, double radius_fr
   StaticOptions so;
   so.platens = false;
   so.anchors = {anchor};
-  so.load = diametral_load(e, mesh, P);
-  const StaticResult st = solve_static(e, so);
-  apply_static_state(e, st, 1.0, 0.0);
-  d.mean = average_stress(e, d.cx, d.cy, radius_fraction * d.R);
+  so.load = diametral_load(sim.engine(), mesh, P);
+  const StaticResult st = sim.solve_static(so);
+  sim.apply_static({}, st, 1.0, 0.0);
+  d.mean = average_stress(sim.engine(), d.cx, d.cy, radius_fraction * d.R);
   d.blocks = topo.blocks.size(), d.bonds = topo.bonds.size(), d.open = st.open_bonds;
   return d;
 }

@@ -20,17 +20,18 @@ CaseResult cd_order(const Context&) {
   r.unit = "-";
   const ReferenceSpecimen sp;
   const ReferenceProblem p = make_reference_problem(sp);
-  auto e = p.make_engine();
+  const auto sim = p.make_simulation();
+  Engine<2>& e = sim->engine();
   const double t_end = 50.0 * p.stability_limit;
   const IntegrationResult ref =
-      integrate_explicit(*e, p.y0, t_end, Tolerances::scaled(1e-12, sp.strain * sp.height, sp.velocity, sp.mesh_size));
+      integrate_explicit(e, p.y0, t_end, Tolerances::scaled(1e-12, sp.strain * sp.height, sp.velocity, sp.mesh_size));
   const long n0 = long(std::ceil(t_end / (0.125 * p.stability_limit)));
   std::vector<double> dts, errors;
   for (int k = 0; k < 4; ++k) {
     const long n = n0 << k;
     const double dt = t_end / double(n);
-    const IntegrationResult cd = central_difference(*e, p.y0, dt, n);
-    const StateError err = state_error(*e, cd.state, ref.state, p.y0);
+    const IntegrationResult cd = central_difference(e, p.y0, dt, n);
+    const StateError err = state_error(e, cd.state, ref.state, p.y0);
     dts.push_back(dt), errors.push_back(err.position);
     r.table.push_back({{"dt_over_limit", dt / p.stability_limit}, {"position_error", err.position},
                        {"velocity_error", err.velocity}, {"steps", n}, {"seconds", cd.stats.wall_seconds}});
@@ -47,7 +48,7 @@ CaseResult cd_order(const Context&) {
   r.tolerance = 0.2;
   r.tolerance_source = "second order of central difference; 0.2 allows the next term over a factor 8 in dt "
                        "(the issue's 1.8-2.2)";
-  r.cost = fmt::format("{} blocks, {} to {} steps, ARKODE {} steps", p.engine->model().num_blocks(), n0, n0 << 3,
+  r.cost = fmt::format("{} blocks, {} to {} steps, ARKODE {} steps", p.engine().model().num_blocks(), n0, n0 << 3,
                        ref.stats.steps);
   return r;
 }

@@ -7,7 +7,6 @@
 #include <fmt/format.h>
 
 #include "dem/driver/summary.hpp"
-#include "dem/scene_keys.hpp"
 
 namespace rbdem {
 
@@ -16,39 +15,40 @@ LoadRate::LoadRate(const Scene& scene)
       quiet_transits_(scene.loading.quiet_transits),
       wave_speed_(std::sqrt(scene.rock.effective_modulus / (scene.rock.density * scene.numerics.mass_scaling))) {}
 
-void LoadRate::after_step(Engine& engine) const {
-  const double dt = engine.state().dt, transit = engine.model().height / wave_speed_;
-  const double running = double(engine.steps()) * dt;  // the explicit run's time so far
-  const auto& cracks = engine.cracks();
-  const double quiet = cracks.empty() ? running : std::min(running, engine.time() - cracks.back().time);
-  const double v = engine.state().platen_velocity, rise = (fast_ - 1.0) * slow_ * dt / transit;
-  engine.set_platen_velocity(quiet > quiet_transits_ * transit ? std::min(fast_ * slow_, v + rise)
-                                                               : std::max(slow_, v - 4.0 * rise));
+void LoadRate::after_step(Simulation& sim) const {
+  Platens& platens = *sim.find<Platens>();
+  const double dt = sim.dt(), transit = sim.specimen().height() / wave_speed_;
+  const double running = double(sim.steps()) * dt;  // the explicit run's time so far
+  const auto& cracks = sim.cracks();
+  const double quiet = cracks.empty() ? running : std::min(running, sim.time() - cracks.back().time);
+  const double v = platens.velocity(), rise = (fast_ - 1.0) * slow_ * dt / transit;
+  platens.set_velocity(quiet > quiet_transits_ * transit ? std::min(fast_ * slow_, v + rise)
+                                                         : std::max(slow_, v - 4.0 * rise));
 }
 
-CurvePoint sample_point(const Engine& engine, const Reading& reading) {
+CurvePoint sample_point(const Simulation& sim, const Reading& reading) {
   CurvePoint p;
-  p.step = engine.steps();
-  p.time = engine.time();
+  p.step = sim.steps();
+  p.time = sim.time();
   p.strain = reading.strain;
   p.stress_top = reading.stress_top;
   p.stress_bottom = reading.stress_bottom;
-  const Energies e = engine.energies();
+  const Energies e = sim.energies();
   p.kinetic = e.kinetic;
   p.strain_energy = e.strain;
   p.lateral_strain = reading.lateral_strain;
-  const CrackCounts c = count_cracks(engine.cracks());
+  const CrackCounts c = count_cracks(sim.cracks());
   p.broken = {c.rock_tensile, c.rock_shear, c.joint_tensile, c.joint_shear};
   return p;
 }
 
-Frame make_frame(const Engine& engine, const Reading& reading, const char* label) {
+Frame make_frame(const Simulation& sim, const Reading& reading, const char* label) {
   Frame f;
-  f.step = engine.steps(), f.time = engine.time(), f.strain = reading.strain, f.stress = reading.stress;
+  f.step = sim.steps(), f.time = sim.time(), f.strain = reading.strain, f.stress = reading.stress;
   f.label = label;
-  const ModelState& s = engine.state();
-  f.x = s.x, f.y = s.y, f.theta = s.theta;
-  f.cracks = s.cracks.size();
+  f.dim = sim.dimension();
+  f.pose = sim.pose();
+  f.cracks = sim.cracks().size();
   return f;
 }
 
@@ -56,13 +56,13 @@ void PeakTracker::after_step(const StepView& v) const {
   TestRecord& r = v.record;
   if (!(v.reading.stress > r.peak)) return;
   r.peak = v.reading.stress;
-  r.peak_step = v.engine.steps();
-  if (v.engine.steps() - r.peak_detail_step >= 100) {
-    r.at_peak = sample_point(v.engine, v.reading);
-    r.peak_frame = make_frame(v.engine, v.reading, "peak");
-    r.peak_detail_step = v.engine.steps();
+  r.peak_step = v.sim.steps();
+  if (v.sim.steps() - r.peak_detail_step >= 100) {
+    r.at_peak = sample_point(v.sim, v.reading);
+    r.peak_frame = make_frame(v.sim, v.reading, "peak");
+    r.peak_detail_step = v.sim.steps();
   } else {
-    r.at_peak.step = v.engine.steps(), r.at_peak.time = v.engine.time(), r.at_peak.strain = v.reading.strain;
+    r.at_peak.step = v.sim.steps(), r.at_peak.time = v.sim.time(), r.at_peak.strain = v.reading.strain;
     r.at_peak.stress_top = v.reading.stress_top, r.at_peak.stress_bottom = v.reading.stress_bottom;
     r.at_peak.lateral_strain = v.reading.lateral_strain;
   }
@@ -70,68 +70,67 @@ void PeakTracker::after_step(const StepView& v) const {
 
 void FrameRecorder::after_step(const StepView& v) const {
   if (v.reading.strain < v.record.next_frame) return;
-  v.record.frames.push_back(make_frame(v.engine, v.reading, ""));
+  v.record.frames.push_back(make_frame(v.sim, v.reading, ""));
   v.record.next_frame += interval;
 }
 
 bool CurveRecorder::after_step(const StepView& v) const {
-  if (v.engine.steps() % v.record.sample_every != 0) return false;
-  v.record.curve.push_back(sample_point(v.engine, v.reading));
+  if (v.sim.steps() % v.record.sample_every != 0) return false;
+  v.record.curve.push_back(sample_point(v.sim, v.reading));
   return true;
 }
 
-std::string watchdog_check(const Engine& engine, double energy0, const WatchdogCriterion& c, std::string& detail,
+std::string watchdog_check(const Simulation& sim, double energy0, const WatchdogCriterion& c, std::string& detail,
                            double& ratio) {
   ratio = 0.0;
-  const ModelState& s = engine.state();
-  for (std::size_t b = 0; b < s.num_blocks(); ++b) {
-    if (!(std::isfinite(s.x[b]) && std::isfinite(s.y[b]) && std::isfinite(s.theta[b]) && std::isfinite(s.vx[b]) &&
-          std::isfinite(s.vy[b]) && std::isfinite(s.omega[b]))) {
-      detail = fmt::format("block {} has a non-finite position or velocity", b);
-      return "non_finite_state";
-    }
+  if (detail = sim.non_finite(); !detail.empty()) return "non_finite_state";
+  const Energies e = sim.energies();
+  const double held = e.kinetic + e.strain;
+  double input = energy0;
+  std::string work;
+  for (const Boundary* b : sim.boundaries()) {
+    input += b->work();
+    work += fmt::format(" + {:.4g} J of {} work", b->work(), b->name());
   }
-  const Energies e = engine.energies();
-  const double held = e.kinetic + e.strain, input = energy0 + e.work_platen + e.work_jacket;
   if (!std::isfinite(held)) {
     detail = "the kinetic or strain energy is not finite";
     return "non_finite_state";
   }
   ratio = input > 0 ? held / input : 0.0;
   if (held > c.growth * input + c.floor) {
-    detail = fmt::format("kinetic + strain energy {:.4g} J exceeds {:.3g} x the energy put in ({:.4g} J at the start "
-                         "+ {:.4g} J of platen work + {:.4g} J of confining pressure work) + {:.3g} J",
-                         held, c.growth, energy0, e.work_platen, e.work_jacket, c.floor);
+    detail = fmt::format("kinetic + strain energy {:.4g} J exceeds {:.3g} x the energy put in ({:.4g} J at the start{}) "
+                         "+ {:.3g} J",
+                         held, c.growth, energy0, work, c.floor);
     return "energy_growth";
   }
   return {};
 }
 
-void Watchdog::mark_sound(const Engine& engine, const TestRecord& record) {
-  good_curve = record.curve.size(), good_frames = record.frames.size(), good_cracks = engine.cracks().size();
+void Watchdog::mark_sound(const Simulation& sim, const TestRecord& record) {
+  good_curve = record.curve.size(), good_frames = record.frames.size(), good_cracks = sim.cracks().size();
 }
 
-bool Watchdog::check(const Engine& engine, TestRecord& record, bool regular) {
+bool Watchdog::check(const Simulation& sim, TestRecord& record, bool regular) {
   double ratio = 0.0;
-  cause_ = watchdog_check(engine, record.energy0, criterion_, detail_, ratio);
+  cause_ = watchdog_check(sim, record.energy0, criterion_, detail_, ratio);
   if (!cause_.empty()) return false;
   if (regular) record.energy_ratio_max = std::max(record.energy_ratio_max, ratio);
-  mark_sound(engine, record);
+  mark_sound(sim, record);
   return true;
 }
 
 bool Checkpointer::after_step(const StepView& v, Watchdog& watchdog, double wall_seconds) {
-  const long step = v.engine.steps();
+  const long step = v.sim.steps();
   const bool cancel = step == s_.interrupt_at_step ||
                       (s_.cancel && (step & 255) == 0 && s_.cancel->load(std::memory_order_relaxed));
   bool due = s_.every_steps > 0 && step % s_.every_steps == 0;
   if (!due && s_.every_seconds > 0 && (step & 255) == 0)
     due = std::chrono::duration<double>(std::chrono::steady_clock::now() - last_).count() >= s_.every_seconds;
   if ((due || cancel) && s_.write) {
-    if (!watchdog.check(v.engine, v.record, false)) return false;
+    if (!watchdog.check(v.sim, v.record, false)) return false;
     TestCheckpoint c;
     c.scene_toml = s_.scene_toml, c.test = s_.test;
-    c.engine = v.engine.state();
+    c.state = v.sim.snapshot();
     c.record = v.record;
     c.record.wall_seconds = wall_seconds;
     s_.write(c);
@@ -147,21 +146,8 @@ bool Checkpointer::after_step(const StepView& v, Watchdog& watchdog, double wall
 }
 
 void ProgressReporter::after_step(const StepView& v) const {
-  if (!report || v.engine.steps() % 1000 != 0) return;
-  report({v.engine.steps(), v.engine.platen_displacement() / v.engine.model().height, v.reading.stress,
-          v.record.peak, int(v.engine.cracks().size())});
+  if (!report || v.sim.steps() % 1000 != 0) return;
+  report({v.sim.steps(), v.reading.strain, v.reading.stress, v.record.peak, int(v.sim.cracks().size())});
 }
-
-
-namespace scene_keys {
-
-// [output]: what the recorders keep.
-void declare_output(Keys& k) {
-  k.add(positive("output.frame_strain_interval", "-", 1.0,
-                 "save block positions every this much axial strain (plus the peak and the last state)",
-                 [](Scene& s) -> double& { return s.output.frame_strain_interval; }));
-}
-
-}  // namespace scene_keys
 
 }  // namespace rbdem

@@ -14,17 +14,17 @@
 #include "dem/driver/protocol.hpp"
 #include "dem/driver/record.hpp"
 #include "dem/driver/result.hpp"
-#include "dem/engine.hpp"
+#include "dem/simulation.hpp"
 
 namespace rbdem {
 
-// A curve sample and a frame of block positions at the engine's current state.
-CurvePoint sample_point(const Engine& engine, const Reading& reading);
-Frame make_frame(const Engine& engine, const Reading& reading, const char* label);
+// A curve sample and a frame of block poses at the simulation's current state.
+CurvePoint sample_point(const Simulation& sim, const Reading& reading);
+Frame make_frame(const Simulation& sim, const Reading& reading, const char* label);
 
 // What a monitor sees after a step.
 struct StepView {
-  const Engine& engine;
+  const Simulation& sim;
   const Reading& reading;
   TestRecord& record;
 };
@@ -33,14 +33,15 @@ struct StepView {
 // loading.quiet_transits times the time a compression wave takes to cross the specimen (H / sqrt(E* / rho), rho
 // with its mass scaling) since the explicit run began or the last break, the platen's speed rises towards
 // fast_factor x loading.platen_velocity, from nothing to the full rise in one such time; the step after a break it
-// falls back, reaching loading.platen_velocity within a quarter of one. The speed lives in the engine's state and
-// the time of the last break in its crack log, so a resumed run goes on exactly as the uninterrupted one, and the
-// run is the same at any thread count. docs/model.md, "Platens", says why and what it costs in accuracy.
+// falls back, reaching loading.platen_velocity within a quarter of one. The speed lives in the platens' state (the
+// snapshot) and the time of the last break in the crack log, so a resumed run goes on exactly as the
+// uninterrupted one, and the run is the same at any thread count. docs/model.md, "Platens", says why and what it
+// costs in accuracy.
 class LoadRate {
  public:
   explicit LoadRate(const Scene& scene);
   bool adapts() const { return fast_ > 1.0; }
-  void after_step(Engine& engine) const;
+  void after_step(Simulation& sim) const;
 
  private:
   double slow_ = 0, fast_ = 1, quiet_transits_ = 0, wave_speed_ = 0;  // m/s, -, -, m/s
@@ -71,9 +72,9 @@ struct WatchdogCriterion {
   double growth = 1.5;   // -, allowed excess over the energy put in (integration error is far below)
   double floor = 0.0;    // J, absolute allowance: the strain energy of the specimen at 1e-5 axial strain
 };
-// Empty when the engine's state is sound; otherwise the cause ("non_finite_state" or "energy_growth") and, in
-// `detail`, what was seen. `ratio` receives (E_kin + E_strain) / (E_0 + W).
-std::string watchdog_check(const Engine& engine, double energy0, const WatchdogCriterion& c, std::string& detail,
+// Empty when the simulation's state is sound; otherwise the cause ("non_finite_state" or "energy_growth") and, in
+// `detail`, what was seen. `ratio` receives (E_kin + E_strain) / (E_0 + W), W the boundaries' work.
+std::string watchdog_check(const Simulation& sim, double energy0, const WatchdogCriterion& c, std::string& detail,
                            double& ratio);
 
 // Checks the state every `every` steps and before every checkpoint; remembers the last sound state (the sizes of
@@ -82,13 +83,13 @@ class Watchdog {
  public:
   Watchdog(WatchdogCriterion criterion, int every) : criterion_(criterion), every_(every) {}
   // Records the current record and crack log as sound (the start of the explicit run).
-  void mark_sound(const Engine& engine, const TestRecord& record);
+  void mark_sound(const Simulation& sim, const TestRecord& record);
   // The regular check: false when the run must stop.
   bool after_step(const StepView& v) {
-    return v.engine.steps() % every_ != 0 || check(v.engine, v.record, true);
+    return v.sim.steps() % every_ != 0 || check(v.sim, v.record, true);
   }
   // One check; `regular` checks also update the largest energy ratio (deterministic: regular steps only).
-  bool check(const Engine& engine, TestRecord& record, bool regular);
+  bool check(const Simulation& sim, TestRecord& record, bool regular);
   // Marks the run stopped for a cause seen outside the checks (an InstabilityError).
   void stop(std::string cause, std::string detail) { cause_ = std::move(cause), detail_ = std::move(detail); }
   const std::string& cause() const { return cause_; }

@@ -1,32 +1,15 @@
-// What a test run records as it goes: the curve, the frames of block positions, the peak, the watchdog's
-// reference. Plain data. The monitors (dem/driver/monitors.hpp) write it; summarize() (dem/driver/summary.hpp)
-// turns it into the result; checkpoints store it next to the engine's ModelState, walking TestRecord::fields().
+// What a test run records as it goes: the curve, the frames of block poses, the peak, the watchdog's reference.
+// Plain data; the records themselves (CurvePoint, Frame) are declared in dem/records.hpp. The monitors
+// (dem/driver/monitors.hpp) write it; summarize() (dem/driver/summary.hpp) turns it into the result; checkpoints
+// store it next to the simulation's snapshot, walking TestRecord::scalars() and the records' field tables.
 #pragma once
 
-#include <array>
 #include <string>
 #include <vector>
 
+#include "dem/records.hpp"
+
 namespace rbdem {
-
-struct CurvePoint {
-  long step = 0;                            // explicit step; -1 for the points of the static elastic start
-  double time = 0, strain = 0;              // s, axial strain = platen displacement / height
-  double stress_top = 0, stress_bottom = 0;  // Pa, compression positive, platen force / (width x thickness)
-  double kinetic = 0, strain_energy = 0;    // J
-  double lateral_strain = 0;                // -, width change / width (compression positive: < 0 when it widens)
-  std::array<int, 4> broken{};              // rock tensile, rock shear, joint tensile, joint shear
-  double stress() const { return 0.5 * (stress_top + stress_bottom); }
-};
-
-// Block positions at one instant (for crack maps on the deformed specimen and ParaView animations).
-struct Frame {
-  long step = 0;
-  double time = 0, strain = 0, stress = 0;
-  std::string label;                  // "", "elastic_start", "peak" or "final"
-  std::vector<double> x, y, theta;    // per block: centroid (m) and rotation (rad)
-  std::size_t cracks = 0;             // cracks logged by then (a prefix of the crack log)
-};
 
 // The driver's record of a run: everything a resumed run needs besides the engine's state.
 struct TestRecord {
@@ -36,7 +19,8 @@ struct TestRecord {
   double dt = 0, dt_critical = 0;     // s: the step used, the exact stability limit of the bonded lattice
   double dt_block_estimate = 0;       // s: the block-wise estimate, for comparison
   double elastic_start_strain = 0;    // strain skipped by the static elastic start (0 if none)
-  double isotropic_strain = 0;        // axial strain of the static isotropic stage of a confined test (0 if none)
+  double preload_strain = 0;          // axial strain of a static preload before the axial loading (the isotropic
+                                      // stage of a confined test; 0 if none)
   // sampling
   long sample_every = 1;              // explicit steps between curve samples
   double next_frame = 0;              // axial strain of the next regular frame
@@ -68,7 +52,7 @@ struct TestRecord {
     f("dt_critical", r.dt_critical);
     f("dt_block_estimate", r.dt_block_estimate);
     f("elastic_start_strain", r.elastic_start_strain);
-    f("isotropic_strain", r.isotropic_strain);
+    f("preload_strain", r.preload_strain);
     f("sample_every", r.sample_every);
     f("next_frame", r.next_frame);
     f("peak", r.peak);

@@ -2,13 +2,15 @@
 // no file I/O (io/results.hpp writes it).
 #pragma once
 
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "dem/driver/record.hpp"
 #include "dem/driver/signals.hpp"
-#include "dem/state.hpp"
+#include "dem/records.hpp"
+#include "dem/snapshot.hpp"
 
 namespace rbdem {
 
@@ -23,9 +25,19 @@ struct MaterialCracks {
   int bonds = 0, tensile = 0, shear = 0;
 };
 
+// A number of the protocol's own (dem/driver/protocol.hpp), written into summary.json under `key`. `measured`: a
+// result of the run (null in summary.json when the run did not complete), else a setting or a count.
+struct ResultValue {
+  std::string key;
+  double value = 0;
+  bool measured = true;
+};
+
 struct TestResult {
-  std::string test = "ucs";     // the protocol: "ucs", "triaxial" or "brazilian"
-  double peak_stress = 0;       // Pa: sigma_1 at the peak (compression tests), 2 P / (pi D t) (the Brazilian test)
+  std::string test = "ucs";     // the protocol's name (dem/driver/registry.hpp)
+  int dimension = 2;
+  double peak_stress = 0;       // Pa: the peak of the curve's stress (sigma_1 in compression; the Brazilian test's
+                                // tensile stress 2 P / (pi D t))
   double strain_at_peak = 0;
   double youngs_modulus = 0;    // Pa, secant at 50 % of the peak
   double platen_force_mismatch = 0;  // max |F_top - F_bottom| / mean while loading (20 to 95 % of the peak)
@@ -52,20 +64,17 @@ struct TestResult {
   double crack_initiation_stress = undefined_signal;     // Pa, onset of sustained cracking
   double crack_damage_stress = undefined_signal;         // Pa, at the reversal of the volumetric strain
   double residual_stress = undefined_signal;             // Pa, mean stress at the end of a run past the peak
-  std::vector<double> crack_orientation_deg;             // per crack: its edge's angle from the horizontal, [0, 180)
   std::vector<CrackRateBin> crack_rate;                  // cracks per unit axial strain, binned
   std::vector<Fragment> fragments;                       // at the end of the run, largest first
-  // Confined compression (triaxial)
-  double confining_pressure = 0;    // Pa, sigma_3
-  double deviator_at_peak = 0;      // Pa, sigma_1 - sigma_3 at the peak
-  double isotropic_strain = 0;      // axial strain when sigma_1 = sigma_3 was reached (static isotropic stage)
-  int jacket_edges_lost = 0;        // the most jacket edges that carried no pressure at once (dem/stages/jacket.cpp)
-  // The Brazilian test
-  double peak_load = 0;             // N, the largest platen force P
-  double tensile_strength = 0;      // Pa, 2 P / (pi D t) (ISRM)
-  double layer_angle_deg = 0;       // deg, between the layers and the loading direction (90 - dip)
-  double diameter = 0;              // m
+  double confining_pressure = 0;    // Pa, sigma_3: the jacket's pressure (0 without a jacket)
+  std::vector<ResultValue> own;     // the protocol's own numbers, in its order
   std::size_t blocks = 0, bonds = 0, rock_bonds = 0, joint_bonds = 0;
+  // The protocol's own value `key` (NaN when it has none).
+  double own_value(const std::string& key) const {
+    for (const ResultValue& v : own)
+      if (v.key == key) return v.value;
+    return std::numeric_limits<double>::quiet_NaN();
+  }
   int threads = 1;                  // the OpenMP threads the engine ran on (at most)
   // The watchdog (docs/reliability.md): false when the run was stopped because its state became non-finite or
   // its energy grew without work input. Then the curve, cracks and frames end at the last state that passed the
@@ -96,13 +105,14 @@ struct RunCancelled : std::runtime_error {
   bool checkpointed = false;
 };
 
-// Everything a run needs to continue where it stopped: the engine's state and the driver's record. Plain data;
-// io/checkpoint.hpp stores it in checkpoint.h5.
+// Everything a run needs to continue where it stopped: the simulation's snapshot and the driver's record. Plain
+// data; io/checkpoint.hpp stores it in checkpoint.h5.
 struct TestCheckpoint {
   std::string scene_toml;        // the resolved scene of the run (a resume with another scene is refused)
   std::string test;              // the protocol's name
-  ModelState engine;
+  Snapshot state;
   TestRecord record;
+  long steps() const { return state.has("steps") ? state.get<long>("steps") : 0; }
 };
 
 }  // namespace rbdem

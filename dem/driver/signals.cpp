@@ -101,29 +101,10 @@ double residual_stress(const std::vector<CurvePoint>& curve, double strain_at_pe
   return n > 0 ? sum / n : undefined_signal;
 }
 
-double edge_orientation_deg(double nx, double ny) {
-  // The edge runs along t = (-ny, nx); its angle folded into [0, 180).
-  double a = std::atan2(nx, -ny) * 180.0 / std::numbers::pi;
-  if (a < 0) a += 180.0;
-  if (a >= 180.0) a -= 180.0;
-  return a;
-}
-
-std::vector<double> crack_orientations_deg(const std::vector<Crack>& cracks, const Topology& topo) {
-  const auto& B = topo.bonds;
-  if (B.nx.size() != B.size() || B.ny.size() != B.size())
-    throw std::invalid_argument(fmt::format("crack_orientations_deg: the topology has {} bonds but {} normals",
-                                            B.size(), B.nx.size()));
+std::vector<double> crack_orientations_deg(const std::vector<Crack>& cracks) {
   std::vector<double> out;
   out.reserve(cracks.size());
-  for (const auto& c : cracks) {
-    if (c.bond < 0 || std::size_t(c.bond) >= topo.bonds.size())
-      throw std::invalid_argument(
-          fmt::format("crack_orientations_deg: crack of bond {} but the topology has {} bonds", c.bond,
-                      topo.bonds.size()));
-    const auto b = std::size_t(c.bond);
-    out.push_back(edge_orientation_deg(topo.bonds.nx[b], topo.bonds.ny[b]));
-  }
+  for (const auto& c : cracks) out.push_back(edge_orientation_deg(c.normal[0], c.normal[1]));
   return out;
 }
 
@@ -144,13 +125,13 @@ std::vector<CrackRateBin> crack_rate(const std::vector<Crack>& cracks, double st
   return out;
 }
 
-std::vector<Fragment> fragments(const Topology& topo, const std::vector<Crack>& cracks) {
-  const std::size_t nb = topo.blocks.size(), nbond = topo.bonds.size();
+std::vector<Fragment> fragments(const Specimen& specimen, const std::vector<Crack>& cracks) {
+  const std::size_t nb = specimen.num_blocks(), nbond = specimen.num_bonds();
   std::vector<char> broken(nbond, 0);
   for (const auto& c : cracks) {
     if (c.bond < 0 || std::size_t(c.bond) >= nbond)
       throw std::invalid_argument(
-          fmt::format("fragments: crack of bond {} but the topology has {} bonds", c.bond, nbond));
+          fmt::format("fragments: crack of bond {} but the specimen has {} bonds", c.bond, nbond));
     broken[std::size_t(c.bond)] = 1;
   }
   std::vector<int> parent(nb);
@@ -160,7 +141,7 @@ std::vector<Fragment> fragments(const Topology& topo, const std::vector<Crack>& 
     return a;
   };
   for (std::size_t b = 0; b < nbond; ++b) {
-    const int i = topo.bonds.i[b], j = topo.bonds.j[b];
+    const int i = specimen.bonds.i[b], j = specimen.bonds.j[b];
     if (i < 0 || j < 0 || std::size_t(i) >= nb || std::size_t(j) >= nb)
       throw std::invalid_argument(
           fmt::format("fragments: bond {} joins blocks {} and {} but there are {} blocks", b, i, j, nb));
@@ -174,8 +155,8 @@ std::vector<Fragment> fragments(const Topology& topo, const std::vector<Crack>& 
     const int r = find(int(b));
     if (slot[std::size_t(r)] < 0) slot[std::size_t(r)] = int(out.size()), out.emplace_back();
     Fragment& f = out[std::size_t(slot[std::size_t(r)])];
-    const double a = topo.blocks.area[b];
-    f.blocks += 1, f.area += a, f.cx += a * topo.blocks.cx[b], f.cy += a * topo.blocks.cy[b];
+    const double a = specimen.blocks.measure[b];
+    f.blocks += 1, f.area += a, f.cx += a * specimen.centroid(b, 0), f.cy += a * specimen.centroid(b, 1);
   }
   for (auto& f : out)
     if (f.area > 0) f.cx /= f.area, f.cy /= f.area;

@@ -13,15 +13,15 @@
 #include <vector>
 
 #include "dem/driver/record.hpp"
-#include "dem/state.hpp"
-#include "dem/topology.hpp"
+#include "dem/records.hpp"
+#include "dem/specimen.hpp"
 
 namespace rbdem {
 
 inline constexpr double undefined_signal = std::numeric_limits<double>::quiet_NaN();
 
 // eps_v = eps_a + eps_l, compression positive (plane strain).
-inline double volumetric_strain(const CurvePoint& p) { return p.strain + p.lateral_strain; }
+inline double volumetric_strain(const CurvePoint& p) { return p.volumetric_strain(); }
 
 // Poisson's ratio at half the peak, tangent: -d eps_l / d eps_a, the least-squares slope of the lateral against the
 // axial strain over the pre-peak samples (strain <= strain_at_peak) whose stress lies between 40 and 60 % of the
@@ -57,12 +57,9 @@ double crack_damage_stress(const std::vector<CurvePoint>& curve, double strain_a
 double residual_stress(const std::vector<CurvePoint>& curve, double strain_at_peak, const std::string& stop_reason,
                        double tail = 0.2, double min_span = 0.2);
 
-// Orientation of a bond's edge (the crack's trace), in degrees counter-clockwise from the horizontal, in [0, 180):
-// the direction perpendicular to the bond normal (nx, ny). A crack along a horizontal edge is 0, a vertical one 90.
-double edge_orientation_deg(double nx, double ny);
 
-// The orientation of every crack of the log, from its bond's reference normal in `topo`.
-std::vector<double> crack_orientations_deg(const std::vector<Crack>& cracks, const Topology& topo);
+// The orientation of every crack of the log, from its bond's reference normal (Crack::normal).
+std::vector<double> crack_orientations_deg(const std::vector<Crack>& cracks);
 
 // Cracks per unit axial strain, in `bins` equal strain bins over [0, strain_end]: the acoustic-emission-like rate
 // of docs/outputs.md (crack_rate.csv). A crack at strain_end counts in the last bin; none for strain_end <= 0.
@@ -80,9 +77,9 @@ struct Fragment {
   double area = 0;       // m^2 (in the plane)
   double cx = 0, cy = 0; // area-weighted reference centroid, m
 };
-// The fragments at the end of a run, largest area first (ties: by lowest block index). Uses topo.blocks.cx, cy,
-// area and topo.bonds.i, j; a bond is broken when it is the `bond` of an entry of `cracks`. Throws
-// std::invalid_argument for a crack or bond that names a block or bond outside the topology.
-std::vector<Fragment> fragments(const Topology& topo, const std::vector<Crack>& cracks);
+// The fragments at the end of a run, largest area first (ties: by lowest block index). Uses the specimen's block
+// centroids and areas and its bonds' blocks; a bond is broken when it is the `bond` of an entry of `cracks`. Throws
+// std::invalid_argument for a crack or bond that names a block or bond outside the specimen.
+std::vector<Fragment> fragments(const Specimen& specimen, const std::vector<Crack>& cracks);
 
 }  // namespace rbdem

@@ -31,14 +31,12 @@ CrackCounts count_cracks(const std::vector<Crack>& cracks) {
   return c;
 }
 
-std::vector<MaterialCracks> count_cracks_by_material(const std::vector<Crack>& cracks, const Topology& topo,
-                                                     const Scene& scene) {
-  const MaterialMap m = assign_materials(topo, scene);
+std::vector<MaterialCracks> count_cracks_by_material(const std::vector<Crack>& cracks, const Specimen& specimen) {
   std::array<MaterialCracks, material_count> all{};
   for (std::size_t k = 0; k < material_count; ++k) all[k].material = material_name[k];
-  for (const auto id : m.bond) ++all[id].bonds;
+  for (const auto id : specimen.bonds.material) ++all[id].bonds;
   for (const auto& c : cracks) {
-    MaterialCracks& mc = all[m.bond[std::size_t(c.bond)]];
+    MaterialCracks& mc = all[specimen.bonds.material[std::size_t(c.bond)]];
     ++(c.mode == BreakMode::shear ? mc.shear : mc.tensile);
   }
   std::vector<MaterialCracks> out;
@@ -47,14 +45,15 @@ std::vector<MaterialCracks> count_cracks_by_material(const std::vector<Crack>& c
   return out;
 }
 
-double joint_dip_deg(const Topology& topo, double fallback) {
+double joint_dip_deg(const Specimen& specimen, double fallback) {
   // The mean of the doubled angles (an axial mean: a joint edge at theta and theta + 180 deg is the same line).
   double c = 0, s = 0;
-  const auto& N = topo.bonds;
-  for (std::size_t b = 0; b < N.size(); ++b) {
+  const auto& N = specimen.bonds;
+  for (std::size_t b = 0; b < specimen.num_bonds(); ++b) {
     if (N.kind[b] != BondKind::joint) continue;
-    const double along = std::atan2(-N.nx[b], N.ny[b]);  // the edge direction, perpendicular to the bond normal
-    c += N.length[b] * std::cos(2.0 * along), s += N.length[b] * std::sin(2.0 * along);
+    // the edge direction, perpendicular to the bond normal
+    const double along = std::atan2(-specimen.normal(b, 0), specimen.normal(b, 1));
+    c += N.size[b] * std::cos(2.0 * along), s += N.size[b] * std::sin(2.0 * along);
   }
   if (std::hypot(c, s) <= 0) return fallback;
   return std::abs(0.5 * std::atan2(s, c) * 180.0 / std::numbers::pi);  // from (-90, 90]
@@ -65,36 +64,37 @@ bool non_persistent(const Scene& scene) {
          (scene.joint_set2.enabled && scene.joint_set2.persistence < 1.0);
 }
 
-std::string classify_failure(const std::vector<Crack>& cracks, const Topology& topo, double dip_deg,
+std::string classify_failure(const std::vector<Crack>& cracks, const Specimen& specimen, double dip_deg,
                              double dip2_deg, bool bridges) {
   if (cracks.empty()) return "intact";
   // Per joint (a straight line of joint edges: one interface, one line n . x = r): its length and how much of it
   // broke, by mode. The pieces of a non-persistent joint count as one joint; a through-going joint between two
   // layers is one line too.
   std::map<std::array<long, 4>, std::array<double, 3>> joints;  // total, broken in shear, broken in tension
-  const auto& N = topo.bonds;
-  const double scale = std::max(topo.width(), topo.height());
+  const auto& N = specimen.bonds;
+  const auto& layer = specimen.blocks.layer;
+  const double scale = std::max(specimen.width(), specimen.height());
   auto joint_of = [&](std::size_t b) {
-    const int a = topo.blocks.layer[std::size_t(N.i[b])], c = topo.blocks.layer[std::size_t(N.j[b])];
-    const int f = N.interface.empty() ? -1 : N.interface[b];
+    const int a = layer[std::size_t(N.i[b])], c = layer[std::size_t(N.j[b])];
+    const int f = N.interface[b];
     if (f < 0) return std::array<long, 4>{-1, std::min(a, c), std::max(a, c), 0};  // between layers of a user mesh
-    double nx = N.nx[b], ny = N.ny[b];
+    double nx = specimen.normal(b, 0), ny = specimen.normal(b, 1);
     if (ny < 0 || (ny == 0 && nx < 0)) nx = -nx, ny = -ny;  // one sign per line
-    const double r = nx * N.mx[b] + ny * N.my[b];
+    const double r = nx * specimen.midpoint(b, 0) + ny * specimen.midpoint(b, 1);
     const double angle = std::atan2(ny, nx);
     return std::array<long, 4>{f, std::lround(angle * 1e3), std::lround(r / (1e-4 * scale)), 1};
   };
   auto second_set = [&](const std::array<long, 4>& id) {
-    return id[0] >= 0 && topo.interface_names[std::size_t(id[0])] == joint_set_group[1];
+    return id[0] >= 0 && specimen.interface_names[std::size_t(id[0])] == joint_set_group[1];
   };
-  for (std::size_t b = 0; b < N.size(); ++b)
-    if (N.kind[b] == BondKind::joint) joints[joint_of(b)][0] += N.length[b];
+  for (std::size_t b = 0; b < specimen.num_bonds(); ++b)
+    if (N.kind[b] == BondKind::joint) joints[joint_of(b)][0] += N.size[b];
   double rock_t = 0, rock_s = 0, joint_broken = 0;
   for (const auto& k : cracks) {
     const std::size_t b = std::size_t(k.bond);
     const bool shear = k.mode == BreakMode::shear;
-    if (k.kind == BondKind::joint) joints[joint_of(b)][shear ? 1 : 2] += N.length[b], joint_broken += N.length[b];
-    else (shear ? rock_s : rock_t) += N.length[b];
+    if (k.kind == BondKind::joint) joints[joint_of(b)][shear ? 1 : 2] += N.size[b], joint_broken += N.size[b];
+    else (shear ? rock_s : rock_t) += N.size[b];
   }
   // A joint broken along most of its length failed as a plane. It slid if it was broken in shear and the load
   // resolves a large shear stress on it: tau / sigma = sin(2 beta) / 2 >= 1/4, i.e. 15 <= beta <= 75 deg (at 75 deg
@@ -119,24 +119,25 @@ std::string classify_failure(const std::vector<Crack>& cracks, const Topology& t
   return "shear_through_rock";
 }
 
-double crack_band_angle_deg(const std::vector<Crack>& cracks, const Topology& topo) {
+double crack_band_angle_deg(const std::vector<Crack>& cracks) {
   double w = 0, mx = 0, my = 0;
   for (const auto& k : cracks) {
-    const double L = topo.bonds.length[std::size_t(k.bond)];
-    w += L, mx += L * k.x, my += L * k.y;
+    const double L = k.size;
+    w += L, mx += L * k.position[0], my += L * k.position[1];
   }
   if (w <= 0) return 0.0;
   mx /= w, my /= w;
   double sxx = 0, syy = 0, sxy = 0;
   for (const auto& k : cracks) {
-    const double L = topo.bonds.length[std::size_t(k.bond)];
-    sxx += L * (k.x - mx) * (k.x - mx), syy += L * (k.y - my) * (k.y - my), sxy += L * (k.x - mx) * (k.y - my);
+    const double L = k.size, dx = k.position[0] - mx, dy = k.position[1] - my;
+    sxx += L * dx * dx, syy += L * dy * dy, sxy += L * dx * dy;
   }
   const double angle = 0.5 * std::atan2(2.0 * sxy, sxx - syy) * 180.0 / std::numbers::pi;  // major axis
   return std::abs(angle);
 }
 
-void summarize(const Scene& scene, const Topology& topo, const TestRecord& record, TestResult& r) {
+void summarize(const Scene& scene, const Specimen& specimen, const LoadingProtocol& protocol,
+               const TestRecord& record, TestResult& r) {
   const double peak = record.peak;
   const CurvePoint& at_peak = record.at_peak;
   r.peak_stress = peak;
@@ -189,23 +190,22 @@ void summarize(const Scene& scene, const Topology& topo, const TestRecord& recor
     }
   }
   r.crack_counts = count_cracks(r.cracks);
-  r.cracks_by_material = count_cracks_by_material(r.cracks, topo, scene);
+  r.cracks_by_material = count_cracks_by_material(r.cracks, specimen);
   // A user mesh's layers have the dip its joint edges have, not the scene's joint_set.dip_deg.
-  const double dip = scene.mesh.file.empty() ? scene.joint_set.dip_deg : joint_dip_deg(topo, scene.joint_set.dip_deg);
-  r.failure_mode = classify_failure(r.cracks, topo, dip, second_set_dip_deg(scene, scene.joint_set.dip_deg),
+  const double dip =
+      scene.mesh.file.empty() ? scene.joint_set.dip_deg : joint_dip_deg(specimen, scene.joint_set.dip_deg);
+  r.failure_mode = classify_failure(r.cracks, specimen, dip, second_set_dip_deg(scene, scene.joint_set.dip_deg),
                                     non_persistent(scene));
-  r.crack_band_angle_deg = crack_band_angle_deg(r.cracks, topo);
+  r.crack_band_angle_deg = crack_band_angle_deg(r.cracks);
   double t_len = 0, all = 0;
   for (const auto& k : r.cracks) {
-    const double L = topo.bonds.length[std::size_t(k.bond)];
-    all += L;
-    if (k.mode == BreakMode::tensile) t_len += L;
+    all += k.size;
+    if (k.mode == BreakMode::tensile) t_len += k.size;
   }
   r.tensile_fraction = all > 0 ? t_len / all : 0.0;
   // The signals (docs/theory.md, section 10).
-  const bool brazilian = r.test == "brazilian";
-  const double floor = r.test == "triaxial" ? scene.loading.confining_pressure : 0.0;
-  if (!brazilian) {
+  const double floor = protocol.stress_floor();
+  if (protocol.lateral_signals()) {
     r.poisson_ratio_at_half_peak = poisson_ratio_at_half_peak(r.curve, peak, at_peak.strain, floor);
     r.crack_damage_stress = crack_damage_stress(r.curve, at_peak.strain);
   }
@@ -213,10 +213,9 @@ void summarize(const Scene& scene, const Topology& topo, const TestRecord& recor
   r.residual_stress = residual_stress(r.curve, at_peak.strain, r.stop_reason);
 }
 
-void crack_statistics(const Topology& topo, TestResult& r) {
-  r.crack_orientation_deg = crack_orientations_deg(r.cracks, topo);
+void crack_statistics(const Specimen& specimen, TestResult& r) {
   r.crack_rate = crack_rate(r.cracks, r.curve.empty() ? 0.0 : r.curve.back().strain);
-  r.fragments = fragments(topo, r.cracks);
+  r.fragments = fragments(specimen, r.cracks);
 }
 
 }  // namespace rbdem

@@ -1,20 +1,21 @@
 // From a run's record to its result: the headline numbers, the quasi-static verdict, the crack statistics and the
-// failure classification. Pure functions of plain data (no engine, no files).
+// failure classification. Pure functions of plain data: the record, the crack log and the specimen's tables
+// (dem/specimen.hpp), never the engine or files.
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "dem/driver/protocol.hpp"
 #include "dem/driver/result.hpp"
 #include "dem/scene.hpp"
-#include "dem/topology.hpp"
+#include "dem/specimen.hpp"
 
 namespace rbdem {
 
 CrackCounts count_cracks(const std::vector<Crack>& cracks);
 // The cracks of each material the specimen has (which joint set slipped, which rock cracked).
-std::vector<MaterialCracks> count_cracks_by_material(const std::vector<Crack>& cracks, const Topology& topo,
-                                                     const Scene& scene);
+std::vector<MaterialCracks> count_cracks_by_material(const std::vector<Crack>& cracks, const Specimen& specimen);
 
 // Failure mode from the crack log, in the seed paper's three classes plus one:
 //   a joint broken along at least half its length, mostly in shear, with a large resolved shear stress on it
@@ -26,27 +27,29 @@ std::vector<MaterialCracks> count_cracks_by_material(const std::vector<Crack>& c
 // Joints are grouped by interface (joint set) and layer pair; the second set's joints use dip2_deg. With rock
 // bridges (`bridges`: a non-persistent set), a joint failure whose broken rock length is at least half the broken
 // joint length -> "bridge_fracture" (the failure path runs through the bridges as much as along the joints).
-std::string classify_failure(const std::vector<Crack>& cracks, const Topology& topo, double dip_deg,
+std::string classify_failure(const std::vector<Crack>& cracks, const Specimen& specimen, double dip_deg,
                              double dip2_deg = 0.0, bool bridges = false);
 // The dip (0..90 deg from the horizontal) of a mesh's joints: the length-weighted axial mean direction of its joint
 // edges; `fallback` when it has none. The failure classification of a user mesh uses it.
-double joint_dip_deg(const Topology& topo, double fallback);
+double joint_dip_deg(const Specimen& specimen, double fallback);
 // Whether an enabled joint set of the scene has rock bridges (persistence < 1).
 bool non_persistent(const Scene& scene);
 
 // Dip (0..90 deg from the horizontal) of the principal axis of the crack positions, weighted by crack length:
 // near 90 for axial splitting, near 45 + phi/2 for a shear band, the joint dip for slip along a joint.
-double crack_band_angle_deg(const std::vector<Crack>& cracks, const Topology& topo);
+double crack_band_angle_deg(const std::vector<Crack>& cracks);
 
 // The result of a completed run: `result` arrives with the record's curve (the peak sample in it), frames, the
 // crack log, the counts and the timing filled in; this adds the peak, E50, the quasi-static checks, the crack
 // statistics and the failure mode, and the signals of dem/driver/signals.hpp (Poisson's ratio at half the peak,
-// the crack initiation and damage stresses, the residual strength; Poisson's ratio and the crack damage stress of
-// a Brazilian test are left undefined: its lateral strain is not the specimen's width change under uniaxial load).
-void summarize(const Scene& scene, const Topology& topo, const TestRecord& record, TestResult& result);
+// the crack initiation and damage stresses, the residual strength; Poisson's ratio and the crack damage stress are
+// left undefined where the protocol's lateral strain is not the specimen's width change under axial load, as in
+// the Brazilian test). The protocol's stress floor (a confined test's sigma_3) is where the signals' windows start.
+void summarize(const Scene& scene, const Specimen& specimen, const LoadingProtocol& protocol,
+               const TestRecord& record, TestResult& result);
 
 // The crack statistics of any run, completed or stopped by the watchdog: each crack's orientation, the crack rate
 // against strain (50 bins up to the last sample's strain) and the fragments left by the crack log.
-void crack_statistics(const Topology& topo, TestResult& result);
+void crack_statistics(const Specimen& specimen, TestResult& result);
 
 }  // namespace rbdem

@@ -69,22 +69,28 @@ struct BondStrength {
 struct BondLoad {
   double tension = 0, tension_limit = 0, shear = 0, shear_limit = 0;
 
-  // From the bond's undamaged forces (fn compression positive), 1 / L and A = L t.
-  static BondLoad of(const BondStrength& st, double fn, double fs, double m, double inv_L, double A) {
-    return of(st.sigma_c * A, st.cohesion * A, st.tan_phi, st.beta_m, fn, fs, m, inv_L);
+  // From the bond's undamaged forces (fn compression positive), 1 / L, A = L t and the moment's lever factor
+  // `arm` = A R / I x L (ParallelBond::moment_arm, 6 for the rectangular section).
+  static BondLoad of(const BondStrength& st, double fn, double fs, double m, double inv_L, double A, double arm) {
+    return of(st.sigma_c * A, st.cohesion * A, st.tan_phi, st.beta_m, fn, fs, m, inv_L, arm);
   }
-  // The same with the strength already in force units: sigma_c A and c A (N).
+  // The same with the strength already in force units: sigma_c A and c A (N). Written without branches: the bond
+  // kernel (dem/stages/bonds.cpp) calls it in vector lanes.
   static BondLoad of(double sigma_c_A, double cohesion_A, double tan_phi, double beta_m, double fn, double fs,
-                     double m, double inv_L) {
-    return {-fn + beta_m * std::abs(m) * 6.0 * inv_L, sigma_c_A, std::abs(fs),
+                     double m, double inv_L, double arm) {
+    return {-fn + beta_m * std::abs(m) * arm * inv_L, sigma_c_A, std::abs(fs),
             cohesion_A - std::min(-fn, sigma_c_A) * tan_phi};
   }
 
-  // Fails when the failure index reaches `scale` (1: the strength; a softened bond's largest index so far).
+  // 1 when the failure index reaches `scale` (1: the strength; a softened bond's largest index so far), else 0,
+  // without branches: the bond kernel's test, and failure()'s.
+  int exceeds(double scale) const {
+    return int(tension >= scale * tension_limit) | int(shear >= scale * shear_limit);
+  }
+  // Fails when the failure index reaches `scale`: tensile when the tensile load does, else shear.
   BreakMode failure(double scale = 1.0) const {
-    if (tension >= scale * tension_limit) return BreakMode::tensile;
-    if (shear >= scale * shear_limit) return BreakMode::shear;
-    return BreakMode::none;
+    if (!exceeds(scale)) return BreakMode::none;
+    return tension >= scale * tension_limit ? BreakMode::tensile : BreakMode::shear;
   }
 
   // The failure index: the larger of sigma / sigma_c and tau / (c - min(sigma_n, sigma_c) tan phi_b); 1 at the
@@ -102,10 +108,10 @@ struct BondLoad {
 // Both failure loads are piecewise linear in lambda (|M|, |F_s| and the cap of the normal stress at sigma_c each
 // bend them once), so every piece is solved exactly. With F0 = 0 it is BondStrength::first_break_factor.
 inline double affine_break_factor(double sigma_c_A, double cohesion_A, double tan_phi, double beta_m, double inv_L,
-                                  double fn0, double fs0, double m0, double fn1, double fs1, double m1) {
+                                  double arm, double fn0, double fs0, double m0, double fn1, double fs1, double m1) {
   auto margin = [&](double lam, double& tension, double& shear) {
-    const BondLoad q =
-        BondLoad::of(sigma_c_A, cohesion_A, tan_phi, beta_m, fn0 + lam * fn1, fs0 + lam * fs1, m0 + lam * m1, inv_L);
+    const BondLoad q = BondLoad::of(sigma_c_A, cohesion_A, tan_phi, beta_m, fn0 + lam * fn1, fs0 + lam * fs1,
+                                    m0 + lam * m1, inv_L, arm);
     tension = q.tension - q.tension_limit, shear = q.shear - q.shear_limit;
   };
   double points[4] = {0.0, 0.0, 0.0, 0.0};
@@ -138,7 +144,11 @@ inline double affine_break_factor(double sigma_c_A, double cohesion_A, double ta
 // Per-bond values (K, L) come from the bond frame.
 struct ParallelBond {
   double inv_kappa = 1.0;              // 1 / kappa = k_s / k_n
-  double inertia_factor = 1.0 / 12.0;  // I = t L^3 x this (1/12; common/fault_injection.hpp plants 1/6)
+  // The section's second moment I = A L^2 / inertia_divisor (12 for the rectangle of an edge of length L in a slice;
+  // common/fault_injection.hpp plants 6), and its reciprocal, with which the per-bond rotational stiffness of the
+  // kernel is formed.
+  double inertia_divisor = 12.0;
+  double inertia_factor = 1.0 / 12.0;
   BondStrength strength;
   // Softening: 2 G_f / (sigma_c^2 t) (m / N x N/m ...): r_u = softening K / L for a bond of stiffness K and edge L;
   // 0 = brittle.
@@ -150,6 +160,26 @@ struct ParallelBond {
   struct Forces {
     double fn, fs, m;  // N, N, N m (compression positive; m acts on block j)
   };
+
+  // The section of a bond on an edge of length L (m) in a slice of thickness t (m): area A = L t, second moment
+  // I = A L^2 / 12 and the distance R = L / 2 of its outer fibre, which the peripheral stresses use.
+  struct Section {
+    double A, I, R;  // m^2, m^4, m
+  };
+  Section section(double L, double t) const {
+    const double A = L * t;
+    return {A, A * L * L / inertia_divisor, 0.5 * L};
+  }
+  // A R / I x L: the lever of the moment in the tensile load sigma A = -F_n + beta_m |M| moment_arm / L (6).
+  double moment_arm() const { return 0.5 * inertia_divisor; }
+  // The rotational stiffness K L^2 / 12 (N m) of a bond of normal stiffness K (N/m) and edge L (m): the linearised
+  // form (the static solve, the stability estimate, the energies).
+  double rotational(double K, double L) const { return K * L * L / inertia_divisor; }
+  // The per-bond constants the kernel reads (Model's BondFrames): K / kappa and K L^2 / 12 formed with the
+  // reciprocals inv_kappa and inertia_factor. They equal the linearised forms to the last bit or differ in it; both
+  // stay as they are, since the stored results (the default table among them) were computed with them.
+  double kernel_shear(double K) const { return K * inv_kappa; }
+  double kernel_rotational(double K, double L) const { return K * L * L * inertia_factor; }
   static Forces forces(double K, double Ks, double KI, double dn, double ds, double dth) {
     return {-K * dn, -Ks * ds, -KI * dth};
   }

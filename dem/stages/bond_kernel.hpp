@@ -37,7 +37,7 @@ struct BondArrays {
   const double *x, *y, *theta, *vx, *vy, *omega, *c, *s;
   const double *rix, *riy, *rjx, *rjy, *n0x, *n0y, *L, *inv_L, *K, *Ks, *KI, *mu;
 
-  BondArrays(const Model& m, const ModelState& st, const Workspace& w)
+  BondArrays(const Model<2>& m, const ModelState<2>& st, const Workspace<2>& w)
       : bi(m.bi.data()), bj(m.bj.data()), x(st.x.data()), y(st.y.data()), theta(st.theta.data()),
         vx(st.vx.data()), vy(st.vy.data()), omega(st.omega.data()), c(w.cos_t.data()), s(w.sin_t.data()),
         rix(m.frame.rix.data()), riy(m.frame.riy.data()), rjx(m.frame.rjx.data()), rjy(m.frame.rjy.data()),
@@ -93,7 +93,7 @@ struct BondArrays {
 }
 
 // Bond b, its blocks read from the arrays.
-inline BondEval eval_bond(const Model& m, const ModelState& s, const Workspace& w, int b, double dt, double fs,
+inline BondEval eval_bond(const Model<2>& m, const ModelState<2>& s, const Workspace<2>& w, int b, double dt, double fs,
                           double keep) {
   const BondArrays a(m, s, w);
   return eval_bond(a, b, a.block(a.bi[b]), a.block(a.bj[b]), dt, fs, keep);

@@ -21,13 +21,14 @@ namespace {
 // What one thread's share of the kernel reads and writes.
 struct KernelRange {
   BondArrays a;
-  const Workspace::Record* rec;  // the blocks' kinematics, read in place of a's block arrays
+  const Workspace<2>::Record* rec;  // the blocks' kinematics, read in place of a's block arrays
   const double *tension_limit, *cohesion_A, *tan_phi, *beta_m, *inv_L;  // the strength in force units
   const double *drive, *keep;
   double* fs_lin;
   double *slot_fx, *slot_fy, *slot_m;
   int* flag;
   double dt;
+  double arm;         // the law's moment lever A R / I x L (ParallelBond::moment_arm)
   int advance, test;  // 0 or 1 (int, not bool: the vectoriser does not take one-bit values from memory)
   int lo, hi;
 };
@@ -42,7 +43,7 @@ constexpr int kChunk = 64;
 // failure test held; returns whether it held anywhere.
 template <bool Damaged>
 [[gnu::always_inline]] inline bool bond_chunk(const KernelRange& r, int b0, int n) {
-  alignas(64) double ri[Workspace::kRecordFields][kChunk], rj[Workspace::kRecordFields][kChunk];
+  alignas(64) double ri[Workspace<2>::kRecordFields][kChunk], rj[Workspace<2>::kRecordFields][kChunk];
   load_records(r.rec, r.a.bi + b0, n, ri);
   load_records(r.rec, r.a.bj + b0, n, rj);
   int any = 0;
@@ -59,11 +60,11 @@ template <bool Damaged>
     r.slot_m[2 * b] = alive ? ev.mi : 0.0;
     r.slot_m[2 * b + 1] = alive ? ev.mj : 0.0;
     r.fs_lin[b] = (alive & (r.advance != 0)) ? ev.fsl : r.fs_lin[b];
+    // The law's failure test (BondLoad::exceeds) at the bond's scale: a pre-filter, the events apply the law itself.
     const BondLoad q = BondLoad::of(r.tension_limit[b], r.cohesion_A[b], r.tan_phi[b], r.beta_m[b], ev.fnb, ev.fsb,
-                                    ev.mb, r.inv_L[b]);
+                                    ev.mb, r.inv_L[b], r.arm);
     const double scale = r.drive[b] > 0.0 ? r.drive[b] : 1.0;
-    const int flag =
-        (r.test != 0) & alive & ((q.tension >= scale * q.tension_limit) | (q.shear >= scale * q.shear_limit));
+    const int flag = (r.test != 0) & alive & q.exceeds(scale);
     r.flag[b] = flag;
     any |= flag;
   }
@@ -89,14 +90,14 @@ template <bool Damaged>
 
 }  // namespace
 
-void bond_forces_begin(const Model& m, Workspace& w, const StepContext& c) {
+void bond_forces_begin(const Model<2>& m, Workspace<2>& w, const StepContext& c) {
   partition(m, w, c.threads);
   if (int(w.flagged.size()) < c.threads) w.flagged.resize(std::size_t(c.threads));
   for (auto& v : w.flagged) v.clear();
   w.flag.resize(m.num_bonds());
 }
 
-void bond_forces_share(const Model& m, ModelState& s, Workspace& w, const StepContext& c, int t, int nt) {
+void bond_forces_share(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c, int t, int nt) {
   // Contiguous ranges in thread order: the flagged lists, read in thread order, are in bond order.
   const bool test = c.advance && s.breakage;
   const auto [lo, hi] = w.share(w.part.bond, t, nt);
@@ -104,7 +105,7 @@ void bond_forces_share(const Model& m, ModelState& s, Workspace& w, const StepCo
   const KernelRange range{BondArrays(m, s, w), w.record.data(), f.tension_limit.data(), f.cohesion_A.data(),
                           f.tan_phi.data(), f.beta_m.data(), f.inv_L.data(), s.drive.data(), w.keep.data(),
                           s.fs_lin.data(), w.slot.fx.data(), w.slot.fy.data(), w.slot.m.data(), w.flag.data(), c.dt,
-                          int(c.advance), int(test), lo, hi};
+                          m.law[0].bond.moment_arm(), int(c.advance), int(test), lo, hi};
   const bool flagged = w.damaged > 0 ? bond_range_damaged(range) : bond_range_intact(range);
   if (flagged) {
     auto& mine = w.flagged[std::size_t(t)];
@@ -113,13 +114,13 @@ void bond_forces_share(const Model& m, ModelState& s, Workspace& w, const StepCo
   }
 }
 
-void bond_forces(const Model& m, ModelState& s, Workspace& w, const StepContext& c) {
+void bond_forces(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c) {
   bond_forces_begin(m, w, c);
 #pragma omp parallel num_threads(c.threads)
   bond_forces_share(m, s, w, c, omp_get_thread_num(), omp_get_num_threads());
 }
 
-void refresh_keep(const Model& m, const ModelState& s, Workspace& w) {
+void refresh_keep(const Model<2>& m, const ModelState<2>& s, Workspace<2>& w) {
   const std::size_t n = m.num_bonds();
   w.keep.resize(n);
   w.damaged = 0;
@@ -129,7 +130,7 @@ void refresh_keep(const Model& m, const ModelState& s, Workspace& w) {
   }
 }
 
-int bond_events(const Model& m, ModelState& s, Workspace& w, const std::function<void(const Crack&)>& on_crack,
+int bond_events(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const std::function<void(const Crack&)>& on_crack,
                 int threads) {
   w.events.clear();
   for (const auto& list : w.flagged) w.events.insert(w.events.end(), list.begin(), list.end());
@@ -149,18 +150,21 @@ int bond_events(const Model& m, ModelState& s, Workspace& w, const std::function
     const int b = w.events[std::size_t(e)];
     const std::size_t k = std::size_t(b);
     const BondKindLaw& law = m.law[m.material[k]];
-    const Workspace::EventForces& ev = w.event_forces[std::size_t(e)];
+    const Workspace<2>::EventForces& ev = w.event_forces[std::size_t(e)];
     const BondLoad q = BondLoad::of(m.frame.tension_limit[k], m.frame.cohesion_A[k], m.frame.tan_phi[k],
-                                    m.frame.beta_m[k], ev.fn, ev.fs, ev.m, m.frame.inv_L[k]);
+                                    m.frame.beta_m[k], ev.fn, ev.fs, ev.m, m.frame.inv_L[k], law.bond.moment_arm());
     const bool was_damaged = s.drive[k] > 0.0;
     const BreakMode mode = law.bond.advance(q, m.frame.rupture[k], s.drive[k]);
     w.keep[k] = ParallelBond::intact_fraction(s.drive[k], m.frame.rupture[k]);
     if (!was_damaged && s.drive[k] > 0.0) ++w.damaged;
     if (mode == BreakMode::none) continue;
     Crack crack;
-    const double L = m.frame.L[k], A = m.frame.A[k];
-    law.bond.strength.stresses(ev.fn, ev.fs, ev.m, A, A * L * L / 12.0, 0.5 * L, crack.sigma, crack.tau);
-    crack.mode = mode, crack.bond = b, crack.kind = m.kind[k], crack.x = ev.px, crack.y = ev.py;
+    const ParallelBond::Section sec = law.bond.section(m.frame.L[k], m.thickness);
+    law.bond.strength.stresses(ev.fn, ev.fs, ev.m, sec.A, sec.I, sec.R, crack.sigma, crack.tau);
+    crack.mode = mode, crack.bond = b, crack.kind = m.kind[k];
+    crack.position = {ev.px, ev.py, 0.0};
+    crack.normal = {m.frame.n0x[k], m.frame.n0y[k], 0.0};
+    crack.size = m.frame.L[k];
     crack.time = s.time, crack.strain = s.strain_for_log;
     if (s.drive[k] > 0.0) --w.damaged;
     s.broken[k] = 1;

@@ -13,6 +13,7 @@
 #include <omp.h>
 
 #include "dem/contact_geometry.hpp"
+#include "dem/boundary/hooks.hpp"
 #include "dem/stages/bond_kernel.hpp"
 #include "dem/stages/stages.hpp"
 
@@ -27,14 +28,14 @@ int first_pair_of(const ContactPairs& C, int b) {
   return int(std::lower_bound(C.key.begin(), C.key.end(), std::uint64_t(std::uint32_t(b)) << 32) - C.key.begin());
 }
 
-// A rebuild regardless of the blocks: a bond broke, or the top platen moved half a skin.
-bool rebuild_forced(const Model& m, const ModelState& s) {
-  return s.rebuild || std::abs(s.top_y - s.ref_top) > 0.5 * m.skin;
+// A component asks for a rebuild regardless of the blocks (the top platen moved half a skin).
+bool boundary_moved(const Model<2>& m, const Hooks& hooks) {
+  return std::any_of(hooks.begin(), hooks.end(), [&m](const BoundaryHooks<2>* h) { return h->rebuild_due(m); });
 }
 
 // Whether one of thread t's share (of nt, contiguous in eligible order) of the eligible blocks moved half a skin
 // since the last rebuild.
-bool moved_half_skin(const Model& m, const ModelState& s, int t, int nt) {
+bool moved_half_skin(const Model<2>& m, const ModelState<2>& s, int t, int nt) {
   const double lim2 = 0.25 * m.skin * m.skin;
   const int ne = int(s.eligible.size());
   const int lo = int(std::int64_t(ne) * t / nt), hi = int(std::int64_t(ne) * (t + 1) / nt);
@@ -47,7 +48,7 @@ bool moved_half_skin(const Model& m, const ModelState& s, int t, int nt) {
   return moved;
 }
 
-bool blocks_moved(const Model& m, const ModelState& s, int threads) {
+bool blocks_moved(const Model<2>& m, const ModelState<2>& s, int threads) {
   bool moved = false;
 #pragma omp parallel num_threads(threads) reduction(|| : moved) if (s.eligible.size() > 1024)
   moved = moved_half_skin(m, s, omp_get_thread_num(), omp_get_num_threads());
@@ -56,7 +57,7 @@ bool blocks_moved(const Model& m, const ModelState& s, int threads) {
 
 }  // namespace
 
-void block_vertices(const Model& m, const ModelState& s, const Workspace& w, int b, double* out) {
+void block_vertices(const Model<2>& m, const ModelState<2>& s, const Workspace<2>& w, int b, double* out) {
   const std::size_t k = std::size_t(b);
   const auto& sh = m.shape[k];
   const double c = w.cos_t[k], sn = w.sin_t[k];
@@ -66,14 +67,15 @@ void block_vertices(const Model& m, const ModelState& s, const Workspace& w, int
   }
 }
 
-void rebuild_check_begin(Workspace& w, int threads) { w.moved.assign(std::size_t(std::max(threads, 1)), 0); }
+void rebuild_check_begin(Workspace<2>& w, int threads) { w.moved.assign(std::size_t(std::max(threads, 1)), 0); }
 
-void rebuild_check_share(const Model& m, const ModelState& s, Workspace& w, int t, int nt) {
+void rebuild_check_share(const Model<2>& m, const ModelState<2>& s, Workspace<2>& w, int t, int nt) {
   w.moved[std::size_t(t)] = moved_half_skin(m, s, t, nt);
 }
 
-bool rebuild_due(const Model& m, const ModelState& s, const Workspace& w) {
-  return rebuild_forced(m, s) || std::any_of(w.moved.begin(), w.moved.end(), [](std::uint8_t v) { return v != 0; });
+bool rebuild_due(const Model<2>& m, const ModelState<2>& s, const Workspace<2>& w, const Hooks& hooks) {
+  return s.rebuild || boundary_moved(m, hooks) ||
+         std::any_of(w.moved.begin(), w.moved.end(), [](std::uint8_t v) { return v != 0; });
 }
 
 namespace {
@@ -81,7 +83,7 @@ namespace {
 // The cell of a point of the grid g, as (column, row) clamped to [0, 2e9]: a run going unstable (stopped by the
 // watchdog a few steps later) may carry huge or non-finite positions here, which must not overflow the conversion
 // (NaN fails q >= 0 and maps to 0). Clamping merges cells at the edges, which only adds candidates.
-std::pair<long, long> cell_of(const Workspace::BroadGrid& g, double x, double y) {
+std::pair<long, long> cell_of(const Workspace<2>::BroadGrid& g, double x, double y) {
   auto index = [&g](double v) {
     const double q = v / g.cell;
     return q >= 0 ? (q < 2e9 ? long(q) : 2000000000L) : 0L;
@@ -94,24 +96,24 @@ std::uint64_t cell_key(long cx, long cy) { return (std::uint64_t(cx) << 32) | st
 // (cx + dx, cy - 1 .. cy + 1) of a column lie next to each other in the sorted entries: one search finds the
 // first, and the scan runs on to the last (in the order of the nine cells one by one).
 template <class Visit>
-void visit_neighbourhood(const Workspace::BroadGrid& g, long cx, long cy, Visit&& visit) {
+void visit_neighbourhood(const Workspace<2>::BroadGrid& g, long cx, long cy, Visit&& visit) {
   for (long dx = -1; dx <= 1; ++dx) {
     if (cx + dx < 0) continue;
     const std::uint64_t first = cell_key(cx + dx, std::max(cy - 1, 0L)), last = cell_key(cx + dx, cy + 1);
     auto it = std::lower_bound(g.entries.begin(), g.entries.end(), first,
-                               [](const Workspace::GridEntry& e, std::uint64_t k) { return e.key < k; });
+                               [](const Workspace<2>::GridEntry& e, std::uint64_t k) { return e.key < k; });
     for (; it != g.entries.end() && it->key <= last; ++it) visit(*it);
   }
 }
 
 // The grid's order: by cell, then by block.
-bool entry_before(const Workspace::GridEntry& a, const Workspace::GridEntry& b) {
+bool entry_before(const Workspace<2>::GridEntry& a, const Workspace<2>::GridEntry& b) {
   return a.key != b.key ? a.key < b.key : a.block < b.block;
 }
 
 // Whether block a, at its position now, and the grid entry e (a block at its position of the last rebuild) make a
 // candidate pair: within the two radii and the skin, and not joined by an intact bond when those are skipped.
-bool in_reach(const Model& m, const ModelState& s, const DetectionOptions& o, int a, const Workspace::GridEntry& e) {
+bool in_reach(const Model<2>& m, const ModelState<2>& s, const DetectionOptions& o, int a, const Workspace<2>::GridEntry& e) {
   const int b = e.block;
   const double rr = m.radius[a] + m.radius[b] + m.skin;
   const double ex = e.x - s.x[a], ey = e.y - s.y[a];
@@ -121,7 +123,7 @@ bool in_reach(const Model& m, const ModelState& s, const DetectionOptions& o, in
 
 // The pair (i, j) of the sorted key, with its bond, its law and its shear force: carried over from the old list
 // when listed there, else handed over from the bond that just broke, else zero. `at` walks the old list.
-void list_pair(const Model& m, const ModelState& s, const ContactPairs& old, std::uint64_t key, std::size_t& at,
+void list_pair(const Model<2>& m, const ModelState<2>& s, const ContactPairs& old, std::uint64_t key, std::size_t& at,
                ContactPairs& next, std::size_t q) {
   const int i = int(key >> 32), j = int(key & 0xffffffffu);
   while (at < old.key.size() && old.key[at] < key) ++at;
@@ -142,17 +144,9 @@ void resize(ContactPairs& C, std::size_t n) {
   C.fn.resize(n), C.chord.resize(n);
 }
 
-// The platen candidates among the blocks `blocks` (ascending), appended to the lists: a block that may reach
-// the platen before the next rebuild (each side may travel half a skin).
-void add_platen_candidates(const Model& m, ModelState& s, const std::vector<int>& blocks, double top_y) {
-  for (int b : blocks) {
-    if (s.y[b] + m.radius[b] > top_y - m.skin) s.top_candidates.push_back(b);
-    if (s.y[b] - m.radius[b] < m.ymin + m.skin) s.bottom_candidates.push_back(b);
-  }
-}
-
-// The rebuild: every eligible block's reference position and cell, the platen candidates and the pair list.
-void rebuild(const Model& m, ModelState& s, Workspace& w, const DetectionOptions& o, int threads) {
+// The rebuild: every eligible block's reference position and cell, the components' candidates and the pair list.
+void rebuild(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const DetectionOptions& o, const Hooks& hooks,
+             int threads) {
   const std::size_t nb = m.num_blocks();
   auto& eligible = s.eligible;
   eligible.clear();
@@ -161,14 +155,12 @@ void rebuild(const Model& m, ModelState& s, Workspace& w, const DetectionOptions
     if (s.free_face[b] || !o.search_free_faces_only) eligible.push_back(int(b)), rmax = std::max(rmax, m.radius[b]);
   s.ref_x.resize(eligible.size()), s.ref_y.resize(eligible.size());
   for (std::size_t k = 0; k < eligible.size(); ++k) s.ref_x[k] = s.x[eligible[k]], s.ref_y[k] = s.y[eligible[k]];
-  s.ref_top = s.top_y;
 
-  // Platen candidates (the platen may travel skin/2 before the next rebuild).
-  s.top_candidates.clear(), s.bottom_candidates.clear();
-  if (o.platens) add_platen_candidates(m, s, eligible, s.top_y);
+  // The components' candidates (a platen may travel skin/2 before the next rebuild).
+  for (BoundaryHooks<2>* h : hooks) h->on_rebuild(m, s, eligible);
 
   // Uniform grid over the eligible blocks; pairs from the 3 x 3 neighbourhood of each cell.
-  Workspace::BroadGrid& g = w.grid;
+  Workspace<2>::BroadGrid& g = w.grid;
   g.entries.clear();
   g.valid = true, g.rmax = rmax, g.cell = 2.0 * rmax + m.skin;
   std::vector<std::uint64_t> keys;
@@ -192,7 +184,7 @@ void rebuild(const Model& m, ModelState& s, Workspace& w, const DetectionOptions
       for (int k = 0; k < ne; ++k) {
         const int a = eligible[std::size_t(k)];
         const auto [cx, cy] = cell_of(g, s.x[a], s.y[a]);
-        visit_neighbourhood(g, cx, cy, [&](const Workspace::GridEntry& e) {
+        visit_neighbourhood(g, cx, cy, [&](const Workspace<2>::GridEntry& e) {
           if (e.block > a && in_reach(m, s, o, a, e)) mine.push_back(pair_key(a, e.block));
         });
       }
@@ -227,8 +219,9 @@ void rebuild(const Model& m, ModelState& s, Workspace& w, const DetectionOptions
 // platen contacts that touch exert forces, and the lists are walked in block and key order, so the forces are the
 // same as after a rebuild to the last bit; the lists may differ from a rebuild's only in entries that do not
 // touch. Returns false, having changed nothing, when a joining block is larger than the grid allows.
-bool update_after_breaks(const Model& m, ModelState& s, Workspace& w, const DetectionOptions& o) {
-  Workspace::BroadGrid& g = w.grid;
+bool update_after_breaks(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const DetectionOptions& o,
+                         const Hooks& hooks) {
+  Workspace<2>::BroadGrid& g = w.grid;
   std::vector<int> joining;
   for (int k : w.broken_now)
     for (int b : {m.bi[std::size_t(k)], m.bj[std::size_t(k)]})
@@ -255,26 +248,20 @@ bool update_after_breaks(const Model& m, ModelState& s, Workspace& w, const Dete
     }
     s.eligible = std::move(eligible), s.ref_x = std::move(ref_x), s.ref_y = std::move(ref_y);
   }
-  if (o.platens && !joining.empty()) {
-    const std::size_t top = s.top_candidates.size(), bottom = s.bottom_candidates.size();
-    add_platen_candidates(m, s, joining, s.ref_top);
-    std::inplace_merge(s.top_candidates.begin(), s.top_candidates.begin() + std::ptrdiff_t(top),
-                       s.top_candidates.end());
-    std::inplace_merge(s.bottom_candidates.begin(), s.bottom_candidates.begin() + std::ptrdiff_t(bottom),
-                       s.bottom_candidates.end());
-  }
+  if (!joining.empty())
+    for (BoundaryHooks<2>* h : hooks) h->on_join(m, s, joining);
   if (!o.contacts) return true;
 
   // The joining blocks enter the grid; then each finds its partners among every grid entry (joining ones too).
   for (int b : joining) {
     const auto [cx, cy] = cell_of(g, s.x[b], s.y[b]);
-    const Workspace::GridEntry e{cell_key(cx, cy), b, s.x[b], s.y[b]};
+    const Workspace<2>::GridEntry e{cell_key(cx, cy), b, s.x[b], s.y[b]};
     g.entries.insert(std::upper_bound(g.entries.begin(), g.entries.end(), e, entry_before), e);
   }
   std::vector<std::uint64_t> keys;
   for (int a : joining) {
     const auto [cx, cy] = cell_of(g, s.x[a], s.y[a]);
-    visit_neighbourhood(g, cx, cy, [&](const Workspace::GridEntry& e) {
+    visit_neighbourhood(g, cx, cy, [&](const Workspace<2>::GridEntry& e) {
       if (e.block != a && in_reach(m, s, o, a, e)) keys.push_back(pair_key(std::min(a, e.block), std::max(a, e.block)));
     });
   }
@@ -309,15 +296,16 @@ bool update_after_breaks(const Model& m, ModelState& s, Workspace& w, const Dete
 
 }  // namespace
 
-void detect_contacts(const Model& m, ModelState& s, Workspace& w, const DetectionOptions& o, int threads) {
-  const bool top_moved = std::abs(s.top_y - s.ref_top) > 0.5 * m.skin;
+void detect_contacts(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const DetectionOptions& o,
+                     const Hooks& hooks, int threads) {
+  const bool top_moved = boundary_moved(m, hooks);
   if (!s.rebuild && !top_moved && !blocks_moved(m, s, threads)) return;
   const bool breaks_only =
       o.update_after_breaks && s.rebuild && !top_moved && w.grid.valid && !w.broken_now.empty();
-  if (breaks_only && !blocks_moved(m, s, threads) && update_after_breaks(m, s, w, o)) {
+  if (breaks_only && !blocks_moved(m, s, threads) && update_after_breaks(m, s, w, o, hooks)) {
     ++w.grid.updates;
   } else {
-    rebuild(m, s, w, o, threads);
+    rebuild(m, s, w, o, hooks, threads);
     ++w.grid.rebuilds;
   }
   s.rebuild = false;
@@ -326,18 +314,18 @@ void detect_contacts(const Model& m, ModelState& s, Workspace& w, const Detectio
 
 // Each pair's narrow phase and contact law run in parallel into the pair's own record; the records are then
 // summed into the contact accumulators serially in pair order, so the sums do not depend on the thread count.
-void contact_forces_begin(const Model& m, ModelState& s, Workspace& w, const StepContext& c) {
+void contact_forces_begin(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c) {
   w.pair_force.resize(s.contacts.size());
   partition(m, w, c.threads);
   if (int(w.in_contact.size()) < c.threads) w.in_contact.resize(std::size_t(c.threads));
   for (auto& v : w.in_contact) v.clear();
 }
 
-void contact_forces_share(const Model& m, ModelState& s, Workspace& w, const StepContext& c, int t, int nt) {
+void contact_forces_share(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c, int t, int nt) {
   auto& C = s.contacts;
   const double dt = c.dt;
   const bool advance = c.advance;
-  Workspace::PairForce* out = w.pair_force.data();
+  Workspace<2>::PairForce* out = w.pair_force.data();
   // Each thread takes the pairs whose lower block it integrates (the keys are sorted by it): it reads the blocks it
   // moved itself. The ranges are contiguous and in thread order.
   const auto [b0, b1] = w.share(w.part.block, t, nt);
@@ -360,7 +348,7 @@ void contact_forces_share(const Model& m, ModelState& s, Workspace& w, const Ste
     const bool intact = C.bond[p] >= 0 && !s.broken[std::size_t(C.bond[p])];
     if (!touching || intact) {
       if (advance) C.fs[p] = 0.0, C.fn[p] = 0.0, C.chord[p] = 0.0;
-      out[p] = Workspace::PairForce{0, 0, 0, 0, 0, false};
+      out[p] = Workspace<2>::PairForce{0, 0, 0, 0, 0, false};
       continue;
     }
     const double nx = -ov.nx, ny = -ov.ny;  // from i to j, as for bonds
@@ -375,19 +363,19 @@ void contact_forces_share(const Model& m, ModelState& s, Workspace& w, const Ste
     const double friction = C.law[p].update_shear(fn, ov.chord, vt, dt, fs) ? std::abs(fs * vt * dt) : 0.0;
     if (advance) C.fs[p] = fs, C.fn[p] = fn, C.chord[p] = ov.chord;
     const double fx = fn * nx + fs * tx, fy = fn * ny + fs * ty;  // on j
-    out[p] = Workspace::PairForce{fx, fy, cross(cix, ciy, fx, fy), cross(cjx, cjy, fx, fy), friction, true};
+    out[p] = Workspace<2>::PairForce{fx, fy, cross(cix, ciy, fx, fy), cross(cjx, cjy, fx, fy), friction, true};
     mine.push_back(p);
   }
 }
 
-void contact_forces_end(ModelState& s, Workspace& w, const StepContext& c) {
+void contact_forces_end(ModelState<2>& s, Workspace<2>& w, const StepContext& c) {
   // Most pairs of free-face blocks do not touch: only those that do are summed, the lists in thread order, which
   // is pair order.
   const auto& C = s.contacts;
-  const Workspace::PairForce* out = w.pair_force.data();
+  const Workspace<2>::PairForce* out = w.pair_force.data();
   for (const std::vector<int>& list : w.in_contact)
     for (int p : list) {
-      const Workspace::PairForce& f = out[p];
+      const Workspace<2>::PairForce& f = out[p];
       const int i = C.i[p], j = C.j[p];
       w.cfx[j] += f.fx, w.cfy[j] += f.fy, w.cm[j] += f.mj;
       w.cfx[i] -= f.fx, w.cfy[i] -= f.fy, w.cm[i] -= f.mi;
@@ -397,7 +385,7 @@ void contact_forces_end(ModelState& s, Workspace& w, const StepContext& c) {
 
 // Each pair's narrow phase and contact law run in parallel into the pair's own record; the records are then
 // summed into the contact accumulators serially in pair order, so the sums do not depend on the thread count.
-void contact_forces(const Model& m, ModelState& s, Workspace& w, const StepContext& c) {
+void contact_forces(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c) {
   contact_forces_begin(m, s, w, c);
 #pragma omp parallel num_threads(c.threads) if (s.contacts.size() > 64)
   contact_forces_share(m, s, w, c, omp_get_thread_num(), omp_get_num_threads());

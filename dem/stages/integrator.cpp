@@ -39,8 +39,8 @@ namespace {
 struct RecordArrays {
   const double *x, *y, *th, *vx, *vy, *om;
   double *c, *sn;
-  Workspace::Record* rec;
-  RecordArrays(const ModelState& s, Workspace& w)
+  Workspace<2>::Record* rec;
+  RecordArrays(const ModelState<2>& s, Workspace<2>& w)
       : x(s.x.data()), y(s.y.data()), th(s.theta.data()), vx(s.vx.data()), vy(s.vy.data()), om(s.omega.data()),
         c(w.cos_t.data()), sn(w.sin_t.data()), rec(w.record.data()) {}
   // The blocks [lo, hi).
@@ -59,7 +59,7 @@ struct RecordArrays {
 
 }  // namespace
 
-void update_rotations(const ModelState& s, Workspace& w, int threads) {
+void update_rotations(const ModelState<2>& s, Workspace<2>& w, int threads) {
   const int n = int(s.num_blocks());
   w.cos_t.resize(std::size_t(n)), w.sin_t.resize(std::size_t(n)), w.record.resize(std::size_t(n));
   const RecordArrays arrays(s, w);
@@ -70,11 +70,16 @@ void update_rotations(const ModelState& s, Workspace& w, int threads) {
   }
 }
 
-void partition(const Model& m, Workspace& w, int threads) {
-  Workspace::Partition& p = w.part;
+void update_rotations_of(const ModelState<2>& s, Workspace<2>& w, const std::vector<int>& blocks) {
+  const RecordArrays arrays(s, w);
+  for (int b : blocks) arrays.update(b, b + 1);
+}
+
+void partition(const Model<2>& m, Workspace<2>& w, int threads) {
+  Workspace<2>::Partition& p = w.part;
   if (p.threads == threads) return;
   const int nb = int(m.num_blocks()), nbond = int(m.num_bonds());
-  const int grain = Workspace::Partition::kBlockGrain;
+  const int grain = Workspace<2>::Partition::kBlockGrain;
   p.threads = threads;
   p.block.assign(std::size_t(threads) + 1, nb), p.bond.assign(std::size_t(threads) + 1, nbond);
   p.block[0] = p.bond[0] = 0;
@@ -116,11 +121,11 @@ void shift_bounds(std::vector<int>& bounds, const std::vector<double>& seconds, 
 
 }  // namespace
 
-void rebalance(Workspace& w) {
-  Workspace::Partition& p = w.part;
-  if (p.threads < 2 || ++p.steps < Workspace::Partition::kRebalanceSteps) return;
+void rebalance(Workspace<2>& w) {
+  Workspace<2>::Partition& p = w.part;
+  if (p.threads < 2 || ++p.steps < Workspace<2>::Partition::kRebalanceSteps) return;
   shift_bounds(p.bond, p.bond_seconds, 1);
-  shift_bounds(p.block, p.block_seconds, Workspace::Partition::kBlockGrain);
+  shift_bounds(p.block, p.block_seconds, Workspace<2>::Partition::kBlockGrain);
   std::fill(p.bond_seconds.begin(), p.bond_seconds.end(), 0.0);
   std::fill(p.block_seconds.begin(), p.block_seconds.end(), 0.0);
   p.steps = 0;
@@ -135,7 +140,7 @@ struct GatherArrays {
   const int* entry;
   int width;
   const double *slot_fx, *slot_fy, *slot_m;
-  GatherArrays(const Model& m, Workspace& w)
+  GatherArrays(const Model<2>& m, Workspace<2>& w)
       : cfx(w.cfx.data()), cfy(w.cfy.data()), cm(w.cm.data()), entry(m.gather.data()), width(m.gather_width),
         slot_fx(w.slot.fx.data()), slot_fy(w.slot.fy.data()), slot_m(w.slot.m.data()) {}
 };
@@ -147,7 +152,7 @@ struct BlockArrays {
   double *fx, *fy, *mz, *vx, *vy, *om, *x, *y, *th;
   const double *inv_mass, *inertia;
   const int* fixed;
-  BlockArrays(const Model& m, ModelState& s, Workspace& w)
+  BlockArrays(const Model<2>& m, ModelState<2>& s, Workspace<2>& w)
       : g(m, w), records(s, w), fx(s.fx.data()), fy(s.fy.data()), mz(s.moment.data()), vx(s.vx.data()),
         vy(s.vy.data()), om(s.omega.data()), x(s.x.data()), y(s.y.data()), th(s.theta.data()),
         inv_mass(m.inv_mass.data()), inertia(m.inertia.data()), fixed(m.fixed.data()) {}
@@ -233,11 +238,11 @@ template <bool Triangles>
 
 }  // namespace
 
-bool integrate_share(const Model& m, ModelState& s, Workspace& w, double damping, int t, int nt) {
-  const int grain = Workspace::Partition::kBlockGrain;
+bool integrate_share(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, double damping, int t, int nt) {
+  const int grain = Workspace<2>::Partition::kBlockGrain;
   const auto [lo, hi] = w.share(w.part.block, t, nt);
   const BlockArrays arrays(m, s, w);
-  double work[Workspace::Partition::kBlockGrain];
+  double work[Workspace<2>::Partition::kBlockGrain];
   bool ok = true;
   for (int g0 = lo; g0 < hi; g0 += grain) {
     const int g1 = std::min(g0 + grain, hi);
@@ -249,7 +254,7 @@ bool integrate_share(const Model& m, ModelState& s, Workspace& w, double damping
   return ok;
 }
 
-void integrate_end(ModelState& s, Workspace& w, bool finite) {
+void integrate_end(ModelState<2>& s, Workspace<2>& w, bool finite) {
   double e_damp = 0.0;
   for (double e : w.damping_work) e_damp += e;
   s.e_damping += e_damp;
@@ -260,7 +265,7 @@ void integrate_end(ModelState& s, Workspace& w, bool finite) {
         s.steps, s.time, s.dt));
 }
 
-void integrate(const Model& m, ModelState& s, Workspace& w, double damping, int threads) {
+void integrate(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, double damping, int threads) {
   partition(m, w, threads);
   bool finite = true;
 #pragma omp parallel num_threads(threads) reduction(&& : finite)
@@ -268,20 +273,13 @@ void integrate(const Model& m, ModelState& s, Workspace& w, double damping, int 
   integrate_end(s, w, finite);
 }
 
-void external_forces(Workspace& w) {
-  for (const Workspace::ExternalLoad& e : w.external) {
-    const std::size_t b = std::size_t(e.block);
-    w.cfx[b] += e.fx, w.cfy[b] += e.fy, w.cm[b] += e.m;
-  }
-}
-
-void clear_accumulators(Workspace& w) {
+void clear_accumulators(Workspace<2>& w) {
   std::fill(w.cfx.begin(), w.cfx.end(), 0.0);
   std::fill(w.cfy.begin(), w.cfy.end(), 0.0);
   std::fill(w.cm.begin(), w.cm.end(), 0.0);
 }
 
-void gather_forces(const Model& m, Workspace& w, std::vector<double>& fx, std::vector<double>& fy,
+void gather_forces(const Model<2>& m, Workspace<2>& w, std::vector<double>& fx, std::vector<double>& fy,
                    std::vector<double>& moment) {
   const std::size_t n = m.num_blocks();
   fx.resize(n), fy.resize(n), moment.resize(n);

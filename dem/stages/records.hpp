@@ -50,11 +50,11 @@ using Lane8 = double __attribute__((vector_size(64)));
   }
 }
 
-// The arrays a block record copies, in its order (Workspace::Record).
-using RecordFields = const double* [Workspace::kRecordFields];
+// The arrays a block record copies, in its order (Workspace<2>::Record).
+using RecordFields = const double* [Workspace<2>::kRecordFields];
 
 // The records rec[lo, hi) from the arrays `field`.
-[[gnu::always_inline]] inline void pack_records(const RecordFields& field, Workspace::Record* rec, int lo, int hi) {
+[[gnu::always_inline]] inline void pack_records(const RecordFields& field, Workspace<2>::Record* rec, int lo, int hi) {
   int b = lo;
   for (; b + 8 <= hi; b += 8) {
     Lane8 v[8];
@@ -70,8 +70,8 @@ using RecordFields = const double* [Workspace::kRecordFields];
 
 // Fields f of the records of blocks index[0..n) into out[f][0..n) (out's rows 64-byte aligned, n at most Chunk).
 template <int Chunk>
-[[gnu::always_inline]] inline void load_records(const Workspace::Record* rec, const int* index, int n,
-                                                double (&out)[Workspace::kRecordFields][Chunk]) {
+[[gnu::always_inline]] inline void load_records(const Workspace<2>::Record* rec, const int* index, int n,
+                                                double (&out)[Workspace<2>::kRecordFields][Chunk]) {
   int k = 0;
   for (; k + 8 <= n; k += 8) {
     Lane8 v[8];

@@ -6,8 +6,8 @@
 //   bond events  softening and breakage in bond order, the crack log         (bonds.cpp)
 //   detection    the broad phase: candidate pairs among free-face blocks     (contacts.cpp)
 //   contacts     narrow phase and the linear contact law per pair            (contacts.cpp)
-//   boundaries   the platens (platens.cpp), the confining pressure on the jacket (jacket.cpp), constant
-//                external loads (integrator.cpp)
+//   boundaries   the boundary components the simulation installed (dem/boundary/: platens, jacket, block
+//                groups), through their hooks (dem/boundary/hooks.hpp), in the order installed
 //   integrator   per-block gather in a fixed order, local damping, central difference (integrator.cpp)
 // Every stage reads the constant Model, reads or writes the ModelState and the engine's Workspace, and runs on at
 // most `threads` OpenMP threads. Each bond and each contact pair writes into its own slot; the per-block gather
@@ -28,8 +28,15 @@
 
 namespace rbdem {
 
+template <int dim>
+class BoundaryHooks;
+
+template <int dim>
+struct Workspace;
+
 // What the step derives from the state and writes before it reads: never part of a snapshot.
-struct Workspace {
+template <>
+struct Workspace<2> {
   std::vector<double> cos_t, sin_t;                   // of each block's theta
   // Per block, x, y, theta, vx, vy, omega, cos and sin in one record: what the bond kernel reads of its blocks
   // (records.hpp). Written with cos and sin, from the same state.
@@ -67,18 +74,6 @@ struct Workspace {
   };
   std::vector<PairForce> pair_force;                  // per contact pair
   std::vector<std::vector<int>> in_contact;           // per thread: the pairs that touch this step, in pair order
-  struct PlatenForce {
-    double fx, fy, m, fn, energy, friction;           // on the block; normal force; elastic energy, friction work
-    bool touching;
-  };
-  std::vector<PlatenForce> platen_force;              // per platen candidate (top, then bottom)
-  struct ExternalLoad {
-    int block;
-    double fx, fy, m;
-  };
-  std::vector<ExternalLoad> external;                 // constant external loads (tests), by block, each once
-  std::vector<std::uint8_t> touching;                 // per block: in a contact that carries force (the jacket)
-
   // How a step's bond stage and block stage share the bonds and the blocks among its threads: contiguous ranges in
   // index order. They start with equal block counts and each thread's bonds those numbered from its blocks (a bond
   // is numbered from its lower block), so that a thread reads mostly the blocks it moved itself. No result depends
@@ -129,14 +124,15 @@ struct StepContext {
 
 namespace stages {
 
-// cos and sin of every block's rotation, and the block records.
-void update_rotations(const ModelState& s, Workspace& w, int threads);
+// cos and sin of every block's rotation, and the block records; the same for some blocks (block groups).
+void update_rotations(const ModelState<2>& s, Workspace<2>& w, int threads);
+void update_rotations_of(const ModelState<2>& s, Workspace<2>& w, const std::vector<int>& blocks);
 
 // The partition for `threads` threads (set up again when the thread count changed; the bond stage and the
 // integrator call it).
-void partition(const Model& m, Workspace& w, int threads);
+void partition(const Model<2>& m, Workspace<2>& w, int threads);
 // Counts a step; every Partition::kRebalanceSteps steps, moves the boundaries towards equal measured times.
-void rebalance(Workspace& w);
+void rebalance(Workspace<2>& w);
 
 // Each stage below that runs on threads is also given in parts, for a team its caller has opened already (the
 // engine's step runs its stages in one parallel region): X_begin once before the team, X_share(t, nt) on each
@@ -144,11 +140,11 @@ void rebalance(Workspace& w);
 
 // The bond stage: slots of every bond (zero for broken ones) and, when advancing with breakage on, the bonds whose
 // failure test held in w.flagged. Runs on the partition's bond ranges.
-void bond_forces(const Model& m, ModelState& s, Workspace& w, const StepContext& c);
-void bond_forces_begin(const Model& m, Workspace& w, const StepContext& c);
-void bond_forces_share(const Model& m, ModelState& s, Workspace& w, const StepContext& c, int t, int nt);
+void bond_forces(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c);
+void bond_forces_begin(const Model<2>& m, Workspace<2>& w, const StepContext& c);
+void bond_forces_share(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c, int t, int nt);
 // Whether any bond is flagged for bond_events.
-inline bool events_pending(const Workspace& w) {
+inline bool events_pending(const Workspace<2>& w) {
   for (const auto& list : w.flagged)
     if (!list.empty()) return true;
   return false;
@@ -157,61 +153,53 @@ inline bool events_pending(const Workspace& w) {
 // free faces marked, the pair's contact takes over the linear shear force, crack logged, on_crack called).
 // Returns the number of bonds that broke.
 // The flagged bonds' forces are evaluated first, on `threads` threads; the events then run serially.
-int bond_events(const Model& m, ModelState& s, Workspace& w, const std::function<void(const Crack&)>& on_crack,
+int bond_events(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const std::function<void(const Crack&)>& on_crack,
                 int threads);
 // The damage factor of every bond from its drive (after a restore or an edit).
-void refresh_keep(const Model& m, const ModelState& s, Workspace& w);
+void refresh_keep(const Model<2>& m, const ModelState<2>& s, Workspace<2>& w);
 
 struct DetectionOptions {
   bool contacts = true;                // block-block contacts at all
-  bool platens = true;
   bool skip_bonded_pairs = true;       // no narrow phase for pairs joined by an intact bond
   bool search_free_faces_only = true;  // broad phase over free-face blocks only
   bool update_after_breaks = true;     // after bond breaks, update the lists instead of rebuilding them
 };
-// The broad phase, when a block or the platen moved half a skin since the last rebuild (a rebuild), or a bond
-// broke (an update of the lists with the broken pairs and the blocks that gained a free face, or a rebuild after
-// a restore or an edit).
-void detect_contacts(const Model& m, ModelState& s, Workspace& w, const DetectionOptions& o, int threads);
+// The boundary components' hooks, in the order installed (dem/boundary/hooks.hpp).
+using Hooks = std::vector<BoundaryHooks<2>*>;
+// The broad phase, when a block moved half a skin since the last rebuild or a component asks for one (the platen
+// moved half a skin: a rebuild), or a bond broke (an update of the lists with the broken pairs and the blocks that
+// gained a free face, or a rebuild after a restore or an edit). The components follow the lists (their
+// candidates).
+void detect_contacts(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const DetectionOptions& o,
+                     const Hooks& hooks, int threads);
 // The same test by a team (rebuild_due after every share): true when detect_contacts would rebuild.
-void rebuild_check_begin(Workspace& w, int threads);
-void rebuild_check_share(const Model& m, const ModelState& s, Workspace& w, int t, int nt);
-bool rebuild_due(const Model& m, const ModelState& s, const Workspace& w);
+void rebuild_check_begin(Workspace<2>& w, int threads);
+void rebuild_check_share(const Model<2>& m, const ModelState<2>& s, Workspace<2>& w, int t, int nt);
+bool rebuild_due(const Model<2>& m, const ModelState<2>& s, const Workspace<2>& w, const Hooks& hooks);
 // The per-block accumulators w.cfx, w.cfy, w.cm of the contact and boundary forces are zero between steps: the
 // stages below add to them and whoever reads them (integrate, gather_forces) resets them, each thread its own
 // blocks, so no serial pass clears them and no block's accumulator changes cores (docs/performance.md).
-void clear_accumulators(Workspace& w);
+void clear_accumulators(Workspace<2>& w);
 // Narrow phase and contact law per pair, summed in pair order into w.cfx, w.cfy, w.cm.
-void contact_forces(const Model& m, ModelState& s, Workspace& w, const StepContext& c);
-void contact_forces_begin(const Model& m, ModelState& s, Workspace& w, const StepContext& c);
-void contact_forces_share(const Model& m, ModelState& s, Workspace& w, const StepContext& c, int t, int nt);
-void contact_forces_end(ModelState& s, Workspace& w, const StepContext& c);
-// The two platens: half-plane contacts of the candidate blocks, added to w.cfx, w.cfy, w.cm.
-void platen_forces(const Model& m, ModelState& s, Workspace& w, double platen_friction, bool platens,
-                   const StepContext& c);
-void platen_forces_begin(const Model& m, ModelState& s, Workspace& w, const StepContext& c);
-void platen_forces_share(const Model& m, ModelState& s, Workspace& w, double platen_friction, bool platens,
-                         const StepContext& c, int t, int nt);
-void platen_forces_end(ModelState& s, Workspace& w, bool platens, const StepContext& c);
-// The confining pressure on the jacket edges (follower forces), added to w.cfx, w.cfy, w.cm; after contact_forces.
-void jacket_forces(const Model& m, ModelState& s, Workspace& w, const StepContext& c);
-// The constant external loads, added to w.cfx, w.cfy, w.cm; last before the gather.
-void external_forces(Workspace& w);
+void contact_forces(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c);
+void contact_forces_begin(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c);
+void contact_forces_share(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c, int t, int nt);
+void contact_forces_end(ModelState<2>& s, Workspace<2>& w, const StepContext& c);
 // Gather in fixed CSR order (resetting the accumulators), Cundall local damping alpha, central difference, and
 // then, on the same thread and block range, the new rotations' cos and sin and the block records
 // (update_rotations). Runs on the partition's block ranges. Throws InstabilityError when a position becomes non-finite.
-void integrate(const Model& m, ModelState& s, Workspace& w, double damping, int threads);
+void integrate(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, double damping, int threads);
 // integrate_share returns false when a position of its blocks is not finite; integrate_end throws then. The begin
 // is partition().
-bool integrate_share(const Model& m, ModelState& s, Workspace& w, double damping, int t, int nt);
-void integrate_end(ModelState& s, Workspace& w, bool finite);
+bool integrate_share(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, double damping, int t, int nt);
+void integrate_end(ModelState<2>& s, Workspace<2>& w, bool finite);
 // The total generalized force on every block without damping (the same gather as integrate(), resetting the
 // accumulators too).
-void gather_forces(const Model& m, Workspace& w, std::vector<double>& fx, std::vector<double>& fy,
+void gather_forces(const Model<2>& m, Workspace<2>& w, std::vector<double>& fx, std::vector<double>& fy,
                    std::vector<double>& moment);
 
 // The vertices of block b at its current position (x0, y0, x1, y1, x2, y2).
-void block_vertices(const Model& m, const ModelState& s, const Workspace& w, int b, double* out);
+void block_vertices(const Model<2>& m, const ModelState<2>& s, const Workspace<2>& w, int b, double* out);
 
 }  // namespace stages
 }  // namespace rbdem

@@ -1,0 +1,97 @@
+// Tests between two platens. See platen_test.hpp.
+#include "dem/driver/platen_test.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "dem/driver/monitors.hpp"
+
+namespace rbdem {
+
+void PlatenTest::install(Simulation& sim) {
+  sim.add_platens({scene_.loading.platen_velocity, scene_.loading.platen_friction});
+}
+
+Reading PlatenTest::read(const Simulation& sim) const {
+  const Platens& p = platens(sim);
+  Reading r;
+  r.strain = p.closure() / sim.specimen().height();
+  r.stress_top = stress_of(p.top_force(), sim);
+  r.stress_bottom = stress_of(p.bottom_force(), sim);
+  r.stress = stress_of(0.5 * (p.top_force() + p.bottom_force()), sim);
+  r.lateral_strain = sim.lateral_strain();
+  return r;
+}
+
+long PlatenTest::max_steps(const Simulation& sim, const TestRecord& record) const {
+  const double H = sim.specimen().height(), v = scene_.loading.platen_velocity;
+  return long(std::ceil((scene_.loading.max_strain - record.elastic_start_strain) * H / (v * record.dt)));
+}
+
+StaticResult PlatenTest::closure_solve(const Simulation& sim, const std::atomic<int>* threads) const {
+  StaticOptions so;
+  so.threads = threads;
+  so.platen_displacement = 1e-6 * sim.specimen().height();
+  return sim.solve_static(so);
+}
+
+void PlatenTest::prepare(const Simulation& sim, const std::atomic<int>& threads) {
+  if (scene_.numerics.elastic_start) prepared_closure_ = closure_solve(sim, &threads);
+}
+
+void PlatenTest::start(Simulation& sim, TestRecord& record) {
+  if (!scene_.numerics.elastic_start) return;
+  const StaticResult closure = prepared_closure_ ? std::move(*prepared_closure_) : closure_solve(sim);
+  prepared_closure_.reset();
+  start_along(sim, record, StaticResult{}, closure, 0.0);
+}
+
+// The model is linear until the first bond breaks: solve that part statically and hand over to the explicit run
+// at a fraction of the first-break load. An empty `base` is the unloaded specimen.
+void PlatenTest::start_along(Simulation& sim, TestRecord& record, const StaticResult& base, const StaticResult& st,
+                             double base_stress) const {
+  const double H = sim.specimen().height(), v = scene_.loading.platen_velocity;
+  const bool from_rest = base.empty();
+  const double first_break = sim.first_break_along(base, st);
+  const double base_strain = base.platen_displacement / H;
+  const double max_factor = (scene_.loading.max_strain - base_strain) * H / st.platen_displacement;
+  const double factor = std::min(scene_.numerics.elastic_start_fraction * first_break, 0.5 * max_factor);
+  if (!(factor > 0 && std::isfinite(factor))) return;
+  const double base_lateral = from_rest ? 0.0 : sim.lateral_strain_of(base), lateral = sim.lateral_strain_of(st);
+  const int n = 20;
+  for (int k = 1; k <= n; ++k) {
+    const double f = factor * double(k) / double(n);
+    CurvePoint pt;
+    pt.step = -1;
+    pt.strain = base_strain + f * st.platen_displacement / H;
+    pt.time = f * st.platen_displacement / v;
+    pt.stress_top = base_stress + stress_of(f * st.top_force, sim);
+    pt.stress_bottom = base_stress + stress_of(f * st.bottom_force, sim);
+    pt.lateral_strain = base_lateral + f * lateral;
+    record.curve.push_back(pt);
+  }
+  sim.apply_static(base, st, factor, v);
+  record.elastic_start_strain = base_strain + factor * st.platen_displacement / H;
+  // Sample the explicit part densely: about curve_points / 5 samples per first-break strain.
+  const double per_step = v * record.dt / H;
+  const double ramp = record.elastic_start_strain - base_strain;
+  record.sample_every = std::max(1L, long(ramp / (0.2 * curve_points_) / per_step));
+  Frame f = make_frame(sim, read(sim), "elastic_start");
+  f.stress = base_stress + stress_of(0.5 * factor * (st.top_force + st.bottom_force), sim);  // no step computed forces yet
+  record.frames.push_back(std::move(f));
+  const double interval = scene_.output.frame_strain_interval;
+  record.next_frame = (std::floor(record.elastic_start_strain / interval) + 1.0) * interval;
+}
+
+bool PlatenTest::stop(const Simulation& sim, const Reading& reading, const TestRecord& record,
+                      std::string& reason) const {
+  const double floor = stress_floor();
+  if (sim.cracks().empty() || sim.steps() <= record.peak_step) return false;
+  const bool dropped = reading.stress - floor < scene_.loading.stop_fraction * (record.peak - floor);
+  const bool residual = reading.strain > (1.0 + scene_.loading.post_peak_strain) * record.at_peak.strain;
+  if (!dropped && !residual) return false;
+  reason = dropped ? "post_peak" : "post_peak_strain";
+  return true;
+}
+
+}  // namespace rbdem

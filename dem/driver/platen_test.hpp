@@ -1,0 +1,45 @@
+// PlatenTest: what the tests that load a specimen between two platens share (the uniaxial and confined compression
+// tests and the Brazilian test of dem/driver/protocols/). The top platen closes at loading.platen_velocity, the
+// bottom one is fixed; the curve's stress is the platens' force over the loaded area (a protocol may define it
+// otherwise: stress_of); the run stops when the stress falls below loading.stop_fraction of the peak after the peak
+// (or the strain passes (1 + loading.post_peak_strain) x the strain at the peak, or loading.max_strain). With
+// numerics.elastic_start the linear part of the test is solved statically and the explicit run takes over at
+// numerics.elastic_start_fraction of the first-break load (model only what the scene needs).
+#pragma once
+
+#include <optional>
+
+#include "dem/driver/protocol.hpp"
+
+namespace rbdem {
+
+class PlatenTest : public LoadingProtocol {
+ public:
+  PlatenTest(const Scene& scene, int curve_points) : scene_(scene), curve_points_(curve_points) {}
+  void install(Simulation& sim) override;
+  bool prepares() const override { return scene_.numerics.elastic_start; }
+  void prepare(const Simulation& sim, const std::atomic<int>& threads) override;
+  void start(Simulation& sim, TestRecord& record) override;
+  Reading read(const Simulation& sim) const override;
+  long max_steps(const Simulation& sim, const TestRecord& record) const override;
+  bool stop(const Simulation& sim, const Reading& reading, const TestRecord& record,
+            std::string& reason) const override;
+
+ protected:
+  // The curve's stress of a platen force F (N): F over the loaded area for the compression tests.
+  virtual double stress_of(double force, const Simulation& sim) const { return force / platens(sim).area(); }
+  const Platens& platens(const Simulation& sim) const { return *sim.find<Platens>(); }
+  // The static start from `base` (empty: the unloaded specimen; or an isotropic state) along the platen path
+  // `increment`, to numerics.elastic_start_fraction of the first break: the curve points of the ramp, the
+  // simulation's state, the sampling interval and the first frame.
+  void start_along(Simulation& sim, TestRecord& record, const StaticResult& base, const StaticResult& increment,
+                   double base_stress) const;
+  // The static solve of the uniaxial elastic start: the platen closure alone, from rest.
+  StaticResult closure_solve(const Simulation& sim, const std::atomic<int>* threads = nullptr) const;
+
+  const Scene& scene_;
+  int curve_points_;
+  std::optional<StaticResult> prepared_closure_;  // prepare()'s closure_solve, taken by start()
+};
+
+}  // namespace rbdem

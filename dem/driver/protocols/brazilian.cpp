@@ -1,0 +1,99 @@
+// rbdem brazilian: a disc (specimen.shape = "disc") between two flat platens, loaded along its vertical diameter.
+// Its top and bottom are flattened over the contact arc 2 alpha (specimen.contact_arc_deg, 10 deg by default, the
+// contact of ISRM's curved jaws), so the platens load an arc as the jaws do and the start is linear: the static
+// elastic start applies as in the compression tests. With a contact arc of 0 the platens touch single points, the
+// contact grows with the load, and the run is explicit from the first touch. The curve's stress is the ISRM tensile
+// stress 2 P / (pi D t) of the platen force P; its peak is the Brazilian tensile strength. Failure modes as the
+// literature names them for layered discs: a central fracture across the layers, layer activation (splitting along
+// the joints), mixed, or a fracture off the loaded diameter.
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "dem/driver/platen_test.hpp"
+#include "dem/driver/registry.hpp"
+
+namespace rbdem {
+
+std::string classify_brazilian(const std::vector<Crack>& cracks, const Specimen& specimen) {
+  if (cracks.empty()) return "intact";
+  const double xc = specimen.centre(0), radius = 0.5 * specimen.width();
+  double joint = 0, rock = 0, offset = 0;
+  for (const Crack& c : cracks) {
+    const double L = c.size;
+    if (c.kind == BondKind::joint) {
+      joint += L;
+    } else {
+      rock += L;
+      offset += L * std::abs(c.position[0] - xc);
+    }
+  }
+  const double share = joint / (joint + rock);
+  if (share >= 0.5) return "layer_activation";
+  if (share >= 0.2) return "mixed";
+  return offset / rock < radius / 6.0 ? "central_fracture" : "non_central_fracture";
+}
+
+namespace {
+
+class BrazilianProtocol final : public PlatenTest {
+ public:
+  using PlatenTest::PlatenTest;
+  std::string name() const override { return "brazilian"; }
+  bool prepares() const override { return flattened() && PlatenTest::prepares(); }
+  void prepare(const Simulation& sim, const std::atomic<int>& threads) override {
+    if (flattened()) PlatenTest::prepare(sim, threads);
+  }
+  // Flattened ends: the platens load whole edges from the start, the model is linear, the static start applies. A
+  // full disc touches the platens at points: the contact is nonlinear, the run explicit from the first touch.
+  void start(Simulation& sim, TestRecord& record) override {
+    if (flattened()) PlatenTest::start(sim, record);
+  }
+  bool lateral_signals() const override { return false; }
+  void results(const Simulation& sim, const TestRecord& record, TestResult& result) const override {
+    const Specimen& s = sim.specimen();
+    result.own = {{"tensile_strength_pa", record.peak, true},
+                  {"peak_load_n", 0.5 * record.peak * std::numbers::pi * s.width() * s.thickness, true},
+                  {"layer_angle_deg", 90.0 - scene_.joint_set.dip_deg, false},
+                  {"diameter_m", s.width(), false}};
+  }
+  void finish(const Simulation& sim, const TestRecord&, TestResult& result) const override {
+    result.failure_mode = classify_brazilian(result.cracks, sim.specimen());
+  }
+
+ protected:
+  // 2 F / (pi D t), the ISRM tensile stress of the load F on a disc of diameter D and thickness t.
+  double stress_of(double force, const Simulation& sim) const override {
+    return 2.0 * force / (std::numbers::pi * sim.specimen().width() * sim.specimen().thickness);
+  }
+
+ private:
+  bool flattened() const { return scene_.specimen.contact_arc_deg > 0.0; }
+};
+
+}  // namespace
+
+ProtocolInfo brazilian_protocol() {
+  ProtocolInfo p;
+  p.name = "brazilian";
+  p.description = "one Brazilian (diametral compression) test of a disc";
+  p.tensile = true;
+  p.scene_defaults = {{"specimen.shape", "disc"}};
+  p.check = [](const Scene& scene) {
+    if (scene.specimen.shape != "disc" && scene.mesh.file.empty())
+      throw SceneError("the Brazilian test loads a disc: set specimen.shape = \"disc\" (and specimen.diameter)");
+    refuse_confining_pressure("brazilian", scene);
+  };
+  p.make = [](const Scene& scene, int curve_points) {
+    return std::make_unique<BrazilianProtocol>(scene, curve_points);
+  };
+  p.headline = [](const TestResult& r) {
+    return fmt::format("brazilian: tensile strength {:.3f} MPa (peak load {:.4g} N, layers at {:g} deg to the load)",
+                       r.own_value("tensile_strength_pa") / 1e6, r.own_value("peak_load_n"),
+                       r.own_value("layer_angle_deg"));
+  };
+  return p;
+}
+
+}  // namespace rbdem

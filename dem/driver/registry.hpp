@@ -1,0 +1,44 @@
+// The protocol registry: every test rbdem runs, by name. Each protocol is one file in dem/driver/protocols/ that
+// defines a function `ProtocolInfo <name>_protocol()`; registry.cpp lists them, one line each. The command line,
+// studies, reports, the Python module and the writers ask the registry what a test needs and what it reports;
+// nothing else compares a test's name.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "dem/driver/protocol.hpp"
+#include "dem/scene.hpp"
+
+namespace rbdem {
+
+struct ProtocolInfo {
+  std::string name;         // the command (`rbdem <name>`) and summary.json's "test"
+  std::string description;  // one line for `rbdem --help`
+  // Scene keys the test sets before the user's (as --set would): the Brazilian test's disc. An explicit --set of
+  // the same key comes after and is then checked by `check`.
+  std::vector<std::pair<std::string, std::string>> scene_defaults;
+  // Refuses a scene that does not suit the test: a SceneError naming the key and the fix.
+  std::function<void(const Scene&)> check;
+  std::function<std::unique_ptr<LoadingProtocol>(const Scene& scene, int curve_points)> make;
+  // How studies read the test (study/): the confining pressure is one of its axes (envelopes and Jaeger's
+  // confined lines), or its result is a tensile strength against the layer angle (a disc).
+  bool confined = false;
+  bool tensile = false;
+  // The command's result line ("ucs: peak 50.92 MPa at strain ..."), and notes to print after it.
+  std::function<std::string(const TestResult&)> headline;
+  std::function<std::vector<std::string>(const TestResult&)> notes;
+};
+
+// The protocol named `name`; a SceneError that lists the names when there is none.
+const ProtocolInfo& protocol_info(const std::string& name);
+// Every registered protocol, in the registry's order.
+const std::vector<ProtocolInfo>& protocols();
+
+// Refuses a confining pressure for a test that does not apply one (every protocol but the confined ones).
+void refuse_confining_pressure(const std::string& test, const Scene& scene);
+
+}  // namespace rbdem

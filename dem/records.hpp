@@ -1,0 +1,153 @@
+// The records a run produces, each declared once with its field table: Crack (one broken bond), CurvePoint (one
+// sample of the loading curve) and Frame (the block poses at one instant). Every writer walks the table: the
+// checkpoint (io/checkpoint.cpp), result.h5 (io/result_h5.cpp), the CSV files (io/results.cpp) and the Python
+// records (python/bindings.cpp). A field added to a table appears in all of them; its name is the column name of
+// the CSV files, the dataset name of result.h5 and the key of the Python record.
+//
+// The records are dimension-free: positions and normals have three components of which the first `dim` are used,
+// a frame's poses are flat arrays of Dim<dim>::pose components per block (dem/dim.hpp).
+//
+// A table is a static function fields(dim, f) that calls f(Field, get) for each field in order, with `get` a
+// callable that returns the field of a record: a reference for stored fields (read and written back), a value for
+// derived ones (written only; readers skip them).
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "dem/dim.hpp"
+#include "dem/laws/parallel_bond.hpp"
+
+namespace rbdem {
+
+enum class BondKind : std::uint8_t { rock = 0, joint = 1 };
+
+// The names of the enumerations as the files write them.
+inline const char* name_of(BondKind k) { return k == BondKind::rock ? "rock" : "joint"; }
+inline const char* name_of(BreakMode m) { return m == BreakMode::shear ? "shear" : (m == BreakMode::tensile ? "tensile" : "none"); }
+
+// One field of a record: the name in every file, its unit and meaning (docs/outputs.md), and the significant
+// digits the CSV files give it.
+struct Field {
+  const char* name;
+  const char* unit;
+  const char* doc;
+  int digits = 9;
+};
+
+// Orientation of a 2D bond's edge (the crack's trace), in degrees counter-clockwise from the horizontal, in
+// [0, 180): the direction perpendicular to the bond normal (nx, ny). A crack along a horizontal edge is 0, a vertical
+// one 90.
+inline double edge_orientation_deg(double nx, double ny) {
+  // The edge runs along t = (-ny, nx); its angle folded into [0, 180).
+  double a = std::atan2(nx, -ny) * 180.0 / std::numbers::pi;
+  if (a < 0) a += 180.0;
+  if (a >= 180.0) a -= 180.0;
+  return a;
+}
+
+// Whether a table accessor returns a stored field (a reference) rather than a derived value.
+template <class Get, class Record>
+inline constexpr bool stored_field = std::is_lvalue_reference_v<std::invoke_result_t<Get, Record&>>;
+
+struct Crack {
+  double time = 0, strain = 0;       // s, axial strain when the bond broke
+  std::array<double, 3> position{};  // m, the bond point when it broke
+  std::array<double, 3> normal{};    // -, the bond's reference normal (from block i to block j)
+  double size = 0;                   // m (2D: the edge length) or m^2 (3D: the face area)
+  int bond = -1;
+  BondKind kind = BondKind::rock;
+  BreakMode mode = BreakMode::tensile;
+  double sigma = 0, tau = 0;         // Pa, the bond stresses that broke it
+
+  template <class F>
+  static void fields(int dim, F&& f) {
+    f(Field{"time_s", "s", "time when the bond broke"}, [](auto& c) -> auto& { return c.time; });
+    f(Field{"strain", "-", "axial strain when the bond broke"}, [](auto& c) -> auto& { return c.strain; });
+    static constexpr const char* position_names[3] = {"x_m", "y_m", "z_m"};
+    for (int k = 0; k < dim; ++k)
+      f(Field{position_names[k], "m", "position of the bond point when it broke"},
+        [k](auto& c) -> auto& { return c.position[std::size_t(k)]; });
+    static constexpr const char* normal_names[3] = {"normal_x", "normal_y", "normal_z"};
+    for (int k = 0; k < dim; ++k)
+      f(Field{normal_names[k], "-", "the bond's reference normal, from its first block to its second"},
+        [k](auto& c) -> auto& { return c.normal[std::size_t(k)]; });
+    f(Field{dim == 2 ? "length_m" : "area_m2", dim == 2 ? "m" : "m^2", "size of the broken face"},
+      [](auto& c) -> auto& { return c.size; });
+    f(Field{"kind", "-", "rock or joint"}, [](auto& c) -> auto& { return c.kind; });
+    f(Field{"mode", "-", "tensile or shear"}, [](auto& c) -> auto& { return c.mode; });
+    f(Field{"bond", "-", "index of the broken bond"}, [](auto& c) -> auto& { return c.bond; });
+    f(Field{"sigma_pa", "Pa", "peripheral tensile stress of the bond when it broke", 6},
+      [](auto& c) -> auto& { return c.sigma; });
+    f(Field{"tau_pa", "Pa", "shear stress of the bond when it broke", 6}, [](auto& c) -> auto& { return c.tau; });
+    if (dim == 2)
+      f(Field{"orientation_deg", "deg", "the broken edge's angle from the horizontal, counter-clockwise, [0, 180)", 6},
+        [](const auto& c) { return edge_orientation_deg(c.normal[0], c.normal[1]); });
+  }
+};
+
+struct CurvePoint {
+  long step = 0;                             // explicit step; -1 for the points of the static elastic start
+  double time = 0, strain = 0;               // s, axial strain = platen displacement / height
+  double stress_top = 0, stress_bottom = 0;  // Pa, compression positive, platen force / loaded area
+  double kinetic = 0, strain_energy = 0;     // J
+  double lateral_strain = 0;                 // -, width change / width (compression positive: < 0 when it widens)
+  std::array<int, 4> broken{};               // rock tensile, rock shear, joint tensile, joint shear
+  double stress() const { return 0.5 * (stress_top + stress_bottom); }
+  // eps_v = eps_a + eps_l, compression positive (plane strain).
+  double volumetric_strain() const { return strain + lateral_strain; }
+
+  template <class F>
+  static void fields(int /*dim*/, F&& f) {
+    f(Field{"step", "-", "explicit step (-1: a point of the static start)"}, [](auto& p) -> auto& { return p.step; });
+    f(Field{"time_s", "s", "time"}, [](auto& p) -> auto& { return p.time; });
+    f(Field{"strain", "-", "axial strain, platen closure over height"}, [](auto& p) -> auto& { return p.strain; });
+    f(Field{"stress_top_pa", "Pa", "top platen force over the loaded area"},
+      [](auto& p) -> auto& { return p.stress_top; });
+    f(Field{"stress_bottom_pa", "Pa", "bottom platen force over the loaded area"},
+      [](auto& p) -> auto& { return p.stress_bottom; });
+    f(Field{"kinetic_j", "J", "kinetic energy", 6}, [](auto& p) -> auto& { return p.kinetic; });
+    f(Field{"strain_energy_j", "J", "elastic energy in bonds, contacts and boundaries", 6},
+      [](auto& p) -> auto& { return p.strain_energy; });
+    static constexpr const char* broken_names[4] = {"broken_rock_tensile", "broken_rock_shear",
+                                                    "broken_joint_tensile", "broken_joint_shear"};
+    for (std::size_t k = 0; k < 4; ++k)
+      f(Field{broken_names[k], "-", "bonds broken so far, by kind and mode"},
+        [k](auto& p) -> auto& { return p.broken[k]; });
+    f(Field{"lateral_strain", "-", "width change over width, compression positive"},
+      [](auto& p) -> auto& { return p.lateral_strain; });
+    f(Field{"volumetric_strain", "-", "axial plus lateral strain (plane strain), compression positive"},
+      [](const auto& p) { return p.volumetric_strain(); });
+  }
+};
+
+// The block poses at one instant (crack maps on the deformed specimen, ParaView animations).
+struct Frame {
+  long step = 0;
+  double time = 0, strain = 0, stress = 0;
+  std::string label;        // "", "elastic_start", "peak" or "final"
+  std::size_t cracks = 0;   // cracks logged by then (a prefix of the crack log)
+  int dim = 2;
+  std::vector<double> pose;  // component-major: component c of block b at pose[c * blocks + b] (Dim<dim>::pose)
+  std::size_t blocks() const { return pose.empty() ? 0 : pose.size() / std::size_t(pose_size(dim)); }
+  // Component c of every block (c < pose_size(dim)).
+  const double* component(int c) const { return pose.data() + std::size_t(c) * blocks(); }
+
+  // The scalars; the pose is written per component, under the names pose_names(dim).
+  template <class F>
+  static void fields(int /*dim*/, F&& f) {
+    f(Field{"step", "-", "explicit step"}, [](auto& r) -> auto& { return r.step; });
+    f(Field{"time", "s", "time"}, [](auto& r) -> auto& { return r.time; });
+    f(Field{"strain", "-", "axial strain"}, [](auto& r) -> auto& { return r.strain; });
+    f(Field{"stress", "Pa", "the curve's stress"}, [](auto& r) -> auto& { return r.stress; });
+    f(Field{"label", "-", "\"\", elastic_start, peak or final"}, [](auto& r) -> auto& { return r.label; });
+    f(Field{"cracks", "-", "cracks logged by then"}, [](auto& r) -> auto& { return r.cracks; });
+  }
+};
+
+}  // namespace rbdem
