@@ -1,22 +1,23 @@
 // Explicit engine throughput on the paper's default specimen (1 mm mesh, beta = 60 deg): nanoseconds per
 // bond-step and bond-steps per second, at 1 and 2 threads, for the elastic phase (intact bonds, platens loading).
+// The steps run through the Simulation interface with the platens installed as a protocol installs them.
 #include <benchmark/benchmark.h>
 
 #include <omp.h>
 
 #include <atomic>
 #include <map>
+#include <memory>
 
-#include "dem/engine.hpp"
+#include "dem/simulation_impl.hpp"
 #include "dem/specimen_mesh.hpp"
-#include "dem/static_solve.hpp"
 #include "dem/topology.hpp"
 
 namespace {
 
 // The paper specimen meshed at `mesh_size` (m), built once per size.
-const rbdem::Topology& topology(double mesh_size) {
-  static std::map<double, rbdem::Topology> cache;
+const rbdem::Topology<2>& topology(double mesh_size) {
+  static std::map<double, rbdem::Topology<2>> cache;
   auto it = cache.find(mesh_size);
   if (it == cache.end()) {
     rbdem::Scene s;
@@ -27,17 +28,25 @@ const rbdem::Topology& topology(double mesh_size) {
   return it->second;
 }
 
-const rbdem::Topology& default_topology() { return topology(rbdem::Scene{}.mesh.size); }
+const rbdem::Topology<2>& default_topology() { return topology(rbdem::Scene{}.mesh.size); }
+
+// The simulation of `scene` on `topo`, with the platens of a compression test.
+std::unique_ptr<rbdem::SimulationImpl<2>> simulation(const rbdem::Scene& scene, const rbdem::Topology<2>& topo) {
+  auto sim = std::make_unique<rbdem::SimulationImpl<2>>(scene, topo);
+  sim->add_platens({scene.loading.platen_velocity, scene.loading.platen_friction});
+  return sim;
+}
 
 // One engine step of `scene` on the default specimen (or `topo`), at state.range(0) threads.
-void engine_steps(benchmark::State& state, rbdem::Scene scene, const rbdem::Topology* topo_in = nullptr) {
+void engine_steps(benchmark::State& state, rbdem::Scene scene, const rbdem::Topology<2>* topo_in = nullptr) {
   scene.numerics.threads = int(state.range(0));
   const auto& topo = topo_in ? *topo_in : default_topology();
-  rbdem::Engine engine(topo, scene, rbdem::EngineOptions::from_scene(scene));
-  engine.set_dt(0.5 * rbdem::stability_limit(engine));
-  engine.run(200);  // warm-up: platen contacts formed, caches warm
+  const auto impl = simulation(scene, topo);
+  rbdem::Simulation& sim = *impl;
+  sim.set_dt(0.5 * sim.stability_limit());
+  sim.run(200);  // warm-up: platen contacts formed, caches warm
   const long steps = 500;
-  for (auto _ : state) engine.run(steps);
+  for (auto _ : state) sim.run(steps);
   const double bond_steps = double(topo.bonds.size()) * double(steps) * double(state.iterations());
   state.counters["bonds"] = double(topo.bonds.size());
   state.counters["ns_per_bond_step"] =
@@ -73,9 +82,8 @@ BENCHMARK(BM_EngineStepBrittle)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->
 void BM_StabilityLimit(benchmark::State& state) {
   rbdem::Scene scene;
   scene.numerics.threads = int(state.range(0));
-  const auto& topo = default_topology();
-  rbdem::Engine engine(topo, scene, rbdem::EngineOptions::from_scene(scene));
-  for (auto _ : state) benchmark::DoNotOptimize(rbdem::stability_limit(engine));
+  const auto sim = simulation(scene, default_topology());
+  for (auto _ : state) benchmark::DoNotOptimize(sim->stability_limit());
 }
 BENCHMARK(BM_StabilityLimit)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -83,13 +91,12 @@ BENCHMARK(BM_StabilityLimit)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->Use
 // state.range(0) threads for the products and the triangular solves.
 void BM_StaticSolve(benchmark::State& state) {
   rbdem::Scene scene;
-  const auto& topo = default_topology();
-  rbdem::Engine engine(topo, scene, rbdem::EngineOptions::from_scene(scene));
+  const auto sim = simulation(scene, default_topology());
   const std::atomic<int> threads{int(state.range(0))};
   rbdem::StaticOptions options;
   options.threads = &threads;
-  for (auto _ : state) benchmark::DoNotOptimize(rbdem::solve_static(engine, options));
-  state.counters["dofs"] = double(3 * topo.blocks.size());
+  for (auto _ : state) benchmark::DoNotOptimize(sim->solve_static(options));
+  state.counters["dofs"] = double(3 * sim->num_blocks());
 }
 BENCHMARK(BM_StaticSolve)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 

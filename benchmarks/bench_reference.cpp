@@ -36,17 +36,18 @@ struct CaseSetup {
 void run_case(const CaseSetup& c, const std::vector<double>& implicit_rtols) {
   const ReferenceSpecimen& sp = c.specimen;
   const ReferenceProblem p = make_reference_problem(sp);
-  auto e = p.make_engine();
+  const auto sim = p.make_simulation();
+  rbdem::Engine<2>& e = sim->engine();
   const double t_end = c.periods * p.stability_limit;
   auto tol = [&](double rtol) { return Tolerances::scaled(rtol, sp.strain * sp.height, sp.velocity, sp.mesh_size); };
   fmt::print("\n## case {}: E_rock / E_joint = {:g}, initial field {}, {} blocks, {} bonds, stability limit {:.4g} s, "
              "t_end = {:g} x limit = {:.4g} s\n",
              c.name, sp.joint_contrast, sp.field == InitialField::smooth ? "smooth" : "layer_rigid",
-             p.engine->model().num_blocks(), p.engine->model().num_bonds(), p.stability_limit, c.periods, t_end);
+             p.engine().model().num_blocks(), p.engine().model().num_bonds(), p.stability_limit, c.periods, t_end);
 
-  const IntegrationResult ref = integrate_explicit(*e, p.y0, t_end, tol(c.ref_rtol));
-  const IntegrationResult check = integrate_explicit(*e, p.y0, t_end, tol(100.0 * c.ref_rtol));
-  const StateError ref_err = state_error(*e, check.state, ref.state, p.y0);
+  const IntegrationResult ref = integrate_explicit(e, p.y0, t_end, tol(c.ref_rtol));
+  const IntegrationResult check = integrate_explicit(e, p.y0, t_end, tol(100.0 * c.ref_rtol));
+  const StateError ref_err = state_error(e, check.state, ref.state, p.y0);
   fmt::print("reference: ERKStep Fehlberg 13-stage order 8, rtol {:.0e}: {} steps ({} attempts), {} force evaluations, "
              "{:.3f} s wall, {:.3f} s CPU; the same at rtol {:.0e} differs by {:.2e} (positions), {:.2e} (velocities)\n",
              c.ref_rtol, ref.stats.steps, ref.stats.attempts, ref.stats.rhs_evals, ref.stats.wall_seconds, ref.stats.cpu_seconds,
@@ -60,8 +61,8 @@ void run_case(const CaseSetup& c, const std::vector<double>& implicit_rtols) {
   std::vector<Run> implicit;
   double target = 1e300;  // the smallest implicit error: central difference is refined until it is as accurate
   for (double rtol : implicit_rtols) {
-    IntegrationResult r = integrate_implicit(*e, p.y0, t_end, tol(rtol));
-    const StateError err = state_error(*e, r.state, ref.state, p.y0);
+    IntegrationResult r = integrate_implicit(e, p.y0, t_end, tol(rtol));
+    const StateError err = state_error(e, r.state, ref.state, p.y0);
     target = std::min(target, err.position);
     implicit.push_back({rtol, std::move(r), err});
   }
@@ -74,8 +75,8 @@ void run_case(const CaseSetup& c, const std::vector<double>& implicit_rtols) {
   std::vector<Row> cd;
   for (double frac = 0.8; frac > 1e-4; frac *= 0.5) {
     const long n = long(std::ceil(t_end / (frac * p.stability_limit)));
-    const IntegrationResult r = central_difference(*e, p.y0, t_end / double(n), n);
-    const StateError err = state_error(*e, r.state, ref.state, p.y0);
+    const IntegrationResult r = central_difference(e, p.y0, t_end / double(n), n);
+    const StateError err = state_error(e, r.state, ref.state, p.y0);
     cd.push_back({err.position, r.stats.cpu_seconds});
     fmt::print("| {:.4f} | {} | {:.3e} | {:.3e} | {:.4f} | {:.4f} |\n", t_end / double(n) / p.stability_limit, n,
                err.position, err.velocity, r.stats.wall_seconds, r.stats.cpu_seconds);

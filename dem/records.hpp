@@ -142,9 +142,9 @@ struct Frame {
   template <class F>
   static void fields(int /*dim*/, F&& f) {
     f(Field{"step", "-", "explicit step"}, [](auto& r) -> auto& { return r.step; });
-    f(Field{"time", "s", "time"}, [](auto& r) -> auto& { return r.time; });
+    f(Field{"time_s", "s", "time"}, [](auto& r) -> auto& { return r.time; });
     f(Field{"strain", "-", "axial strain"}, [](auto& r) -> auto& { return r.strain; });
-    f(Field{"stress", "Pa", "the curve's stress"}, [](auto& r) -> auto& { return r.stress; });
+    f(Field{"stress_pa", "Pa", "the curve's stress"}, [](auto& r) -> auto& { return r.stress; });
     f(Field{"label", "-", "\"\", elastic_start, peak or final"}, [](auto& r) -> auto& { return r.label; });
     f(Field{"cracks", "-", "cracks logged by then"}, [](auto& r) -> auto& { return r.cracks; });
   }

@@ -26,13 +26,12 @@
 #include "compare/gate/elastic_gate.hpp"
 #include "compare/gate/gate_cache.hpp"
 #include "compare/verify/verify.hpp"
-#include "dem/driver/ucs.hpp"
-#include "dem/mesh_cache.hpp"
+#include "dem/driver/registry.hpp"
+#include "dem/record_columns.hpp"
 #include "dem/scene.hpp"
-#include "dem/specimen_mesh.hpp"
-#include "dem/topology.hpp"
 #include "dem/version.hpp"
 #include "io/results.hpp"
+#include "io/run_case.hpp"
 #include "study/report.hpp"
 #include "study/study.hpp"
 
@@ -79,88 +78,70 @@ Scene resolve(const std::string& file, const std::vector<Assignment>& scene_keys
   return scene;
 }
 
-template <class T, class F>
-py::array_t<T> column(const std::vector<F>& rows, T (*get)(const F&)) {
-  py::array_t<T> a(py::ssize_t(rows.size()));
-  auto v = a.template mutable_unchecked<1>();
-  for (std::size_t i = 0; i < rows.size(); ++i) v(py::ssize_t(i)) = get(rows[i]);
-  return a;
-}
-
 py::array_t<double> array_of(const std::vector<double>& v) {
   py::array_t<double> a(py::ssize_t(v.size()));
   std::copy(v.begin(), v.end(), a.mutable_data());
   return a;
 }
 
-// The curve.csv columns (io::write_curve_csv), one NumPy array each, plus the mean stress.
-py::dict curve_arrays(const std::vector<CurvePoint>& c) {
+// A table of records as a dict of NumPy arrays, one per field of its field table (dem/records.hpp), under the
+// names of the CSV columns; the enumerations as lists of their names.
+template <class Record>
+py::dict record_arrays(int dim, const std::vector<Record>& rows) {
   py::dict d;
-  d["step"] = column<long, CurvePoint>(c, [](const CurvePoint& p) { return p.step; });
-  d["time_s"] = column<double, CurvePoint>(c, [](const CurvePoint& p) { return p.time; });
-  d["strain"] = column<double, CurvePoint>(c, [](const CurvePoint& p) { return p.strain; });
-  d["stress_pa"] = column<double, CurvePoint>(c, [](const CurvePoint& p) { return p.stress(); });
-  d["stress_top_pa"] = column<double, CurvePoint>(c, [](const CurvePoint& p) { return p.stress_top; });
-  d["stress_bottom_pa"] = column<double, CurvePoint>(c, [](const CurvePoint& p) { return p.stress_bottom; });
-  d["kinetic_j"] = column<double, CurvePoint>(c, [](const CurvePoint& p) { return p.kinetic; });
-  d["strain_energy_j"] = column<double, CurvePoint>(c, [](const CurvePoint& p) { return p.strain_energy; });
-  d["broken_rock_tensile"] = column<int, CurvePoint>(c, [](const CurvePoint& p) { return p.broken[0]; });
-  d["broken_rock_shear"] = column<int, CurvePoint>(c, [](const CurvePoint& p) { return p.broken[1]; });
-  d["broken_joint_tensile"] = column<int, CurvePoint>(c, [](const CurvePoint& p) { return p.broken[2]; });
-  d["broken_joint_shear"] = column<int, CurvePoint>(c, [](const CurvePoint& p) { return p.broken[3]; });
-  d["lateral_strain"] = column<double, CurvePoint>(c, [](const CurvePoint& p) { return p.lateral_strain; });
-  d["volumetric_strain"] = column<double, CurvePoint>(c, [](const CurvePoint& p) { return volumetric_strain(p); });
+  write_columns(dim, rows, [&](const Field& field, const auto& column, bool) {
+    using V = typename std::decay_t<decltype(column)>::value_type;
+    if constexpr (std::is_enum_v<V>) {
+      std::vector<std::string> names;
+      for (const V v : column) names.push_back(name_of(v));
+      d[field.name] = names;
+    } else if constexpr (std::is_same_v<V, std::string>) {
+      d[field.name] = column;
+    } else {
+      py::array_t<V> a(py::ssize_t(column.size()));
+      std::copy(column.begin(), column.end(), a.mutable_data());
+      d[field.name] = a;
+    }
+  });
   return d;
 }
 
-// The cracks.csv columns (io::write_cracks_csv); kind and mode as lists of strings (NumPy arrays in Python).
-py::dict crack_arrays(const std::vector<Crack>& c, const std::vector<double>& orientation_deg) {
-  py::dict d;
-  d["time_s"] = column<double, Crack>(c, [](const Crack& k) { return k.time; });
-  d["strain"] = column<double, Crack>(c, [](const Crack& k) { return k.strain; });
-  d["x_m"] = column<double, Crack>(c, [](const Crack& k) { return k.x; });
-  d["y_m"] = column<double, Crack>(c, [](const Crack& k) { return k.y; });
-  std::vector<std::string> kind, mode;
-  for (const auto& k : c) {
-    kind.push_back(k.kind == BondKind::rock ? "rock" : "joint");
-    mode.push_back(k.mode == BreakMode::shear ? "shear" : "tensile");
-  }
-  d["kind"] = kind;
-  d["mode"] = mode;
-  d["bond"] = column<int, Crack>(c, [](const Crack& k) { return k.bond; });
-  d["sigma_pa"] = column<double, Crack>(c, [](const Crack& k) { return k.sigma; });
-  d["tau_pa"] = column<double, Crack>(c, [](const Crack& k) { return k.tau; });
-  d["orientation_deg"] = array_of(orientation_deg);
+// The curve's table, plus the mean platen stress (stress_pa) for convenience.
+py::dict curve_arrays(int dim, const std::vector<CurvePoint>& curve) {
+  py::dict d = record_arrays(dim, curve);
+  std::vector<double> stress;
+  for (const auto& p : curve) stress.push_back(p.stress());
+  d["stress_pa"] = array_of(stress);
   return d;
 }
 
+// Each frame as a dict: its table's scalars and its pose components (x_m, y_m, theta_rad in 2D).
 py::list frame_list(const std::vector<Frame>& frames) {
   py::list l;
   for (const auto& f : frames) {
     py::dict d;
-    d["step"] = f.step;
-    d["time_s"] = f.time;
-    d["strain"] = f.strain;
-    d["stress_pa"] = f.stress;
-    d["label"] = f.label;
-    d["cracks"] = f.cracks;
-    d["x_m"] = array_of(f.x);
-    d["y_m"] = array_of(f.y);
-    d["theta_rad"] = array_of(f.theta);
+    Frame::fields(f.dim, [&](const Field& field, auto get) { d[field.name] = get(f); });
+    for (int c = 0; c < pose_size(f.dim); ++c)
+      d[(std::string(pose_name(f.dim, c)) + "_" + pose_unit(f.dim, c)).c_str()] =
+          array_of(std::vector<double>(f.component(c), f.component(c) + f.blocks()));
     l.append(d);
   }
   return l;
 }
 
 // The blocks of the specimen as meshed (before loading): centroid, area, mass and the layer of each block.
-py::dict block_arrays(const Topology& topo) {
+py::dict block_arrays(const Specimen& sp) {
   py::dict d;
-  d["x_m"] = array_of(topo.blocks.cx);
-  d["y_m"] = array_of(topo.blocks.cy);
-  d["area_m2"] = array_of(topo.blocks.area);
-  d["mass_kg"] = array_of(topo.blocks.mass);
-  py::array_t<int> layer(py::ssize_t(topo.blocks.layer.size()));
-  std::copy(topo.blocks.layer.begin(), topo.blocks.layer.end(), layer.mutable_data());
+  const char* axis[3] = {"x_m", "y_m", "z_m"};
+  for (int k = 0; k < sp.dim; ++k) {
+    std::vector<double> c(sp.num_blocks());
+    for (std::size_t b = 0; b < c.size(); ++b) c[b] = sp.centroid(b, k);
+    d[axis[k]] = array_of(c);
+  }
+  d[sp.dim == 2 ? "area_m2" : "volume_m3"] = array_of(sp.blocks.measure);
+  d["mass_kg"] = array_of(sp.blocks.mass);
+  py::array_t<int> layer(py::ssize_t(sp.blocks.layer.size()));
+  std::copy(sp.blocks.layer.begin(), sp.blocks.layer.end(), layer.mutable_data());
   d["layer"] = layer;
   return d;
 }
@@ -189,12 +170,13 @@ struct PendingError {
 py::dict run(const std::string& test, const std::string& file, const std::vector<Assignment>& scene_keys,
              std::optional<double> beta, const std::vector<Assignment>& overrides, bool force, bool skip_gate,
              const std::string& out, py::object progress) {
+  const ProtocolInfo& info = protocol_info(test);
   std::vector<Assignment> sets = overrides;
   // As the CLI: the test's own keys go first, so an explicit override of the same key is refused by validation
-  // or check_test_scene rather than silently replaced.
-  if (test == "brazilian") sets.insert(sets.begin(), {"brazilian()", "specimen.shape", "disc"});
+  // or the protocol's check rather than silently replaced.
+  for (const auto& [key, value] : info.scene_defaults) sets.insert(sets.begin(), {test + "()", key, value});
   const Scene scene = resolve(file, scene_keys, beta, sets, force);
-  check_test_scene(test, scene);
+  info.check(scene);
   const auto t0 = std::chrono::steady_clock::now();
   if (!out.empty()) io::require_writable_dir(out);
 
@@ -235,28 +217,27 @@ py::dict run(const std::string& test, const std::string& file, const std::vector
     }
   };
 
-  TriMesh mesh;
-  Topology topo;
-  TestResult r;
+  io::CaseRun run;
   try {
     py::gil_scoped_release release;
-    mesh = make_mesh_cached(scene);
-    topo = build_topology(mesh, scene.specimen.thickness, scene.rock.density);
-    r = run_test(test, scene, topo, uo);
-    if (!out.empty()) io::write_run(out, scene, mesh, topo, r, r.threads);
+    io::CaseOptions co;
+    co.out = out;
+    co.run = uo;
+    run = io::run_case(test, scene, co);
   } catch (const RunCancelled&) {
     if (pending.error) throw *pending.error;
     throw;
   }
   if (pending.error) throw *pending.error;  // set after the driver's last cancel check: the run is complete
 
+  const TestResult& r = run.result;
   py::dict d;
   d["summary_json"] = io::run_summary(scene, r).dump();
   d["scene_toml"] = to_toml(scene);
-  d["curve"] = curve_arrays(r.curve);
-  d["cracks"] = crack_arrays(r.cracks, r.crack_orientation_deg);
+  d["curve"] = curve_arrays(r.dimension, r.curve);
+  d["cracks"] = record_arrays(r.dimension, r.cracks);
   d["frames"] = frame_list(r.frames);
-  d["blocks"] = block_arrays(topo);
+  d["blocks"] = block_arrays(run.specimen);
   d["elastic_gate"] = skip_gate ? py::object(py::none()) : py::object(gate);
   d["out"] = out;
   d["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -428,7 +409,7 @@ py::list sweep(const std::string& study_file, const std::vector<Assignment>& ove
   const auto groups = study::write_tables(results, out);
   study::write_timing(results, out);
   study::ReportExtras extras;
-  if (spec.test == "triaxial") extras.envelopes = study::write_envelopes(results, out);
+  if (protocol_info(spec.test).confined) extras.envelopes = study::write_envelopes(results, out);
   extras.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   extras.workers = workers > 0 ? workers : int(std::max(1u, std::thread::hardware_concurrency()));
   extras.elastic_gate_markdown = gate_markdown;

@@ -15,7 +15,7 @@
 #include "compare/gate/dem_constants.hpp"
 #include "compare/gate/elastic_gate.hpp"
 #include "compare/gate/gate_cache.hpp"
-#include "dem/driver/ucs.hpp"
+#include "dem/driver/driver.hpp"
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
 #include "dem/version.hpp"
@@ -31,7 +31,7 @@ using compare::ElasticReport;
 TEST(DemConstants, GaugeRecoversAnAffineFieldExactly) {
   Scene s;
   s.mesh.size = 0.004;
-  const Topology topo = build_topology(make_mesh(s), s.specimen.thickness, s.rock.density);
+  const Topology<2> topo = build_topology(make_mesh(s), s.specimen.thickness, s.rock.density);
   std::vector<double> ux, uy;
   for (std::size_t b = 0; b < topo.blocks.size(); ++b) {
     const double x = topo.blocks.cx[b], y = topo.blocks.cy[b];
@@ -323,8 +323,7 @@ TEST(Threads, DefaultThreadsUseEveryCoreAfterMeshingTheGateAndTheStaticStart) {
   compare::ElasticGateOptions go;
   go.with_fe = true;
   (void)compare::run_elastic_gate(scene, go);
-  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const TestResult r = run_ucs(scene, topo);
+  const TestResult r = run_test("ucs", scene, make_mesh(scene));
   const int expected = std::getenv("OMP_NUM_THREADS") ? omp_get_max_threads() : cores;
   EXPECT_EQ(r.threads, expected);
   EXPECT_EQ(io::run_summary(scene, r)["threads"].get<int>(), expected);

@@ -10,12 +10,10 @@
 
 #include "compare/verify/dem_measures.hpp"
 #include "compare/verify/specimens.hpp"
-#include "dem/engine.hpp"
+#include "dem/driver/driver.hpp"
 #include "dem/stages/bond_kernel.hpp"
-#include "dem/specimen_mesh.hpp"
-#include "dem/static_solve.hpp"
 #include "dem/topology.hpp"
-#include "dem/driver/ucs.hpp"
+#include "tests/simulations.hpp"
 
 namespace rbdem {
 namespace {
@@ -23,9 +21,9 @@ namespace {
 using verify::elastic_scene;
 using verify::rhombus;
 
+// Free blocks: an engine with no boundary components attached, on one thread.
 EngineOptions free_blocks(const Scene& s) {
   EngineOptions o = EngineOptions::from_scene(s);
-  o.platens = false;
   o.threads = 1;
   return o;
 }
@@ -65,14 +63,15 @@ TEST(Engine, BlockSlidesOnAJointStartingExactlyAtMuFn) {
   const double mu = std::tan(30.0 * std::numbers::pi / 180);
   scene.joint.contact_friction = mu;
   const double a = 1e-3, b = 0.8e-3;
-  const Topology topo = build_topology(rhombus(a, b, 0, 1), 1.0, 2700.0);
+  const Topology<2> topo = build_topology(rhombus(a, b, 0, 1), 1.0, 2700.0);
   ASSERT_EQ(topo.bonds.kind[0], BondKind::joint);
-  Engine e(topo, scene, free_blocks(scene));
+  Engine<2> e(topo, scene, free_blocks(scene));
   e.break_bond(0);
   e.fix_block(0);
   e.set_block_mass(1, e.model().mass[1], 1e6 * e.model().inertia[1]);  // keep it from tipping: a pure sliding test
   const double fn = 1e4;
-  e.set_external_load(1, 0.0, -fn, 0.0);
+  BlockGroupImpl<2> load(e, {"load", {1}, GroupSettings::Mode::force, {0.0, -fn, 0.0}});
+  e.attach(&load);
   e.set_dt(0.2 * e.critical_step());
   e.run(20000);  // settle under the normal load
   const double x_settled = e.state().x[1];
@@ -80,7 +79,7 @@ TEST(Engine, BlockSlidesOnAJointStartingExactlyAtMuFn) {
   double slip_at = -1;
   for (long s = 1; s <= ramp_steps; ++s) {
     const double ft = 1.2 * mu * fn * double(s) / double(ramp_steps);
-    e.set_external_load(1, ft, -fn, 0.0);
+    load.set_value({ft, -fn, 0.0});
     e.step();
     if (std::abs(e.state().x[1] - x_settled) > 3e-7) {  // several times the elastic shear displacement (5e-8 m)
       slip_at = ft;
@@ -95,9 +94,9 @@ TEST(Engine, BlockSlidesOnAJointStartingExactlyAtMuFn) {
 TEST(Engine, CompressedBondBreaksWithoutForceJumpInTheLinearPart) {
   const Scene scene = elastic_scene();
   const double a = 1e-3, b = 0.8e-3;
-  const Topology topo = build_topology(rhombus(a, b), 1.0, 2700.0);
-  Engine e(topo, scene, free_blocks(scene));
-  e.edit([](ModelState& s) {
+  const Topology<2> topo = build_topology(rhombus(a, b), 1.0, 2700.0);
+  Engine<2> e(topo, scene, free_blocks(scene));
+  e.edit([](ModelState<2>& s) {
     s.y[1] -= 1e-6;  // compress, with a little shear and rotation
     s.x[1] += 2e-7;
     s.theta[1] = 1e-4;
@@ -156,21 +155,20 @@ TEST(Engine, StableAtComputedStepAndStopsCleanlyWhenTooLarge) {
   scene.loading.platen_velocity = 0.01;
   SpecimenGeometry g;
   g.width = 0.02, g.height = 0.04, g.spacing = 0.01;
-  const Topology topo = build_topology(mesh_specimen(g, 0.004), 1.0, 2700.0);
+  const Topology<2> topo = build_topology(mesh_specimen(g, 0.004), 1.0, 2700.0);
+  scene.numerics.threads = 1;
   auto make = [&](double factor) {
-    EngineOptions o = EngineOptions::from_scene(scene);
-    o.threads = 1;
-    auto e = std::make_unique<Engine>(topo, scene, o);
-    e->set_breakage(false);
-    e->set_dt(factor * scene.numerics.dt_safety * stability_limit(*e));
-    return e;
+    auto sim = fixtures::with_platens(scene, topo);
+    sim->set_breakage(false);
+    sim->set_dt(factor * scene.numerics.dt_safety * sim->stability_limit());
+    return sim;
   };
   auto stable = make(1.0);
   EXPECT_NO_THROW(stable->run(100000));
   const Energies en = stable->energies();
   EXPECT_TRUE(std::isfinite(en.kinetic));
-  EXPECT_LT(en.kinetic + en.strain, 1.01 * en.work_platen);  // no energy from nowhere
-  EXPECT_GT(stable->top_force(), 0.0);
+  EXPECT_LT(en.kinetic + en.strain, 1.01 * en.work);  // no energy from nowhere
+  EXPECT_GT(stable->find<Platens>()->top_force(), 0.0);
   auto unstable = make(2.2);
   try {
     unstable->run(100000);
@@ -186,10 +184,10 @@ TEST(Engine, StableAtComputedStepAndStopsCleanlyWhenTooLarge) {
 TEST(BondKernel, VectorisedKernelEqualsTheScalarBondEvaluationBitForBit) {
   Scene scene;
   scene.mesh.size = 0.003;
-  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  Engine e(topo, scene, EngineOptions::from_scene(scene));
-  const Model& m = e.model();
-  ModelState s = e.state();
+  const Topology<2> topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  Engine<2> e(topo, scene, EngineOptions::from_scene(scene));
+  const Model<2>& m = e.model();
+  ModelState<2> s = e.state();
   // A deformation with every regime of the linear part (closed, partly open, open) and some rotation.
   for (std::size_t b = 0; b < s.num_blocks(); ++b) {
     const double q = std::sin(12.9898 * double(b)), r = std::cos(78.233 * double(b));
@@ -201,12 +199,12 @@ TEST(BondKernel, VectorisedKernelEqualsTheScalarBondEvaluationBitForBit) {
   for (std::size_t k = 0; k < m.num_bonds(); k += 7) s.drive[k] = 1.0 + 0.1 * double(k % 5);  // softened
   for (std::size_t k = 3; k < m.num_bonds(); k += 11) s.broken[k] = 1;
   for (std::size_t k = 0; k < m.num_bonds(); ++k) s.fs_lin[k] = 1e-3 * double(k % 13);
-  Workspace w;
+  Workspace<2> w;
   w.slot.assign(m.num_bonds());
   stages::update_rotations(s, w, 1);
   stages::refresh_keep(m, s, w);
   ASSERT_GT(w.damaged, 0u);
-  const ModelState before = s;
+  const ModelState<2> before = s;
   StepContext c{1e-8, true, 2};
   stages::bond_forces(m, s, w, c);
   std::size_t flagged = 0, compressed = 0;
@@ -231,20 +229,68 @@ TEST(BondKernel, VectorisedKernelEqualsTheScalarBondEvaluationBitForBit) {
   RecordProperty("flagged", std::to_string(flagged));
 }
 
+// The bond stage flags the bonds whose failure test held for the bond events, which then apply the law. That
+// pre-filter is the law's own test (BondLoad::exceeds), called in the kernel's vector lanes: on a specimen deformed
+// so that some bonds are past their strength, some softened (a larger scale) and some broken, the kernel flags
+// exactly the bonds the law fails at their scale, and no other.
+TEST(BondKernel, FailurePreFilterIsTheLawsTestBitForBit) {
+  Scene scene;
+  scene.mesh.size = 0.003;
+  const Topology<2> topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  Engine<2> e(topo, scene, EngineOptions::from_scene(scene));
+  const Model<2>& m = e.model();
+  ModelState<2> s = e.state();
+  for (std::size_t b = 0; b < s.num_blocks(); ++b) {  // strains of 1e-4 in tension and shear: about the strength
+    const double q = std::sin(12.9898 * double(b)), r = std::cos(78.233 * double(b));
+    s.x[b] += 1e-4 * (s.x[b] - 0.025) + 3e-7 * q;
+    s.y[b] += 0.5e-4 * s.y[b] + 3e-7 * r;
+    s.theta[b] = 3e-4 * q * r;
+  }
+  for (std::size_t k = 0; k < m.num_bonds(); k += 7) s.drive[k] = 1.0 + 0.2 * double(k % 5);  // softened
+  for (std::size_t k = 3; k < m.num_bonds(); k += 11) s.broken[k] = 1;
+  Workspace<2> w;
+  w.slot.assign(m.num_bonds());
+  stages::update_rotations(s, w, 1);
+  stages::refresh_keep(m, s, w);
+  const ModelState<2> before = s;
+  stages::bond_forces(m, s, w, StepContext{1e-8, true, 2});
+  std::size_t flagged = 0, by_law = 0;
+  for (std::size_t k = 0; k < m.num_bonds(); ++k) {
+    bool fails = false;
+    if (!before.broken[k]) {
+      const stages::BondEval ev = stages::eval_bond(m, before, w, int(k), 1e-8, before.fs_lin[k], w.keep[k]);
+      const BondFrames& f = m.frame;
+      const ParallelBond& law = m.law[m.material[k]].bond;
+      const BondLoad q = BondLoad::of(f.tension_limit[k], f.cohesion_A[k], f.tan_phi[k], f.beta_m[k], ev.fnb, ev.fsb,
+                                      ev.mb, f.inv_L[k], law.moment_arm());
+      fails = q.failure(before.drive[k] > 0.0 ? before.drive[k] : 1.0) != BreakMode::none;
+    }
+    by_law += fails;
+    flagged += w.flag[k] != 0;
+    ASSERT_EQ(w.flag[k] != 0, fails) << "bond " << k;
+  }
+  EXPECT_GT(by_law, 0u) << "no bond is past its strength: the test needs some";
+  EXPECT_LT(by_law, m.num_bonds());
+  std::size_t listed = 0;
+  for (const auto& list : w.flagged) listed += list.size();
+  EXPECT_EQ(listed, flagged);  // every flagged bond is handed to the events, in the per-thread lists
+}
+
 // The threads share the blocks and bonds in ranges (Workspace::Partition); everything a step computes, the damping
 // work summed per block grain included, is the same to the bit at 1, 2 and 3 threads, here through breakage, and
 // when the stages get smaller teams than asked (inside another parallel region).
 // 1 500 steps of the paper's specimen at 3 mm, loaded fast enough to break bonds within them, at half the stability
 // limit: the state and the energies at the end, and the engine's broad-phase counts.
 struct BreakingRun {
-  ModelState state;
+  ModelState<2> state;
   Energies energy;
   std::size_t updates = 0, rebuilds = 0;
 };
-BreakingRun run_breaking(const Topology& topo, const Scene& scene) {
-  Engine e(topo, scene, EngineOptions::from_scene(scene));
-  e.set_dt(0.5 * stability_limit(e));
-  e.run(1500);
+BreakingRun run_breaking(const Topology<2>& topo, const Scene& scene) {
+  const auto sim = fixtures::with_platens(scene, topo);
+  sim->set_dt(0.5 * sim->stability_limit());
+  sim->run(1500);
+  const Engine<2>& e = sim->engine();
   return {e.state(), e.energies(), e.broad_phase().updates, e.broad_phase().rebuilds};
 }
 
@@ -252,8 +298,8 @@ TEST(Engine, StepsAndEnergiesAreBitIdenticalAtOneTwoAndThreeThreads) {
   Scene scene;
   scene.mesh.size = 0.003;
   scene.loading.platen_velocity = 0.5;  // breaks within the 1 500 steps
-  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  std::vector<ModelState> end;
+  const Topology<2> topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  std::vector<ModelState<2>> end;
   std::vector<Energies> energy;
   for (const int threads : {1, 2, 3}) {
     scene.numerics.threads = threads;
@@ -262,18 +308,18 @@ TEST(Engine, StepsAndEnergiesAreBitIdenticalAtOneTwoAndThreeThreads) {
   }
   {  // 2 threads asked for inside another parallel region: the stages get teams of one, which must still do it all
     scene.numerics.threads = 2;
-    Engine e(topo, scene, EngineOptions::from_scene(scene));
-    e.set_dt(0.5 * stability_limit(e));
+    const auto sim = fixtures::with_platens(scene, topo);
+    sim->set_dt(0.5 * sim->stability_limit());
     const int levels = omp_get_max_active_levels();
     omp_set_max_active_levels(1);
 #pragma omp parallel num_threads(2)
     {
 #pragma omp single
-      e.run(1500);
+      sim->run(1500);
     }
     omp_set_max_active_levels(levels);
-    end.push_back(e.state());
-    energy.push_back(e.energies());
+    end.push_back(sim->engine().state());
+    energy.push_back(sim->energies());
   }
   ASSERT_GT(end[0].cracks.size(), 0u);
   ASSERT_GT(energy[0].damping, 0.0);
@@ -300,8 +346,8 @@ TEST(BroadPhase, UpdatingTheListsAfterBreaksGivesTheRebuildsNumbersToTheBit) {
   Scene scene;
   scene.mesh.size = 0.003, scene.numerics.threads = 1;
   scene.loading.platen_velocity = 0.5;  // breaks within the 1 500 steps
-  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  std::vector<ModelState> end;
+  const Topology<2> topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  std::vector<ModelState<2>> end;
   std::vector<Energies> energy;
   std::vector<std::size_t> updates, rebuilds;
   for (const bool update : {true, false}) {
@@ -344,19 +390,21 @@ TEST(Engine, StepsDoNotDependOnWhereTheThreadsSplitTheWork) {
   Scene scene;
   scene.mesh.size = 0.003;
   scene.loading.platen_velocity = 0.5;
-  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  std::vector<ModelState> end;
+  const Topology<2> topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  std::vector<ModelState<2>> end;
   std::vector<Energies> energy;
+  std::vector<double> top_force;
   for (const int threads : {1, 2}) {
     scene.numerics.threads = threads;
-    Engine e(topo, scene, EngineOptions::from_scene(scene));
-    e.set_dt(0.5 * stability_limit(e));
+    const auto sim = fixtures::with_platens(scene, topo);
+    Engine<2>& e = sim->engine();
+    e.set_dt(0.5 * sim->stability_limit());
     const int nb = int(topo.blocks.size()), nbond = int(topo.bonds.size());
-    const int grain = Workspace::Partition::kBlockGrain;
+    const int grain = Workspace<2>::Partition::kBlockGrain;
     for (int round = 0; round < 15; ++round) {
       e.run(threads == 2 && round == 0 ? 1 : 0);  // the first step sets the partition up
       if (threads == 2) {
-        Workspace::Partition& p = e.partition();
+        Workspace<2>::Partition& p = e.partition();
         ASSERT_EQ(p.threads, 2);
         const double f = 0.1 + 0.8 * ((round * 7) % 11) / 10.0;  // 0.1 .. 0.9 of the items on the first thread
         p.bond[1] = int(f * nbond);
@@ -366,6 +414,7 @@ TEST(Engine, StepsDoNotDependOnWhereTheThreadsSplitTheWork) {
     }
     end.push_back(e.state());
     energy.push_back(e.energies());
+    top_force.push_back(sim->find<Platens>()->top_force());
   }
   ASSERT_GT(end[0].cracks.size(), 0u);
   EXPECT_EQ(end[1].x, end[0].x);
@@ -373,59 +422,77 @@ TEST(Engine, StepsDoNotDependOnWhereTheThreadsSplitTheWork) {
   EXPECT_EQ(end[1].vy, end[0].vy);
   EXPECT_EQ(end[1].cracks.size(), end[0].cracks.size());
   EXPECT_EQ(end[1].contacts.fs, end[0].contacts.fs);
-  EXPECT_EQ(end[1].top_force, end[0].top_force);
+  EXPECT_EQ(top_force[1], top_force[0]);
   EXPECT_EQ(energy[1].damping, energy[0].damping);
   EXPECT_EQ(energy[1].friction, energy[0].friction);
   EXPECT_EQ(energy[1].strain, energy[0].strain);
 }
 
 // The jacket pushes on every outer edge with p t L along its inward normal; a block that lost every bond and every
-// contact (a fragment that broke off) gets no pressure and is counted (the rule in dem/stages/jacket.cpp).
+// contact (a fragment that broke off) gets no pressure and is counted (the rule in dem/boundary/jacket.cpp). The
+// work it books is the power of its forces: with the blocks of the right side moving outward at v, -p t L v per
+// second over the length L of their edges.
 TEST(Jacket, PressurePushesConnectedEdgesAndLeavesALooseFragmentAlone) {
   Scene scene;
   scene.mesh.size = 0.004;
   scene.numerics.damping = 0.0;
-  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  EngineOptions o = EngineOptions::from_scene(scene);
-  o.platens = false;
-  o.threads = 1;
-  Engine e(topo, scene, o);
-  const double p = 5e6;
-  e.set_confining_pressure(p);
-  e.set_breakage(false);
+  scene.numerics.threads = 1;
+  SimulationImpl<2> sim(scene, make_mesh(scene));
+  const Topology<2>& topo = sim.topology();
+  Engine<2>& e = sim.engine();
+  const double p = 5e6, t = scene.specimen.thickness;
+  Jacket& jacket = sim.add_jacket(p);
+  sim.set_breakage(false);
+  // The jacket's edges: the boundary edges that are not on the platens' sides.
+  const auto& E = topo.boundary;
+  std::vector<std::size_t> sides;
+  for (std::size_t k = 0; k < E.size(); ++k)
+    if (E.side[k] != Side::top && E.side[k] != Side::bottom) sides.push_back(k);
   // One block on the left side: every bond broken and moved 10 mm out, so it touches nothing.
-  const auto& J = e.model().jacket;
   int loose = -1;
-  for (std::size_t k = 0; k < J.size() && loose < 0; ++k)
-    if (topo.blocks.cx[std::size_t(J.block[k])] < 0.5 * topo.width()) loose = J.block[k];
+  for (std::size_t k : sides)
+    if (E.side[k] == Side::left && loose < 0) loose = E.block[k];
   ASSERT_GE(loose, 0);
   for (int o2 = topo.bond_offset[std::size_t(loose)]; o2 < topo.bond_offset[std::size_t(loose) + 1]; ++o2)
     e.break_bond(topo.bond_of[std::size_t(o2)]);
-  e.edit([&](ModelState& s) { s.x[std::size_t(loose)] -= 0.01; });
+  e.edit([&](ModelState<2>& s) { s.x[std::size_t(loose)] -= 0.01; });
   int loose_edges = 0;
-  for (std::size_t k = 0; k < J.size(); ++k) loose_edges += J.block[k] == loose;
-  e.set_dt(1e-9);
+  for (std::size_t k : sides) loose_edges += E.block[k] == loose;
+  // The blocks whose jacket edges all lie on the right side move outward at v: their edges' pressure does work.
+  const double v = 1e-3, dt = 1e-9;
+  std::vector<char> right(topo.blocks.size(), 0);
+  for (std::size_t k : sides)
+    if (E.side[k] == Side::right) right[std::size_t(E.block[k])] = 1;
+  for (std::size_t k : sides)
+    if (E.side[k] != Side::right) right[std::size_t(E.block[k])] = 0;
+  double right_length = 0;
+  for (std::size_t k : sides)
+    if (right[std::size_t(E.block[k])]) right_length += E.length[k];
+  ASSERT_GT(right_length, 0.5 * topo.height());
+  e.edit([&](ModelState<2>& s) {
+    for (std::size_t b = 0; b < s.num_blocks(); ++b) s.vx[b] = right[b] ? v : 0.0;
+  });
+  e.set_dt(dt);
   e.step();
-  EXPECT_EQ(e.state().jacket_lost, loose_edges);
+  EXPECT_EQ(jacket.faces_lost(), loose_edges);
   EXPECT_EQ(e.state().fx[std::size_t(loose)], 0.0);  // no bond, no contact, no pressure
   EXPECT_EQ(e.state().fy[std::size_t(loose)], 0.0);
+  EXPECT_NEAR(jacket.work(), -p * t * right_length * v * dt, 1e-9 * p * t * right_length * v * dt);
   // The jacket's net force on a connected block with one edge on the right side: p t L inward (-x).
-  for (std::size_t k = 0; k < J.size(); ++k) {
-    const int b = J.block[k];
+  for (std::size_t k : sides) {
+    const int b = E.block[k];
     int edges = 0;
-    for (std::size_t q = 0; q < J.size(); ++q) edges += J.block[q] == b;
-    if (edges != 1 || topo.blocks.cx[std::size_t(b)] < 0.5 * topo.width()) continue;
+    for (std::size_t q : sides) edges += E.block[q] == b;
+    if (edges != 1 || E.side[k] != Side::right) continue;
     std::vector<double> fx, fy, m;
-    e.set_confining_pressure(0.0);
+    jacket.set_pressure(0.0);
     e.evaluate_forces(fx, fy, m);
     const double without = fx[std::size_t(b)];
-    e.set_confining_pressure(p);
+    jacket.set_pressure(p);
     e.evaluate_forces(fx, fy, m);
-    const double L = std::hypot(J.bx[k] - J.ax[k], J.by[k] - J.ay[k]);
-    EXPECT_NEAR(fx[std::size_t(b)] - without, -p * L * scene.specimen.thickness, 1e-9 * p * L);
+    EXPECT_NEAR(fx[std::size_t(b)] - without, -p * E.length[k] * t, 1e-6 * p * E.length[k] * t);
     break;
   }
-  EXPECT_GT(e.state().e_work_jacket, -1.0);  // booked (the loose block did no work)
 }
 
 TEST(Ucs, SmallSpecimenSmokeRunBreaksAndWritesACurve) {
@@ -433,8 +500,7 @@ TEST(Ucs, SmallSpecimenSmokeRunBreaksAndWritesACurve) {
   scene.mesh.size = 0.004;
   scene.joint_set.dip_deg = 60;
   scene.numerics.threads = 1;
-  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const TestResult r = run_ucs(scene, topo);
+  const TestResult r = run_test("ucs", scene, make_mesh(scene));
   EXPECT_GT(r.peak_stress, 1e6);
   EXPECT_GT(r.youngs_modulus, 1e9);
   EXPECT_EQ(r.stop_reason, "post_peak");
@@ -447,9 +513,8 @@ TEST(Ucs, TimeStepAboveCriticalIsRefusedWithTheNumbers) {
   Scene scene;
   scene.mesh.size = 0.005;
   scene.numerics.dt = 1e-3;
-  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
   try {
-    run_ucs(scene, topo);
+    run_test("ucs", scene, make_mesh(scene));
     FAIL();
   } catch (const SceneError& e) {
     const std::string m = e.what();

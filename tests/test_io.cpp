@@ -18,24 +18,26 @@
 
 #include <nlohmann/json.hpp>
 
+#include "dem/record_columns.hpp"
 #include "dem/specimen_mesh.hpp"
-#include "dem/topology.hpp"
-#include "dem/driver/ucs.hpp"
+#include "dem/driver/driver.hpp"
+#include "io/checkpoint.hpp"
 #include "io/h5.hpp"
 #include "io/result_h5.hpp"
 #include "io/results.hpp"
+#include "io/run_case.hpp"
 
 namespace rbdem {
 namespace {
 
 namespace fs = std::filesystem;
 
-// A small UCS run (about 800 blocks, a fraction of a second) written with io::write_run into a folder of its own
+// A small UCS run (about 800 blocks, a fraction of a second) written by io::run_case into a folder of its own
 // (tests may run in parallel processes).
 struct SmallRun {
   Scene scene;
   TriMesh mesh;
-  Topology topo;
+  Specimen specimen;
   TestResult result;
   fs::path dir;
 };
@@ -55,12 +57,13 @@ SmallRun small_run() {
   r.scene.numerics.threads = 1;
   r.scene.numerics.elastic_start = true;
   r.mesh = make_mesh(r.scene);
-  r.topo = build_topology(r.mesh, r.scene.specimen.thickness, r.scene.rock.density);
-  r.result = run_ucs(r.scene, r.topo);
   const auto* info = testing::UnitTest::GetInstance()->current_test_info();
   r.dir = fs::temp_directory_path() / ("rbdem_test_io_" + std::string(info->name()) + "_" + std::to_string(getpid()));
   fs::remove_all(r.dir);
-  io::write_run(r.dir, r.scene, r.mesh, r.topo, r.result);
+  io::CaseOptions co;
+  co.out = r.dir;
+  io::CaseRun run = io::run_case("ucs", r.scene, co);
+  r.result = std::move(run.result), r.specimen = std::move(run.specimen);
   return r;
 }
 
@@ -73,6 +76,20 @@ std::string read_text(const fs::path& p) {
 
 // Equal as stored: bit for bit, NaN equal to NaN.
 bool same(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
+template <class V>
+bool same(const V& a, const V& b) {
+  return a == b;
+}
+
+// Two tables of records equal in every stored field of their field table (dem/records.hpp).
+template <class Record>
+void expect_same_rows(const std::vector<Record>& a, const std::vector<Record>& b, int dim) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k)
+    Record::fields(dim, [&](const Field& f, auto get) {
+      if constexpr (stored_field<decltype(get), Record>) EXPECT_TRUE(same(get(a[k]), get(b[k]))) << f.name << ", row " << k;
+    });
+}
 
 TEST(Io, Hdf5RoundTripReproducesCurveAndCrackLog) {
   const SmallRun run = small_run();
@@ -85,46 +102,26 @@ TEST(Io, Hdf5RoundTripReproducesCurveAndCrackLog) {
 
   const io::StoredRun s = io::read_result_h5(run.dir / "result.h5");
 
-  ASSERT_EQ(s.curve.size(), r.curve.size());
-  for (std::size_t k = 0; k < r.curve.size(); ++k) {
-    SCOPED_TRACE(testing::Message() << "curve point " << k);
-    const CurvePoint &a = r.curve[k], &b = s.curve[k];
-    EXPECT_EQ(a.step, b.step);
-    EXPECT_TRUE(same(a.time, b.time) && same(a.strain, b.strain));
-    EXPECT_TRUE(same(a.stress_top, b.stress_top) && same(a.stress_bottom, b.stress_bottom));
-    EXPECT_TRUE(same(a.kinetic, b.kinetic) && same(a.strain_energy, b.strain_energy));
-    EXPECT_EQ(a.broken, b.broken);
-  }
-
-  ASSERT_EQ(s.cracks.size(), r.cracks.size());
-  for (std::size_t k = 0; k < r.cracks.size(); ++k) {
-    SCOPED_TRACE(testing::Message() << "crack " << k);
-    const Crack &a = r.cracks[k], &b = s.cracks[k];
-    EXPECT_TRUE(same(a.time, b.time) && same(a.strain, b.strain) && same(a.x, b.x) && same(a.y, b.y));
-    EXPECT_EQ(a.bond, b.bond);
-    EXPECT_EQ(a.kind, b.kind);
-    EXPECT_EQ(a.mode, b.mode);
-    EXPECT_TRUE(same(a.sigma, b.sigma) && same(a.tau, b.tau));
-  }
-
+  // Every stored field of every record, as the field tables list them (dem/records.hpp).
+  expect_same_rows(r.curve, s.curve, 2);
+  expect_same_rows(r.cracks, s.cracks, 2);
   ASSERT_EQ(s.frames.size(), r.frames.size());
   for (std::size_t k = 0; k < r.frames.size(); ++k) {
     SCOPED_TRACE(testing::Message() << "frame " << k);
-    const Frame &a = r.frames[k], &b = s.frames[k];
-    EXPECT_EQ(a.step, b.step);
-    EXPECT_TRUE(same(a.time, b.time) && same(a.strain, b.strain) && same(a.stress, b.stress));
-    EXPECT_EQ(a.label, b.label);
-    EXPECT_EQ(a.cracks, b.cracks);
-    EXPECT_EQ(a.x, b.x);
-    EXPECT_EQ(a.y, b.y);
-    EXPECT_EQ(a.theta, b.theta);
+    expect_same_rows(std::vector<Frame>{r.frames[k]}, std::vector<Frame>{s.frames[k]}, 2);
+    EXPECT_EQ(s.frames[k].pose, r.frames[k].pose);
   }
   EXPECT_EQ(s.frames.back().label, "final");
 
-  EXPECT_EQ(s.mesh.nodes, run.mesh.nodes);
-  EXPECT_EQ(s.mesh.triangles, run.mesh.triangles);
-  EXPECT_EQ(s.mesh.layer, run.mesh.layer);
-  EXPECT_EQ(s.mesh.layer_names, run.mesh.layer_names);
+  std::vector<double> nodes;
+  for (const auto& p : run.mesh.nodes) nodes.insert(nodes.end(), {p[0], p[1]});
+  std::vector<int> cells;
+  for (const auto& t : run.mesh.triangles) cells.insert(cells.end(), {t[0], t[1], t[2]});
+  EXPECT_EQ(s.dim, 2);
+  EXPECT_EQ(s.nodes, nodes);
+  EXPECT_EQ(s.cells, cells);
+  EXPECT_EQ(s.layer, run.mesh.layer);
+  EXPECT_EQ(s.layer_names, run.mesh.layer_names);
   EXPECT_EQ(s.scene_toml, to_toml(run.scene));
   EXPECT_EQ(nlohmann::json::parse(s.scene_json), scene_json(run.scene));
   // The summary attribute is summary.json.
@@ -132,7 +129,7 @@ TEST(Io, Hdf5RoundTripReproducesCurveAndCrackLog) {
 
   // The bonds' breakage record agrees with the crack log; the shapes match the layout.
   const auto h5 = run.dir / "result.h5";
-  const std::uint64_t T = run.topo.blocks.size(), B = run.topo.bonds.size();
+  const std::uint64_t T = run.specimen.num_blocks(), B = run.specimen.num_bonds();
   EXPECT_EQ(io::h5_dataset_shape(h5, "/bonds/break_mode"), (std::vector<std::uint64_t>{B}));
   EXPECT_EQ(io::h5_dataset_shape(h5, "/bonds/midpoint"), (std::vector<std::uint64_t>{B, 2}));
   EXPECT_EQ(io::h5_dataset_shape(h5, "/frames/00000/vertices"), (std::vector<std::uint64_t>{3 * T, 3}));
@@ -279,32 +276,82 @@ TEST(Io, XdmfReferencesExistingDatasets) {
     EXPECT_NE(xdmf.find(a), std::string::npos) << a;
 }
 
-// cracks.csv carries one orientation per crack; a list of another length is a programming error named in the
-// message, never a file with shifted columns. fragments.csv lists the fragments in the order given.
+// cracks.csv has one column per field of the crack table, the orientation derived from the normal; fragments.csv
+// lists the fragments in the order given.
 TEST(Io, SignalFilesHaveOneRowPerEntry) {
   const fs::path dir = fs::temp_directory_path() / ("rbdem_test_io_signals_" + std::to_string(getpid()));
   fs::create_directories(dir);
   const RemoveWhenPassed cleanup{dir};
   Crack c;
   c.bond = 3;
-  EXPECT_THROW(io::write_cracks_csv(dir / "cracks.csv", {c, c}, {10.0}), std::invalid_argument);
-  EXPECT_FALSE(fs::exists(dir / "cracks.csv"));
-  io::write_cracks_csv(dir / "cracks.csv", {c}, {45.0});
+  c.normal = {1.0, 0.0, 0.0};  // a vertical edge
+  io::write_cracks_csv(dir / "cracks.csv", 2, {c, c});
   const std::string cracks = read_text(dir / "cracks.csv");
   EXPECT_NE(cracks.find(",orientation_deg\n"), std::string::npos) << cracks;
-  EXPECT_NE(cracks.find(",45\n"), std::string::npos) << cracks;
+  EXPECT_EQ(std::count(cracks.begin(), cracks.end(), '\n'), 3) << cracks;
+  EXPECT_NE(cracks.find(",90\n"), std::string::npos) << cracks;
   io::write_fragments_csv(dir / "fragments.csv", {Fragment{3, 3.0, 1.5, 0.5}, Fragment{1, 1.0, 4.5, 0.5}});
   EXPECT_EQ(read_text(dir / "fragments.csv"),
             "fragment,blocks,area_m2,area_fraction,x_m,y_m\n0,3,3,0.75,1.5,0.5\n1,1,1,0.25,4.5,0.5\n");
+}
+
+// A record is declared once, with its field table (dem/records.hpp), and every writer walks the table: each field
+// of the crack table is a column of cracks.csv (in the table's order), a dataset of result.h5's /cracks and, for
+// the stored ones, a field of the checkpoint's snapshot holding the run's values. (The Python record is checked
+// against cracks.csv in tests/python/test_module.py.) A field added to Crack therefore appears in all of them.
+TEST(Records, EveryFieldOfTheCrackTableReachesEveryWriter) {
+  const SmallRun run = small_run();
+  const RemoveWhenPassed cleanup{run.dir};
+  ASSERT_FALSE(run.result.cracks.empty());
+  std::vector<std::string> names, stored;
+  Crack::fields(2, [&](const Field& f, auto get) {
+    names.push_back(f.name);
+    if (stored_field<decltype(get), Crack>) stored.push_back(f.name);
+  });
+  ASSERT_GT(names.size(), stored.size());  // the table has derived fields too (the orientation)
+  // cracks.csv: the header is the table.
+  const std::string csv = read_text(run.dir / "cracks.csv");
+  std::string header;
+  for (const auto& n : names) header += (header.empty() ? "" : ",") + n;
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), header);
+  // result.h5: a dataset per field, one entry per crack.
+  for (const auto& n : names)
+    EXPECT_EQ(io::h5_dataset_shape(run.dir / "result.h5", "/cracks/" + n),
+              (std::vector<std::uint64_t>{run.result.cracks.size()}))
+        << n;
+  // The checkpoint: a run interrupted after its last crack stores every stored field of the crack log.
+  const fs::path file = run.dir / "checkpoint.h5";
+  io::CaseOptions co;
+  co.run.interrupt_at_step = run.result.steps - 1;
+  co.run.checkpoint = [&](const TestCheckpoint& c) { io::write_checkpoint(file, c); };
+  EXPECT_THROW(io::run_case("ucs", run.scene, co), RunCancelled);
+  const TestCheckpoint ck = io::read_checkpoint(file);
+  const auto cracks = read_columns<Crack>(2, [&](const Field& f, auto& column) {
+    using V = typename std::decay_t<decltype(column)>::value_type;
+    const std::string key = std::string("cracks/") + f.name;
+    ASSERT_TRUE(ck.state.has(key)) << key;
+    if constexpr (std::is_enum_v<V>) {
+      for (auto v : ck.state.get<std::vector<std::uint8_t>>(key)) column.push_back(V(v));
+    } else {
+      column = ck.state.get<std::vector<V>>(key);
+    }
+  });
+  ASSERT_FALSE(cracks.empty());
+  ASSERT_LE(cracks.size(), run.result.cracks.size());
+  expect_same_rows(cracks, std::vector<Crack>(run.result.cracks.begin(), run.result.cracks.begin() + long(cracks.size())),
+                   2);
+  EXPECT_EQ(stored.size(), std::size_t(std::count_if(ck.state.entries.begin(), ck.state.entries.end(), [](const auto& e) {
+              return e.name.rfind("cracks/", 0) == 0;
+            })));
 }
 
 TEST(Io, FailedWriteLeavesNoFileUnderTheFinalName) {
   const SmallRun run = small_run();
   const RemoveWhenPassed cleanup{run.dir};
   TestResult bad = run.result;
-  bad.frames.back().x.pop_back();  // a frame that does not belong to the mesh
+  bad.frames.back().pose.pop_back();  // a frame that does not belong to the specimen
   const fs::path h5 = run.dir / "bad.h5";
-  EXPECT_THROW(io::write_result_h5(h5, run.scene, run.mesh, run.topo, bad), std::invalid_argument);
+  EXPECT_THROW(io::write_result_h5(h5, run.scene, run.specimen, bad), std::invalid_argument);
   EXPECT_FALSE(fs::exists(h5));
   EXPECT_FALSE(fs::exists(run.dir / "bad.h5.tmp"));
   EXPECT_THROW(io::read_result_h5(run.dir / "summary.json"), std::runtime_error);  // not an HDF5 file

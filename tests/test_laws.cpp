@@ -34,7 +34,7 @@ class BondFailure : public ::testing::TestWithParam<LoadCase> {};
 
 TEST_P(BondFailure, LoadsLimitsModeAndIndexMatchTheHandValues) {
   const LoadCase& c = GetParam();
-  const BondLoad q = BondLoad::of(strength(), c.fn, c.fs, c.m, 1.0 / L, A);
+  const BondLoad q = BondLoad::of(strength(), c.fn, c.fs, c.m, 1.0 / L, A, 6.0);
   EXPECT_NEAR(q.tension, c.tension, 1e-9 * 1e4);
   EXPECT_NEAR(q.tension_limit, 1e4, 1e-9 * 1e4);
   EXPECT_NEAR(q.shear, c.shear, 1e-9 * 1e4);
@@ -82,8 +82,8 @@ TEST(ParallelBond, BrittleBondBreaksAtItsStrength) {
   ParallelBond pb;
   pb.strength = strength();
   double drive = 0.0;
-  EXPECT_EQ(pb.advance(BondLoad::of(pb.strength, -9.99e3, 0, 0, 1.0 / L, A), 1.0, drive), BreakMode::none);
-  EXPECT_EQ(pb.advance(BondLoad::of(pb.strength, -1e4, 0, 0, 1.0 / L, A), 1.0, drive), BreakMode::tensile);
+  EXPECT_EQ(pb.advance(BondLoad::of(pb.strength, -9.99e3, 0, 0, 1.0 / L, A, 6.0), 1.0, drive), BreakMode::none);
+  EXPECT_EQ(pb.advance(BondLoad::of(pb.strength, -1e4, 0, 0, 1.0 / L, A, 6.0), 1.0, drive), BreakMode::tensile);
   EXPECT_EQ(drive, 0.0);  // a brittle bond keeps no damage history
 }
 
@@ -95,7 +95,7 @@ TEST(ParallelBond, SofteningBranchFollowsTheLargestIndexAndBreaksAtRu) {
   pb.softening = 1.0;  // any positive value: the branch is on; r_u is passed in
   const double r_u = 2.0;
   double drive = 0.0;
-  auto tension = [&](double f) { return BondLoad::of(pb.strength, -f, 0, 0, 1.0 / L, A); };
+  auto tension = [&](double f) { return BondLoad::of(pb.strength, -f, 0, 0, 1.0 / L, A, 6.0); };
   EXPECT_EQ(pb.advance(tension(1.2e4), r_u, drive), BreakMode::none);
   EXPECT_DOUBLE_EQ(drive, 1.2);
   EXPECT_NEAR(ParallelBond::intact_fraction(drive, r_u), 0.8 / 1.2, 1e-15);
@@ -107,9 +107,9 @@ TEST(ParallelBond, SofteningBranchFollowsTheLargestIndexAndBreaksAtRu) {
   EXPECT_DOUBLE_EQ(ParallelBond::intact_fraction(2.0, r_u), 0.0);
   // In shear the index is tau / shear limit.
   double d2 = 0.0;
-  EXPECT_EQ(pb.advance(BondLoad::of(pb.strength, 0, 3e4, 0, 1.0 / L, A), r_u, d2), BreakMode::none);
+  EXPECT_EQ(pb.advance(BondLoad::of(pb.strength, 0, 3e4, 0, 1.0 / L, A, 6.0), r_u, d2), BreakMode::none);
   EXPECT_DOUBLE_EQ(d2, 1.5);
-  EXPECT_EQ(pb.advance(BondLoad::of(pb.strength, 0, 4.1e4, 0, 1.0 / L, A), r_u, d2), BreakMode::shear);
+  EXPECT_EQ(pb.advance(BondLoad::of(pb.strength, 0, 4.1e4, 0, 1.0 / L, A, 6.0), r_u, d2), BreakMode::shear);
 }
 
 TEST(ParallelBond, TooSmallARuptureIndexBreaksAtTheStrength) {
@@ -117,7 +117,7 @@ TEST(ParallelBond, TooSmallARuptureIndexBreaksAtTheStrength) {
   pb.strength = strength();
   pb.softening = 1.0;
   double drive = 0.0;
-  EXPECT_EQ(pb.advance(BondLoad::of(pb.strength, -1e4, 0, 0, 1.0 / L, A), 0.7, drive), BreakMode::tensile);
+  EXPECT_EQ(pb.advance(BondLoad::of(pb.strength, -1e4, 0, 0, 1.0 / L, A, 6.0), 0.7, drive), BreakMode::tensile);
 }
 
 // The static solve's load factor is exactly where the engine's failure test flips, in every regime.
@@ -127,7 +127,7 @@ TEST(ParallelBond, FirstBreakFactorIsWhereTheFailureTestFlips) {
   for (const auto& c : cases) {
     const double lam = st.first_break_factor(c[0], c[1], c[2], A, I, R);
     ASSERT_TRUE(std::isfinite(lam));
-    const auto at = [&](double f) { return BondLoad::of(st, f * c[0], f * c[1], f * c[2], 1.0 / L, A).failure(); };
+    const auto at = [&](double f) { return BondLoad::of(st, f * c[0], f * c[1], f * c[2], 1.0 / L, A, 6.0).failure(); };
     EXPECT_EQ(at(lam * (1 - 1e-9)), BreakMode::none) << c[0] << " " << c[1] << " " << c[2];
     EXPECT_NE(at(lam * (1 + 1e-9)), BreakMode::none) << c[0] << " " << c[1] << " " << c[2];
   }
@@ -143,7 +143,7 @@ TEST(ParallelBond, AffineBreakFactorMatchesTheProportionalOneAndAScan) {
   const BondStrength st = strength();
   const double sA = st.sigma_c * A, cA = st.cohesion * A;
   auto affine = [&](double fn0, double fs0, double m0, double fn1, double fs1, double m1) {
-    return affine_break_factor(sA, cA, st.tan_phi, st.beta_m, 1.0 / L, fn0, fs0, m0, fn1, fs1, m1);
+    return affine_break_factor(sA, cA, st.tan_phi, st.beta_m, 1.0 / L, 6.0, fn0, fs0, m0, fn1, fs1, m1);
   };
   const double proportional[][3] = {{-1e3, 0, 0}, {0, 0, 0.2}, {2e3, 4e3, 0}, {-500, 1e3, 0.05}, {-1e3, 2e3, 0}};
   for (const auto& c : proportional)
@@ -154,7 +154,7 @@ TEST(ParallelBond, AffineBreakFactorMatchesTheProportionalOneAndAScan) {
     const double lam = affine(p[0], p[1], p[2], p[3], p[4], p[5]);
     ASSERT_TRUE(std::isfinite(lam));
     auto fails = [&](double l) {
-      return BondLoad::of(st, p[0] + l * p[3], p[1] + l * p[4], p[2] + l * p[5], 1.0 / L, A).failure() !=
+      return BondLoad::of(st, p[0] + l * p[3], p[1] + l * p[4], p[2] + l * p[5], 1.0 / L, A, 6.0).failure() !=
              BreakMode::none;
     };
     EXPECT_FALSE(fails(lam * (1 - 1e-9)));

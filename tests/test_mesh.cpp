@@ -20,6 +20,7 @@
 #include "dem/mesh_cache.hpp"
 #include "dem/model.hpp"
 #include "dem/scene.hpp"
+#include "dem/simulation_impl.hpp"
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
 
@@ -62,7 +63,7 @@ double analytic_joint_length(double beta, double s, double offset) {
   return total;
 }
 
-void expect_conforming(const TriMesh& mesh, const Topology& topo) {
+void expect_conforming(const TriMesh& mesh, const Topology<2>& topo) {
   // Areas sum to W x H.
   double area = 0;
   for (double a : topo.blocks.area) area += a;
@@ -96,7 +97,7 @@ TEST_P(JointLength, EqualsAnalyticLengthOfJointLines) {
   const double h = std::min(0.0025, spacing / 2);
   const TriMesh mesh = mesh_specimen(geometry(beta, spacing), h);
   EXPECT_TRUE(mesh.notes.empty()) << mesh.notes.front();
-  const Topology topo = build_topology(mesh, 1.0, 2700.0);
+  const Topology<2> topo = build_topology(mesh, 1.0, 2700.0);
   expect_conforming(mesh, topo);
   const double expected = analytic_joint_length(beta, spacing, 0.0);
   EXPECT_NEAR(topo.total_length(BondKind::joint), expected, 1e-9 * expected) << "beta " << beta << " s " << spacing;
@@ -113,7 +114,7 @@ INSTANTIATE_TEST_SUITE_P(DipsAndSpacings, JointLength,
 TEST(Mesh, NoJointBondsWhenTheSetMissesTheSpecimen) {
   // Lines at r = 0.1 + 0.2 k: the nearest is 0.1 m from the centre, outside the 0.05 x 0.1 specimen for beta = 0.
   const TriMesh mesh = mesh_specimen(geometry(0.0, 0.2, 0.1), 0.005);
-  const Topology topo = build_topology(mesh, 1.0, 2700.0);
+  const Topology<2> topo = build_topology(mesh, 1.0, 2700.0);
   EXPECT_EQ(topo.count(BondKind::joint), 0u);
   EXPECT_EQ(mesh.num_layers(), 1u);
   expect_conforming(mesh, topo);
@@ -122,7 +123,7 @@ TEST(Mesh, NoJointBondsWhenTheSetMissesTheSpecimen) {
 TEST(Mesh, HorizontalAndVerticalJointsAreExact) {
   for (double beta : {0.0, 90.0}) {
     const TriMesh mesh = mesh_specimen(geometry(beta, 0.01), 0.0025);
-    const Topology topo = build_topology(mesh, 1.0, 2700.0);
+    const Topology<2> topo = build_topology(mesh, 1.0, 2700.0);
     for (std::size_t b = 0; b < topo.bonds.size(); ++b) {
       if (topo.bonds.kind[b] != BondKind::joint) continue;
       const auto& a = mesh.nodes[topo.bonds.node_a[b]];
@@ -230,7 +231,7 @@ TEST(Mesh, LayerNarrowerThanTwoElementsIsRejected) {
 TEST(Blocks, InertiaEqualsTriangleClosedForm) {
   const TriMesh mesh = mesh_specimen(geometry(45.0, 0.02), 0.004);
   const double rho = 2500.0, t = 0.7;
-  const Topology topo = build_topology(mesh, t, rho);
+  const Topology<2> topo = build_topology(mesh, t, rho);
   for (std::size_t k = 0; k < mesh.num_triangles(); ++k) {
     const auto& tri = mesh.triangles[k];
     const auto& a = mesh.nodes[tri[0]];
@@ -247,7 +248,7 @@ TEST(Blocks, InertiaEqualsTriangleClosedForm) {
 
 TEST(Bonds, NormalPointsFromFirstToSecondBlockAndAdjacencyIsComplete) {
   const TriMesh mesh = mesh_specimen(geometry(60.0, 0.01), 0.0025);
-  const Topology topo = build_topology(mesh, 1.0, 2700.0);
+  const Topology<2> topo = build_topology(mesh, 1.0, 2700.0);
   const auto& B = topo.blocks;
   const auto& N = topo.bonds;
   for (std::size_t b = 0; b < N.size(); ++b) {
@@ -269,7 +270,7 @@ TEST(Bonds, NormalPointsFromFirstToSecondBlockAndAdjacencyIsComplete) {
 }
 
 // Blocks and bonds as sorted tuples, independent of node and triangle numbering.
-auto signature(const Topology& t) {
+auto signature(const Topology<2>& t) {
   std::vector<std::tuple<long, long, long, int>> blocks;
   for (std::size_t k = 0; k < t.blocks.size(); ++k)
     blocks.emplace_back(std::lround(t.blocks.cx[k] * 1e9), std::lround(t.blocks.cy[k] * 1e9),
@@ -521,7 +522,7 @@ namespace rbdem {
 namespace {
 
 // Total length of the joint bonds on the interface named `name`.
-double interface_length(const Topology& topo, const std::string& name) {
+double interface_length(const Topology<2>& topo, const std::string& name) {
   double total = 0;
   for (std::size_t b = 0; b < topo.bonds.size(); ++b) {
     const int f = topo.bonds.interface[b];
@@ -539,7 +540,7 @@ TEST(JointSets, EachSetsJointLengthEqualsItsAnalyticLength) {
     g.second_set = true;
     g.set2.dip_deg = dip2, g.set2.spacing = 0.02, g.set2.offset = 0.004;
     const TriMesh mesh = mesh_specimen(g, 0.0025);
-    const Topology topo = build_topology(mesh, 1.0, 2700.0);
+    const Topology<2> topo = build_topology(mesh, 1.0, 2700.0);
     expect_conforming(mesh, topo);
     ASSERT_EQ(topo.interface_names, (std::vector<std::string>{"joint_set", "joint_set2"}));
     if (!mesh.notes.empty()) continue;  // a corner piece left out: the analytic sum would hold that line
@@ -565,7 +566,7 @@ TEST(JointSets, NonPersistentJointsArePiecesWithRockBridges) {
   const std::vector<JointSegment> pieces = joint_segments(g);
   ASSERT_EQ(pieces.size(), 15u);
   const TriMesh mesh = mesh_specimen(g, 0.0025);
-  const Topology topo = build_topology(mesh, 1.0, 2700.0);
+  const Topology<2> topo = build_topology(mesh, 1.0, 2700.0);
   expect_conforming(mesh, topo);
   EXPECT_EQ(mesh.num_layers(), 1u);
   EXPECT_NEAR(topo.total_length(BondKind::joint), 0.15, 1e-12);
@@ -615,7 +616,7 @@ TEST(Materials, AssignedByLayerAndInterfaceNames) {
   scene.rock2.groups = "layer_1, 3";
   scene.rock2.density = 2 * scene.rock.density;
   const TriMesh mesh = make_mesh(scene);
-  const Topology topo = build_topology(mesh, 1.0, scene.rock.density);
+  const Topology<2> topo = build_topology(mesh, 1.0, scene.rock.density);
   const MaterialMap m = assign_materials(topo, scene);
   std::size_t joint2 = 0, rock2 = 0;
   for (std::size_t b = 0; b < topo.bonds.size(); ++b) {
@@ -669,7 +670,7 @@ TEST(Materials, WeibullStrengthFactorsFollowTheirDistribution) {
   const double m = 3.0;
   scene.rock.weibull_modulus = m;
   const TriMesh mesh = make_mesh(scene);
-  const Topology topo = build_topology(mesh, 1.0, scene.rock.density);
+  const Topology<2> topo = build_topology(mesh, 1.0, scene.rock.density);
   const Model uniform = build_model(topo, Scene{}, 1.0);
   const Model model = build_model(topo, scene, 1.0);
   std::vector<double> w;
@@ -712,7 +713,7 @@ TEST(Materials, CracksAreCountedByMaterial) {
   Scene scene;
   scene.mesh.size = 0.0025;
   scene.joint_set2.enabled = true, scene.joint_set2.dip_deg = 120.0, scene.joint_set2.spacing = 0.02;
-  const Topology topo = build_topology(make_mesh(scene), 1.0, scene.rock.density);
+  const Topology<2> topo = build_topology(make_mesh(scene), 1.0, scene.rock.density);
   const MaterialMap m = assign_materials(topo, scene);
   std::vector<Crack> cracks;
   std::array<int, material_count> bonds{};
@@ -727,7 +728,7 @@ TEST(Materials, CracksAreCountedByMaterial) {
       if (m.bond[b] == material_joint2) c.mode = BreakMode::shear, c.bond = int(b), cracks.push_back(c);
     }
   }
-  const auto counts = count_cracks_by_material(cracks, topo, scene);
+  const auto counts = count_cracks_by_material(cracks, describe(topo, nullptr, m.bond));
   ASSERT_EQ(counts.size(), 3u);
   EXPECT_EQ(counts[0].material, "rock");
   EXPECT_EQ(counts[1].material, "joint");
@@ -742,11 +743,11 @@ TEST(Materials, CracksAreCountedByMaterial) {
 // The dip of a mesh's joints read back from its joint edges (what the failure classification of a user mesh uses).
 TEST(JointSets, JointDipIsReadFromTheJointEdges) {
   for (double dip : {0.0, 30.0, 75.0, 90.0}) {
-    const Topology topo = build_topology(mesh_specimen(geometry(dip, 0.01), 0.0025), 1.0, 2700.0);
-    EXPECT_NEAR(joint_dip_deg(topo, -1.0), dip, 1e-6) << dip;
+    const Topology<2> topo = build_topology(mesh_specimen(geometry(dip, 0.01), 0.0025), 1.0, 2700.0);
+    EXPECT_NEAR(joint_dip_deg(describe(topo, nullptr, {}), -1.0), dip, 1e-6) << dip;
   }
-  const Topology intact = build_topology(mesh_specimen(geometry(0.0, 0.2, 0.1), 0.005), 1.0, 2700.0);
-  EXPECT_EQ(joint_dip_deg(intact, -1.0), -1.0);
+  const Topology<2> intact = build_topology(mesh_specimen(geometry(0.0, 0.2, 0.1), 0.005), 1.0, 2700.0);
+  EXPECT_EQ(joint_dip_deg(describe(intact, nullptr, {}), -1.0), -1.0);
 }
 
 }  // namespace

@@ -1,18 +1,17 @@
-// The test protocols on the driver (dem/driver/ucs.hpp): confined compression's static isotropic start and its
-// effect on the strength, the Brazilian test's tensile strength and failure classes, and the scene checks that keep
-// a test from running on the wrong specimen.
+// The test protocols on the driver (dem/driver/protocols/, dem/driver/registry.hpp): confined compression's static
+// isotropic start and its effect on the strength, the Brazilian test's tensile strength and failure classes, and the
+// scene checks that keep a test from running on the wrong specimen.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
+#include "dem/driver/driver.hpp"
 #include "dem/driver/monitors.hpp"
-#include "dem/driver/ucs.hpp"
-#include "dem/engine.hpp"
-#include "dem/specimen_mesh.hpp"
-#include "dem/static_solve.hpp"
-#include "dem/topology.hpp"
+#include "dem/driver/platen_test.hpp"
+#include "dem/driver/registry.hpp"
+#include "tests/simulations.hpp"
 
 namespace rbdem {
 namespace {
@@ -32,19 +31,18 @@ Scene small_scene(double dip) {
 TEST(Loading, FastPlatenFollowsItsRuleBetweenBreaks) {
   Scene s = small_scene(90);
   s.loading.platen_velocity = 0.2, s.loading.fast_factor = 4, s.loading.quiet_transits = 1;
-  const Topology topo = build_topology(make_mesh(s), s.specimen.thickness, s.rock.density);
-  Engine e(topo, s, EngineOptions::from_scene(s));
-  e.set_dt(0.5 * stability_limit(e));
+  const auto sim = fixtures::with_platens(s);
+  sim->set_dt(0.5 * sim->stability_limit());
   const LoadRate rate(s);
-  const double v = s.loading.platen_velocity, f = 4, dt = e.state().dt;
-  const double T = e.model().height / std::sqrt(s.rock.effective_modulus / s.rock.density);
+  const double v = s.loading.platen_velocity, f = 4, dt = sim->dt();
+  const double T = sim->specimen().height() / std::sqrt(s.rock.effective_modulus / s.rock.density);
   const double rise = (f - 1) * v * dt / T;
   std::vector<double> speed;
   std::vector<std::size_t> cracks;
   for (int n = 0; n < 4000; ++n) {
-    e.step();
-    rate.after_step(e);
-    speed.push_back(e.state().platen_velocity), cracks.push_back(e.cracks().size());
+    sim->step();
+    rate.after_step(*sim);
+    speed.push_back(sim->find<Platens>()->velocity()), cracks.push_back(sim->cracks().size());
   }
   // Before the first break: v while t <= T, then the ramp, then f v.
   const auto first_break = std::size_t(std::find_if(cracks.begin(), cracks.end(), [](std::size_t c) { return c > 0; }) -
@@ -80,8 +78,7 @@ TEST(Loading, FastPlatenStopsAtMaxStrain) {
   Scene s = small_scene(90);
   s.rock.tensile_strength *= 100, s.rock.cohesion *= 100, s.joint.tensile_strength *= 100, s.joint.cohesion *= 100;
   s.loading.fast_factor = 4, s.loading.quiet_transits = 1, s.loading.max_strain = 2e-4;
-  const Topology topo = build_topology(make_mesh(s), s.specimen.thickness, s.rock.density);
-  const TestResult r = run_ucs(s, topo);
+  const TestResult r = run_test("ucs", s, make_mesh(s));
   ASSERT_TRUE(r.completed);
   EXPECT_EQ(r.crack_counts.total(), 0);
   EXPECT_EQ(r.stop_reason, "max_strain");
@@ -97,38 +94,38 @@ TEST(Loading, FastPlatenStopsAtMaxStrain) {
 // of the strain (p / E ~ 4e-5 here) times the edge force: the bound is 1e-3 of that force.
 TEST(Triaxial, IsotropicStartIsInEquilibriumAtSigma1EqualsSigma3) {
   const Scene scene = small_scene(60);
-  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  Engine e(topo, scene, EngineOptions::from_scene(scene));
+  const auto sim = fixtures::with_platens(scene);
+  Jacket& jacket = sim->add_jacket(0.0);
   const double p = 10e6;
-  const StaticResult iso = TriaxialProtocol::isotropic_state(e, p);
-  const double W = topo.width(), t = scene.specimen.thickness;
+  const StaticResult iso = isotropic_state(*sim, p);
+  const double W = sim->specimen().width(), t = scene.specimen.thickness;
   EXPECT_NEAR(iso.top_force / (p * W * t), 1.0, 1e-9);
   EXPECT_NEAR(iso.bottom_force / (p * W * t), 1.0, 1e-6);
   StaticOptions closure;
-  closure.platen_displacement = 1e-6 * topo.height();
-  apply_static_path(e, iso, solve_static(e, closure), 0.0, scene.loading.platen_velocity);
-  e.set_confining_pressure(p);
+  closure.platen_displacement = 1e-6 * sim->specimen().height();
+  sim->apply_static(iso, sim->solve_static(closure), 0.0, scene.loading.platen_velocity);
+  jacket.set_pressure(p);
   std::vector<double> fx, fy, m;
-  e.evaluate_forces(fx, fy, m);
+  sim->engine().evaluate_forces(fx, fy, m);
   double worst = 0;
   for (std::size_t b = 0; b < fx.size(); ++b) worst = std::max(worst, std::hypot(fx[b], fy[b]));
   EXPECT_LT(worst, 1e-3 * p * scene.mesh.size * t) << "largest out-of-balance force " << worst << " N";
-  EXPECT_GT(e.state().contacts.size(), 0u);  // the platen candidates are listed
+  EXPECT_GT(sim->engine().state().contacts.size(), 0u);  // the platen candidates are listed
 }
 
 TEST(Triaxial, ConfinementRaisesTheStrengthAndTheSummaryReportsIt) {
   Scene scene = small_scene(90);
-  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const TestResult ucs = run_test("triaxial", scene, topo);
+  const TriMesh mesh = make_mesh(scene);
+  const TestResult ucs = run_test("triaxial", scene, mesh);
   scene.loading.confining_pressure = 10e6;
-  const TestResult confined = run_test("triaxial", scene, topo);
+  const TestResult confined = run_test("triaxial", scene, mesh);
   EXPECT_EQ(confined.test, "triaxial");
   EXPECT_TRUE(confined.completed);
   EXPECT_EQ(confined.confining_pressure, 10e6);
-  EXPECT_NEAR(confined.deviator_at_peak, confined.peak_stress - 10e6, 1e-6);
+  EXPECT_NEAR(confined.own_value("deviator_at_peak_pa"), confined.peak_stress - 10e6, 1e-6);
   EXPECT_GT(confined.peak_stress, ucs.peak_stress + 10e6);  // more than sigma_3 on top: the intact rock has friction
-  EXPECT_GT(confined.isotropic_strain, 0.0);
-  EXPECT_LT(confined.isotropic_strain, confined.strain_at_peak);
+  EXPECT_GT(confined.own_value("isotropic_strain"), 0.0);
+  EXPECT_LT(confined.own_value("isotropic_strain"), confined.strain_at_peak);
   EXPECT_EQ(confined.curve[1].stress_top, 0.1 * 10e6);  // the isotropic stage is on the curve
 }
 
@@ -137,37 +134,40 @@ TEST(Brazilian, DiscSplitsAndReportsTheIsrmTensileStrength) {
   scene.specimen.shape = "disc";
   scene.mesh.size = 0.003;
   scene.loading.platen_velocity = 0.002;
-  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const TestResult r = run_test("brazilian", scene, topo);
+  const TestResult r = run_test("brazilian", scene, make_mesh(scene));
   ASSERT_TRUE(r.completed);
   EXPECT_EQ(r.stop_reason, "post_peak");
-  EXPECT_NEAR(r.tensile_strength, 2.0 * r.peak_load / (std::numbers::pi * r.diameter * scene.specimen.thickness),
-              1e-9 * r.tensile_strength);
-  EXPECT_EQ(r.peak_stress, r.tensile_strength);
-  EXPECT_EQ(r.layer_angle_deg, 90.0);
+  const double tensile = r.own_value("tensile_strength_pa"), load = r.own_value("peak_load_n");
+  EXPECT_NEAR(tensile, 2.0 * load / (std::numbers::pi * r.own_value("diameter_m") * scene.specimen.thickness),
+              1e-9 * tensile);
+  EXPECT_EQ(r.peak_stress, tensile);
+  EXPECT_EQ(r.own_value("layer_angle_deg"), 90.0);
   // Layers across the load: the disc splits through the rock along the loaded diameter.
   EXPECT_EQ(r.failure_mode, "central_fracture");
   // Between the rock bonds' tensile strength and a tenth of it (a lattice of bonds fails in tension across the
   // diameter at a few tenths of the bond strength).
-  EXPECT_LT(r.tensile_strength, scene.rock.tensile_strength);
-  EXPECT_GT(r.tensile_strength, 0.1 * scene.rock.tensile_strength);
+  EXPECT_LT(tensile, scene.rock.tensile_strength);
+  EXPECT_GT(tensile, 0.1 * scene.rock.tensile_strength);
 }
 
 TEST(Protocols, ATestRefusesASpecimenItCannotLoad) {
+  const auto check = [](const char* test, const Scene& s) { protocol_info(test).check(s); };
   Scene disc = small_scene(0);
   disc.specimen.shape = "disc";
-  EXPECT_THROW(check_test_scene("ucs", disc), SceneError);
-  EXPECT_THROW(check_test_scene("triaxial", disc), SceneError);
+  EXPECT_THROW(check("ucs", disc), SceneError);
+  EXPECT_THROW(check("triaxial", disc), SceneError);
   Scene rect = small_scene(0);
-  EXPECT_THROW(check_test_scene("brazilian", rect), SceneError);
+  EXPECT_THROW(check("brazilian", rect), SceneError);
   rect.loading.confining_pressure = 1e6;
-  EXPECT_THROW(check_test_scene("ucs", rect), SceneError);
-  EXPECT_NO_THROW(check_test_scene("triaxial", rect));
+  EXPECT_THROW(check("ucs", rect), SceneError);
+  EXPECT_NO_THROW(check("triaxial", rect));
   try {
-    check_test_scene("brazilian", small_scene(0));
+    check("brazilian", small_scene(0));
+    ADD_FAILURE() << "a rectangle was accepted for the Brazilian test";
   } catch (const SceneError& e) {
     EXPECT_NE(std::string(e.what()).find("specimen.shape"), std::string::npos) << e.what();
   }
+  EXPECT_THROW(protocol_info("ucss"), SceneError);  // an unknown test names the known ones
 }
 
 }  // namespace

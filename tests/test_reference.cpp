@@ -38,16 +38,17 @@ double fitted_slope(const std::vector<double>& h, const std::vector<double>& e) 
 
 TEST(ReferenceIntegrator, RightHandSideIsTheEnginesStepForce) {
   const ReferenceProblem& p = problem();
-  auto e = p.make_engine();
-  set_state(*e, p.y0);
+  const auto sim = p.make_simulation();
+  Engine<2>& e = sim->engine();
+  set_state(e, p.y0);
   std::vector<double> fx, fy, m;
-  e->evaluate_forces(fx, fy, m);
-  e->step();  // gathers the force at the same positions into the state's fx before it moves them
+  e.evaluate_forces(fx, fy, m);
+  e.step();  // gathers the force at the same positions into the state's fx before it moves them
   double fmax = 0;
-  for (std::size_t b = 0; b < e->model().num_blocks(); ++b) {
-    EXPECT_EQ(fx[b], e->state().fx[b]) << "block " << b;
-    EXPECT_EQ(fy[b], e->state().fy[b]) << "block " << b;
-    EXPECT_EQ(m[b], e->state().moment[b]) << "block " << b;
+  for (std::size_t b = 0; b < e.model().num_blocks(); ++b) {
+    EXPECT_EQ(fx[b], e.state().fx[b]) << "block " << b;
+    EXPECT_EQ(fy[b], e.state().fy[b]) << "block " << b;
+    EXPECT_EQ(m[b], e.state().moment[b]) << "block " << b;
     fmax = std::max(fmax, std::abs(fy[b]));
   }
   EXPECT_GT(fmax, 1.0);  // the initial compression loads the bonds (N)
@@ -55,20 +56,20 @@ TEST(ReferenceIntegrator, RightHandSideIsTheEnginesStepForce) {
 
 TEST(ReferenceIntegrator, RejectsEnginesOutsideItsScope) {
   const ReferenceProblem& p = problem();
-  EngineOptions o = EngineOptions::from_scene(p.scene);
-  o.platen_friction = 0.3;  // frictional platens carry a shear history
-  Engine rough_platens(*p.topology, p.scene, o);
+  SimulationImpl<2> rough_platens(p.scene, *p.topology);
+  rough_platens.add_platens({0.0, 0.3});  // frictional platens carry a shear history
   rough_platens.set_breakage(false);
-  EXPECT_THROW(check_reference_scope(rough_platens, 0.0), std::invalid_argument);
-  EXPECT_THROW(check_reference_scope(*p.engine, 0.7), std::invalid_argument);
+  EXPECT_THROW(check_reference_scope(rough_platens.engine(), 0.0), std::invalid_argument);
+  EXPECT_THROW(check_reference_scope(p.engine(), 0.7), std::invalid_argument);
   Scene frictional = p.scene;
   frictional.rock.contact_friction = 0.5;
-  o.platen_friction = 0.0;
-  Engine with_history(*p.topology, frictional, o);
+  SimulationImpl<2> with_history(frictional, *p.topology);
   with_history.set_breakage(false);
-  EXPECT_THROW(check_reference_scope(with_history, 0.0), std::invalid_argument);
-  Engine breaking(*p.topology, p.scene, o);
-  EXPECT_THROW(check_reference_scope(breaking, 0.0), std::invalid_argument);
+  EXPECT_THROW(check_reference_scope(with_history.engine(), 0.0), std::invalid_argument);
+  SimulationImpl<2> breaking(p.scene, *p.topology);
+  EXPECT_THROW(check_reference_scope(breaking.engine(), 0.0), std::invalid_argument);
+  // In scope: the problem's own engine.
+  EXPECT_NO_THROW(check_reference_scope(p.engine(), 0.0));
 }
 
 // Central difference (leapfrog, synchronised at both ends) at dt, dt/2, dt/4, dt/8 with dt = 1/8 of the stability
@@ -77,19 +78,20 @@ TEST(ReferenceIntegrator, RejectsEnginesOutsideItsScope) {
 // are excited and resolved poorly; docs/reference_integrator.md.)
 TEST(ReferenceIntegrator, CentralDifferenceConvergesAtSecondOrder) {
   const ReferenceProblem& p = problem();
-  auto e = p.make_engine();
+  const auto sim = p.make_simulation();
+  Engine<2>& e = sim->engine();
   const double t_end = 50.0 * p.stability_limit;
-  const IntegrationResult ref = integrate_explicit(*e, p.y0, t_end, tolerances(1e-12));
+  const IntegrationResult ref = integrate_explicit(e, p.y0, t_end, tolerances(1e-12));
   // How well the reference itself is converged: a run 100 x looser differs from it by about 100 x its own error.
-  const IntegrationResult loose = integrate_explicit(*e, p.y0, t_end, tolerances(1e-10));
-  const StateError ref_error = state_error(*e, loose.state, ref.state, p.y0);
+  const IntegrationResult loose = integrate_explicit(e, p.y0, t_end, tolerances(1e-10));
+  const StateError ref_error = state_error(e, loose.state, ref.state, p.y0);
 
   const long n0 = long(std::ceil(t_end / (0.125 * p.stability_limit)));
   std::vector<double> dt, ex, ev;
   for (int k = 0; k < 4; ++k) {
     const long n = n0 << k;
     dt.push_back(t_end / double(n));
-    const StateError err = state_error(*e, central_difference(*e, p.y0, dt.back(), n).state, ref.state, p.y0);
+    const StateError err = state_error(e, central_difference(e, p.y0, dt.back(), n).state, ref.state, p.y0);
     ex.push_back(err.position), ev.push_back(err.velocity);
     RecordProperty("dt_" + std::to_string(k), std::to_string(dt.back()));
     RecordProperty("position_error_" + std::to_string(k), std::to_string(err.position));
@@ -120,11 +122,12 @@ TEST(ReferenceIntegrator, CentralDifferenceConvergesAtSecondOrder) {
 // The implicit path (SDIRK order 4, banded Newton) converges to the reference as its tolerance tightens.
 TEST(ReferenceIntegrator, ImplicitDirkApproachesTheReference) {
   const ReferenceProblem& p = problem();
-  auto e = p.make_engine();
+  const auto sim = p.make_simulation();
+  Engine<2>& e = sim->engine();
   const double t_end = 10.0 * p.stability_limit;
-  const IntegrationResult ref = integrate_explicit(*e, p.y0, t_end, tolerances(1e-12));
-  const StateError coarse = state_error(*e, integrate_implicit(*e, p.y0, t_end, tolerances(1e-3)).state, ref.state, p.y0);
-  const StateError fine = state_error(*e, integrate_implicit(*e, p.y0, t_end, tolerances(1e-5)).state, ref.state, p.y0);
+  const IntegrationResult ref = integrate_explicit(e, p.y0, t_end, tolerances(1e-12));
+  const StateError coarse = state_error(e, integrate_implicit(e, p.y0, t_end, tolerances(1e-3)).state, ref.state, p.y0);
+  const StateError fine = state_error(e, integrate_implicit(e, p.y0, t_end, tolerances(1e-5)).state, ref.state, p.y0);
   EXPECT_LT(fine.position, 0.1 * coarse.position);
   EXPECT_LT(fine.position, 1e-4);
   EXPECT_GT(fine.position, 0.0);
@@ -140,33 +143,35 @@ TEST(ReferenceIntegrator, CentralDifferenceConvergesWithPlatensAndContacts) {
   sp.platen_velocity = 0.05;
   sp.break_joints = true;
   const ReferenceProblem p = make_reference_problem(sp);
-  auto e = p.make_engine();
-  ASSERT_GT(std::count(e->state().broken.begin(), e->state().broken.end(), std::uint8_t(1)), 0);
+  const auto sim = p.make_simulation();
+  Engine<2>& e = sim->engine();
+  ASSERT_GT(std::count(e.state().broken.begin(), e.state().broken.end(), std::uint8_t(1)), 0);
   // The right-hand side is the step's force, contacts and platens included.
   {
-    auto f = p.make_engine();
-    set_state(*f, p.y0);
+    const auto fsim = p.make_simulation();
+    Engine<2>& f = fsim->engine();
+    set_state(f, p.y0);
     std::vector<double> fx, fy, m;
-    f->evaluate_forces(fx, fy, m);
-    ASSERT_GT(f->state().contacts.size(), 0u);
-    f->step();
-    for (std::size_t b = 0; b < f->model().num_blocks(); ++b) {
-      EXPECT_EQ(fx[b], f->state().fx[b]) << "block " << b;
-      EXPECT_EQ(fy[b], f->state().fy[b]) << "block " << b;
+    f.evaluate_forces(fx, fy, m);
+    ASSERT_GT(f.state().contacts.size(), 0u);
+    f.step();
+    for (std::size_t b = 0; b < f.model().num_blocks(); ++b) {
+      EXPECT_EQ(fx[b], f.state().fx[b]) << "block " << b;
+      EXPECT_EQ(fy[b], f.state().fy[b]) << "block " << b;
     }
-    EXPECT_GT(f->active_contacts(), 0u);
-    EXPECT_GT(f->top_force(), 0.0);
+    EXPECT_GT(f.active_contacts(), 0u);
+    EXPECT_GT(fsim->find<Platens>()->top_force(), 0.0);
   }
   const double t_end = 50.0 * p.stability_limit;
-  const IntegrationResult ref = integrate_explicit(*e, p.y0, t_end, tolerances(1e-12));
-  const IntegrationResult loose = integrate_explicit(*e, p.y0, t_end, tolerances(1e-10));
-  const StateError ref_error = state_error(*e, loose.state, ref.state, p.y0);
+  const IntegrationResult ref = integrate_explicit(e, p.y0, t_end, tolerances(1e-12));
+  const IntegrationResult loose = integrate_explicit(e, p.y0, t_end, tolerances(1e-10));
+  const StateError ref_error = state_error(e, loose.state, ref.state, p.y0);
   const long n0 = long(std::ceil(t_end / (0.125 * p.stability_limit)));
   std::vector<double> dt, ex, ev;
   for (int k = 0; k < 4; ++k) {
     const long n = n0 << k;
     dt.push_back(t_end / double(n));
-    const StateError err = state_error(*e, central_difference(*e, p.y0, dt.back(), n).state, ref.state, p.y0);
+    const StateError err = state_error(e, central_difference(e, p.y0, dt.back(), n).state, ref.state, p.y0);
     ex.push_back(err.position), ev.push_back(err.velocity);
     std::printf("platens + contacts: dt %.4e  position error %.4e  velocity error %.4e\n", dt.back(), err.position,
                 err.velocity);

@@ -16,7 +16,8 @@
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
 #include "dem/driver/monitors.hpp"
-#include "dem/driver/ucs.hpp"
+#include "dem/driver/driver.hpp"
+#include "tests/simulations.hpp"
 #include "io/checkpoint.hpp"
 #include "io/result_h5.hpp"
 #include "io/results.hpp"
@@ -60,8 +61,8 @@ Scene softening_scene() {
 }
 
 void expect_resumed_run_bit_identical(const Scene& scene) {
-  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const TestResult full = run_ucs(scene, topo);
+  const TriMesh mesh = make_mesh(scene);
+  const TestResult full = run_test("ucs", scene, mesh);
   ASSERT_TRUE(full.completed);
   ASSERT_GT(full.crack_counts.total(), 0);
   const fs::path dir = scratch("resume");
@@ -72,14 +73,14 @@ void expect_resumed_run_bit_identical(const Scene& scene) {
     cut.interrupt_at_step = std::max(1L, long(at * double(full.steps)));
     cut.checkpoint = [&](const TestCheckpoint& c) { io::write_checkpoint(file, c); };
     try {
-      run_ucs(scene, topo, cut);
+      run_test("ucs", scene, mesh, cut);
       FAIL() << "the run was not interrupted at step " << cut.interrupt_at_step;
     } catch (const RunCancelled& c) {
       EXPECT_EQ(c.step, cut.interrupt_at_step);
       EXPECT_TRUE(c.checkpointed);
     }
     const TestCheckpoint ck = io::read_checkpoint(file);
-    EXPECT_EQ(ck.engine.steps, cut.interrupt_at_step);
+    EXPECT_EQ(ck.steps(), cut.interrupt_at_step);
     for (const int threads : {1, 2}) {
       Scene resumed_scene = scene;
       resumed_scene.numerics.threads = threads;
@@ -87,7 +88,7 @@ void expect_resumed_run_bit_identical(const Scene& scene) {
       ck2.scene_toml = to_toml(resumed_scene);  // the thread count is no part of the physics
       RunOptions go;
       go.resume = &ck2;
-      const TestResult r = run_ucs(resumed_scene, topo, go);
+      const TestResult r = run_test("ucs", resumed_scene, mesh, go);
       EXPECT_EQ(comparable(io::run_summary(scene, r)), comparable(io::run_summary(scene, full)))
           << "resumed at " << cut.interrupt_at_step << " with " << threads << " threads";
       ASSERT_EQ(r.curve.size(), full.curve.size());
@@ -98,7 +99,7 @@ void expect_resumed_run_bit_identical(const Scene& scene) {
       ASSERT_EQ(r.cracks.size(), full.cracks.size());
       for (std::size_t k = 0; k < r.cracks.size(); ++k) EXPECT_EQ(r.cracks[k].time, full.cracks[k].time);
       ASSERT_EQ(r.frames.size(), full.frames.size());
-      EXPECT_EQ(r.frames.back().x, full.frames.back().x);
+      EXPECT_EQ(r.frames.back().pose, full.frames.back().pose);
     }
   }
   fs::remove_all(dir);
@@ -114,33 +115,33 @@ TEST(Checkpoint, ResumedSofteningRunEndsBitIdenticalToUninterrupted) {
 TEST(Checkpoint, ResumedRunWithAFastPlatenEndsBitIdenticalToUninterrupted) {
   Scene s = small_scene();
   s.loading.fast_factor = 4, s.loading.quiet_transits = 0.2;  // this specimen is quiet for a few transits at a time
-  const Topology topo = build_topology(make_mesh(s), s.specimen.thickness, s.rock.density);
-  ASSERT_LT(run_ucs(s, topo).steps, run_ucs(small_scene(), topo).steps) << "the platen never went faster";
+  const TriMesh mesh = make_mesh(s);
+  ASSERT_LT(run_test("ucs", s, mesh).steps, run_test("ucs", small_scene(), mesh).steps) << "the platen never went faster";
   expect_resumed_run_bit_identical(s);
 }
 
 TEST(Checkpoint, ResumeWithAnotherSceneIsRefused) {
   Scene scene = small_scene();
-  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
+  const TriMesh mesh = make_mesh(scene);
   TestCheckpoint ck;
   RunOptions cut;
   cut.interrupt_at_step = 50;
   cut.checkpoint = [&](const TestCheckpoint& c) { ck = c; };
-  EXPECT_THROW(run_ucs(scene, topo, cut), RunCancelled);
+  EXPECT_THROW(run_test("ucs", scene, mesh, cut), RunCancelled);
   scene.rock.cohesion *= 1.1;
   RunOptions go;
   go.resume = &ck;
-  EXPECT_THROW(run_ucs(scene, topo, go), SceneError);
+  EXPECT_THROW(run_test("ucs", scene, mesh, go), SceneError);
 }
 
 TEST(Determinism, SameInputsGiveBitIdenticalSummaryAtOneAndTwoThreads) {
   for (Scene scene : {small_scene(), softening_scene()}) {
     SCOPED_TRACE(scene.rock.fracture_energy > 0 ? "softening bonds" : "brittle bonds");
-    const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-    const std::string a = comparable(io::run_summary(scene, run_ucs(scene, topo)), true);
-    const std::string b = comparable(io::run_summary(scene, run_ucs(scene, topo)), true);
+    const TriMesh mesh = make_mesh(scene);
+    const std::string a = comparable(io::run_summary(scene, run_test("ucs", scene, mesh)), true);
+    const std::string b = comparable(io::run_summary(scene, run_test("ucs", scene, mesh)), true);
     scene.numerics.threads = 2;
-    const std::string c = comparable(io::run_summary(scene, run_ucs(scene, topo)), true);
+    const std::string c = comparable(io::run_summary(scene, run_test("ucs", scene, mesh)), true);
     EXPECT_EQ(a, b) << "two runs with the same inputs differ";
     EXPECT_EQ(a, c) << "1 and 2 threads differ";
   }
@@ -151,15 +152,15 @@ TEST(Determinism, SameInputsGiveBitIdenticalSummaryAtOneAndTwoThreads) {
 TEST(Determinism, ThreadCountChangingDuringTheRunGivesTheSameSummary) {
   Scene scene = small_scene();
   scene.numerics.checkpoint_every_steps = 25;  // the hook that switches the count (nothing is written)
-  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const std::string one = comparable(io::run_summary(scene, run_ucs(scene, topo)), true);
+  const TriMesh mesh = make_mesh(scene);
+  const std::string one = comparable(io::run_summary(scene, run_test("ucs", scene, mesh)), true);
   scene.numerics.threads = 2;  // the cap; the budget below switches between 1 and 2
   std::atomic<int> budget{1};
   int switches = 0;
   RunOptions o;
   o.thread_budget = &budget;
   o.checkpoint = [&](const TestCheckpoint&) { budget = 3 - budget, ++switches; };
-  const std::string changing = comparable(io::run_summary(scene, run_ucs(scene, topo, o)), true);
+  const std::string changing = comparable(io::run_summary(scene, run_test("ucs", scene, mesh, o)), true);
   EXPECT_GE(switches, 2) << "the thread count never changed during the run";
   EXPECT_EQ(one, changing);
 }
@@ -169,11 +170,11 @@ TEST(Determinism, ThreadCountChangingDuringTheRunGivesTheSameSummary) {
 void expect_saving_changes_nothing(const std::string& key, const std::function<void(Scene&)>& off) {
   Scene scene;
   scene.mesh.size = 0.003, scene.joint_set.dip_deg = 45, scene.numerics.threads = 1;
-  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const TestResult on = run_ucs(scene, topo);
+  const TriMesh mesh = make_mesh(scene);
+  const TestResult on = run_test("ucs", scene, mesh);
   nlohmann::json a = io::run_summary(scene, on);
   off(scene);
-  const TestResult without = run_ucs(scene, topo);
+  const TestResult without = run_test("ucs", scene, mesh);
   nlohmann::json b = io::run_summary(scene, without);
   ASSERT_GT(on.crack_counts.total(), 0);
   a["scene"]["numerics"].erase(key), b["scene"]["numerics"].erase(key);
@@ -198,8 +199,8 @@ TEST(Savings, UpdatingTheContactListsAfterBreaksChangesNothing) {
 TEST(Watchdog, UnstableStepStopsTheRunWithoutAPlausibleNumber) {
   Scene scene = small_scene();
   scene.numerics.dt_safety = 3.0;  // three times the exact stability limit
-  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const TestResult r = run_ucs(scene, topo);
+  const TriMesh mesh = make_mesh(scene);
+  const TestResult r = run_test("ucs", scene, mesh);
   EXPECT_FALSE(r.completed);
   EXPECT_FALSE(r.watchdog_cause.empty());
   EXPECT_NE(r.watchdog_message.find("numerics.dt_safety"), std::string::npos) << r.watchdog_message;
@@ -218,26 +219,25 @@ TEST(Watchdog, UnstableStepStopsTheRunWithoutAPlausibleNumber) {
 
 TEST(Watchdog, InjectedNanAndEnergyFromNowhereAreCaught) {
   const Scene scene = small_scene();
-  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  Engine e(topo, scene, EngineOptions::from_scene(scene));
-  e.run(10);
+  const auto sim = fixtures::with_platens(scene);
+  sim->run(10);
   std::string detail;
   double ratio = 0;
   WatchdogCriterion c;
   c.floor = 0.5 * scene.rock.effective_modulus * 1e-10 * scene.specimen.width * scene.specimen.height;
-  EXPECT_EQ(watchdog_check(e, 0.0, c, detail, ratio), "");
-  e.edit([](ModelState& s) { s.vx[3] = 10.0; });  // kinetic energy no work put in
-  EXPECT_EQ(watchdog_check(e, 0.0, c, detail, ratio), "energy_growth");
+  EXPECT_EQ(watchdog_check(*sim, 0.0, c, detail, ratio), "");
+  sim->engine().edit([](ModelState<2>& s) { s.vx[3] = 10.0; });  // kinetic energy no work put in
+  EXPECT_EQ(watchdog_check(*sim, 0.0, c, detail, ratio), "energy_growth");
   EXPECT_NE(detail.find("exceeds"), std::string::npos);
-  e.edit([](ModelState& s) { s.omega[5] = std::nan(""); });
-  EXPECT_EQ(watchdog_check(e, 0.0, c, detail, ratio), "non_finite_state");
+  sim->engine().edit([](ModelState<2>& s) { s.omega[5] = std::nan(""); });
+  EXPECT_EQ(watchdog_check(*sim, 0.0, c, detail, ratio), "non_finite_state");
   EXPECT_NE(detail.find("block 5"), std::string::npos);
 }
 
 TEST(Watchdog, SoundRunStaysFarBelowTheLimit) {
   const Scene scene = small_scene();
-  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const TestResult r = run_ucs(scene, topo);
+  const TriMesh mesh = make_mesh(scene);
+  const TestResult r = run_test("ucs", scene, mesh);
   EXPECT_TRUE(r.completed);
   EXPECT_GT(r.energy_ratio_max, 0.0);
   EXPECT_LT(r.energy_ratio_max, 1.3) << "a sound run stays well below the 1.5 limit";

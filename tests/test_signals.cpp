@@ -155,12 +155,12 @@ TEST(Signals, CrackRateCountsCracksPerUnitStrainInEqualBins) {
 // Six unit-area blocks in a row, 0-1-2-3-4-5, bonds b between blocks b and b+1, and a bond 0-2 (a triangle 0,1,2).
 // Breaking bonds 2 (2-3) and 4 (4-5) leaves fragments {0,1,2}, {3,4}, {5}; breaking 0 (0-1) too changes nothing:
 // 0 and 1 stay joined through 2.
-Topology row_of_blocks() {
-  Topology t;
+Specimen row_of_blocks() {
+  Specimen t;
   for (int b = 0; b < 6; ++b) {
-    t.blocks.cx.push_back(b + 0.5);
-    t.blocks.cy.push_back(0.5);
-    t.blocks.area.push_back(b == 5 ? 2.0 : 1.0);
+    t.blocks.centroid.insert(t.blocks.centroid.end(), {b + 0.5, 0.5});
+    t.blocks.measure.push_back(b == 5 ? 2.0 : 1.0);
+    t.blocks.layer.push_back(0);
   }
   for (int b = 0; b < 5; ++b) t.bonds.i.push_back(b), t.bonds.j.push_back(b + 1);
   t.bonds.i.push_back(0), t.bonds.j.push_back(2);
@@ -168,7 +168,7 @@ Topology row_of_blocks() {
 }
 
 TEST(Signals, FragmentsAreTheBlocksJoinedByIntactBonds) {
-  const Topology t = row_of_blocks();
+  const Specimen t = row_of_blocks();
   const auto whole = fragments(t, {});
   ASSERT_EQ(whole.size(), 1u);
   EXPECT_EQ(whole[0].blocks, 6);
@@ -190,10 +190,9 @@ TEST(Signals, FragmentsAreTheBlocksJoinedByIntactBonds) {
 }
 
 TEST(Signals, FragmentsRefuseACrackOfAnUnknownBond) {
-  const Topology t = row_of_blocks();
+  const Specimen t = row_of_blocks();
   EXPECT_THROW(fragments(t, {crack_at(0, 6)}), std::invalid_argument);
   EXPECT_THROW(fragments(t, {crack_at(0, -1)}), std::invalid_argument);
-  EXPECT_THROW(crack_orientations_deg({crack_at(0, 0)}, t), std::invalid_argument);  // no normals in this topology
 }
 
 }  // namespace

@@ -9,11 +9,8 @@
 #include <numeric>
 
 #include "compare/verify/dem_measures.hpp"
-#include "dem/engine.hpp"
-#include "dem/specimen_mesh.hpp"
-#include "dem/static_solve.hpp"
 #include "dem/topology.hpp"
-#include "dem/driver/ucs.hpp"
+#include "tests/simulations.hpp"
 
 namespace rbdem {
 namespace {
@@ -50,12 +47,11 @@ TEST(Static, KrylovAndDirectFallbackAgree) {
   Scene scene = unbreakable_scene();
   scene.rock.slip_when_bonded = scene.joint.slip_when_bonded = true;  // the non-symmetric case
   scene.mesh.size = 0.004;
-  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const Engine engine(topo, scene, EngineOptions::from_scene(scene));
-  const StaticResult krylov = solve_static(engine);
+  const auto sim = fixtures::with_platens(scene);
+  const StaticResult krylov = sim->solve_static();
   StaticOptions forced;
   forced.krylov_tolerance = 1e-300;
-  const StaticResult direct = solve_static(engine, forced);
+  const StaticResult direct = sim->solve_static(forced);
   EXPECT_GT(krylov.krylov_iterations, 0);
   EXPECT_EQ(krylov.direct_fallbacks, 0);
   EXPECT_GT(direct.direct_fallbacks, 0);
@@ -72,19 +68,16 @@ TEST(Static, KrylovProductsAndTriangularSolvesOnThreadsAreBitIdentical) {
   Scene scene = unbreakable_scene();
   scene.rock.slip_when_bonded = scene.joint.slip_when_bonded = true;
   scene.mesh.size = 0.004;
-  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const Engine engine(topo, scene, EngineOptions::from_scene(scene));
-  const StaticResult one = solve_static(engine);
+  const auto sim = fixtures::with_platens(scene);
+  const StaticResult one = sim->solve_static();
   ASSERT_GT(one.krylov_iterations, 0);
   for (int n : {2, 3}) {
     const std::atomic<int> threads{n};
     StaticOptions threaded;
     threaded.threads = &threads;
-    const StaticResult many = solve_static(engine, threaded);
+    const StaticResult many = sim->solve_static(threaded);
     EXPECT_EQ(many.krylov_iterations, one.krylov_iterations) << n << " threads";
-    EXPECT_EQ(many.ux, one.ux) << n << " threads";
-    EXPECT_EQ(many.uy, one.uy) << n << " threads";
-    EXPECT_EQ(many.rotation, one.rotation) << n << " threads";
+    EXPECT_EQ(many.u, one.u) << n << " threads";
     EXPECT_EQ(many.fs_lin, one.fs_lin) << n << " threads";
   }
   // 2 threads asked for inside another parallel region: the solves get a team of one, which must do every subtree.
@@ -97,11 +90,10 @@ TEST(Static, KrylovProductsAndTriangularSolvesOnThreadsAreBitIdentical) {
 #pragma omp parallel num_threads(2)
   {
 #pragma omp single
-    inner = solve_static(engine, nested);
+    inner = sim->solve_static(nested);
   }
   omp_set_max_active_levels(levels);
-  EXPECT_EQ(inner.ux, one.ux);
-  EXPECT_EQ(inner.rotation, one.rotation);
+  EXPECT_EQ(inner.u, one.u);
 }
 
 // The active set settles: on the paper specimen at 60 deg (2 mm) a few dozen linear parts near the open/closed
@@ -112,17 +104,16 @@ TEST(Static, ActiveSetSettlesWithoutCycling) {
   Scene scene = unbreakable_scene();
   scene.mesh.size = 0.002;
   scene.joint_set.dip_deg = 60;
-  const Topology topo = build_topology(make_mesh(scene), scene.specimen.thickness, scene.rock.density);
-  const Engine engine(topo, scene, EngineOptions::from_scene(scene));
-  const StaticResult r = solve_static(engine);
+  const auto sim = fixtures::with_platens(scene);
+  const StaticResult r = sim->solve_static();
   std::printf("60 deg, 2 mm: %d active-set iterations, %d Krylov iterations, %zu open, %zu held of %zu bonds\n",
-              r.active_set_iterations, r.krylov_iterations, r.open_bonds, r.held_bonds, topo.bonds.size());
+              r.active_set_iterations, r.krylov_iterations, r.open_bonds, r.held_bonds, sim->num_bonds());
   EXPECT_LT(r.active_set_iterations, 10);
   EXPECT_GT(r.open_bonds, 0u);  // the active set is exercised
-  EXPECT_LT(double(r.held_bonds), 0.01 * double(topo.bonds.size()));
+  EXPECT_LT(double(r.held_bonds), 0.01 * double(sim->num_bonds()));
   StaticOptions closed;
   closed.linear_parts_always_closed = true;
-  const StaticResult linear = solve_static(engine, closed);
+  const StaticResult linear = sim->solve_static(closed);
   EXPECT_LT(r.apparent_modulus, linear.apparent_modulus);  // opening only softens
   EXPECT_GT(r.apparent_modulus, 0.95 * linear.apparent_modulus);
 }
@@ -131,8 +122,8 @@ TEST(Static, ActiveSetSettlesWithoutCycling) {
 // top and bottom rows touch the platens. BlockGeometry::shape holds a triangle inscribed in the rectangle (the
 // engine takes the platen stiffness from its inradius; the static solve takes the platen contact points from
 // the boundary edges' midpoints).
-Topology block_grid(int nx, int ny, double a, double b, double thickness) {
-  Topology t;
+Topology<2> block_grid(int nx, int ny, double a, double b, double thickness) {
+  Topology<2> t;
   t.thickness = thickness;
   t.xmin = 0, t.xmax = nx * a, t.ymin = 0, t.ymax = ny * b;
   auto id = [nx](int i, int j) { return j * nx + i; };
@@ -194,11 +185,11 @@ struct GridMeasurement {
 GridMeasurement measure_grid(double a, double b) {
   const int nx = 6, ny = 12;
   const Scene scene = unbreakable_scene();
-  const Topology topo = block_grid(nx, ny, a, b, 0.5);
-  const Engine engine(topo, scene, EngineOptions::from_scene(scene));
+  const Topology<2> topo = block_grid(nx, ny, a, b, 0.5);
+  const auto sim = fixtures::with_platens(scene, topo);
   StaticOptions o;
   o.platen_displacement = 1e-7;
-  const StaticResult r = solve_static(engine, o);
+  const StaticResult r = sim->solve_static(o);
   auto row_mean = [&](int j, const std::vector<double>& u) {
     double s = 0;
     for (int i = 0; i < nx; ++i) s += u[std::size_t(j * nx + i)];
@@ -210,14 +201,15 @@ GridMeasurement measure_grid(double a, double b) {
     return s / (ny - 4);
   };
   const int j1 = 2, j2 = ny - 3;
-  const double eps_yy = (row_mean(j2, r.uy) - row_mean(j1, r.uy)) / ((j2 - j1) * b);
-  const double eps_xx = (col_mean(nx - 1, r.ux) - col_mean(0, r.ux)) / ((nx - 1) * a);
+  const std::vector<double> ux = r.component(0), uy = r.component(1);
+  const double eps_yy = (row_mean(j2, uy) - row_mean(j1, uy)) / ((j2 - j1) * b);
+  const double eps_xx = (col_mean(nx - 1, ux) - col_mean(0, ux)) / ((nx - 1) * a);
   const double stress = -0.5 * (r.top_force + r.bottom_force) / (nx * a * topo.thickness);
   // a vertical bond: j = i + nx
   int vertical = -1;
   for (std::size_t k = 0; k < topo.bonds.size() && vertical < 0; ++k)
     if (topo.bonds.ny[k] == 1.0) vertical = int(k);
-  const BondStiffness k = engine.model().stiffness(vertical);
+  const BondStiffness k = sim->engine().model().stiffness(vertical);
   return {stress / eps_yy, (k.kbnA + k.knA) / (k.L * topo.thickness), eps_xx / eps_yy};
 }
 

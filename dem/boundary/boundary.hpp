@@ -82,6 +82,8 @@ class BlockGroup : public Boundary {
  public:
   virtual const GroupSettings& settings() const = 0;
   virtual const std::vector<int>& blocks() const = 0;
+  // A new velocity or force (the mode's dof(dim) values) from the next step on.
+  virtual void set_value(const std::vector<double>& value) = 0;
   // The sum over the group's blocks of the force the rest of the model and the other boundaries put on them in the
   // last step (N, and N m for the moment in 2D): the reaction of a fixed or driven group. dof(dim) entries.
   virtual std::vector<double> force() const = 0;

@@ -135,6 +135,7 @@ class BlockGroupImpl<2> : public BlockGroup, public BoundaryHooks<2> {
   std::string name() const override { return settings_.name; }
   const GroupSettings& settings() const override { return settings_; }
   const std::vector<int>& blocks() const override { return settings_.blocks; }
+  void set_value(const std::vector<double>& value) override;
   std::vector<double> force() const override { return force_; }
   std::vector<double> displacement() const override;
   double work() const override { return work_; }

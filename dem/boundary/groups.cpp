@@ -32,6 +32,15 @@ BlockGroupImpl<2>::BlockGroupImpl(Engine<2>& engine, const GroupSettings& settin
     for (int b : settings_.blocks) engine.fix_block(b);
 }
 
+void BlockGroupImpl<2>::set_value(const std::vector<double>& value) {
+  if (settings_.mode == GroupSettings::Mode::fixed)
+    throw std::invalid_argument(fmt::format("block group '{}' is fixed: it takes no velocity or force", settings_.name));
+  if (value.size() != 3)
+    throw std::invalid_argument(fmt::format("block group '{}': give 3 values (x, y and the rotation), not {}",
+                                            settings_.name, value.size()));
+  settings_.value = value;
+}
+
 std::vector<double> BlockGroupImpl<2>::displacement() const {
   const Model<2>& m = engine_.model();
   const ModelState<2>& s = engine_.state();
@@ -92,6 +101,7 @@ void BlockGroupImpl<2>::save(Snapshot& s) const {
   s.add(p + "work", Extent::scalar, work_);
   s.add(p + "force", Extent::free, force_);
   s.add(p + "blocks", Extent::free, settings_.blocks);
+  s.add(p + "value", Extent::free, settings_.value);
 }
 
 void BlockGroupImpl<2>::load(const Snapshot& s, const Model<2>&) {
@@ -100,6 +110,7 @@ void BlockGroupImpl<2>::load(const Snapshot& s, const Model<2>&) {
     throw std::invalid_argument(fmt::format("the snapshot's block group '{}' holds other blocks", settings_.name));
   work_ = s.get<double>(p + "work");
   force_ = s.get<std::vector<double>>(p + "force");
+  settings_.value = s.get<std::vector<double>>(p + "value");
 }
 
 }  // namespace rbdem

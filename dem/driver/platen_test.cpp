@@ -94,4 +94,30 @@ bool PlatenTest::stop(const Simulation& sim, const Reading& reading, const TestR
   return true;
 }
 
+StaticResult isotropic_state(const Simulation& sim, double p, const std::atomic<int>* threads) {
+  const double target = p * sim.specimen().width() * sim.specimen().thickness;  // N: the platen force of sigma_1 = p
+  StaticOptions with_pressure;
+  with_pressure.platen_displacement = 0.0;
+  with_pressure.load = sim.pressure_load(p);
+  with_pressure.threads = threads;
+  StaticOptions closure;
+  closure.threads = threads;
+  closure.platen_displacement = 1e-6 * sim.specimen().height();
+  const StaticResult a = sim.solve_static(with_pressure);  // the pressure between fixed platens
+  const StaticResult b = sim.solve_static(closure);        // a platen closure alone
+  // sigma_1 = p: s closures on top of the pressure. Superposition holds while the linear parts' states agree; a
+  // combined solve checks it and corrects s (secant on the platen force) until the force is p times the area.
+  double s = (target - a.top_force) / b.top_force;
+  StaticResult state = superpose(a, 1.0, b, s);
+  for (int it = 0; it < 10; ++it) {
+    StaticOptions both = with_pressure;
+    both.platen_displacement = s * closure.platen_displacement;
+    state = sim.solve_static(both);
+    const double miss = target - state.top_force;
+    if (std::abs(miss) <= 1e-10 * target) break;
+    s += miss / b.top_force;
+  }
+  return state;
+}
+
 }  // namespace rbdem

@@ -42,4 +42,10 @@ class PlatenTest : public LoadingProtocol {
   std::optional<StaticResult> prepared_closure_;  // prepare()'s closure_solve, taken by start()
 };
 
+// The static state of a hydrostatic stress sigma_1 = sigma_3 = p on a simulation with platens: the pressure p on
+// the faces a jacket loads (Simulation::pressure_load) between fixed platens, and the platen closure that makes the
+// platen stress p, found by superposing the two linear solutions (and re-solved until the linear parts' states
+// agree). The start of a confined test.
+StaticResult isotropic_state(const Simulation& sim, double pressure, const std::atomic<int>* threads = nullptr);
+
 }  // namespace rbdem

@@ -148,7 +148,7 @@ class RunFile:
                     "label": str(label),
                     "step": int(a["step"]),
                     "strain": float(a["strain"]),
-                    "stress": float(a["stress"]),
+                    "stress": float(a["stress_pa"]),
                     "cracks": int(a["cracks"]),
                 }
             )

@@ -3,7 +3,6 @@
 // the isotropic state sigma_1 = sigma_3 statically (exact: the model is linear there), then the platens load it
 // axially to failure, from a static start just below the first break along that path when numerics.elastic_start
 // is on. The stop criteria and the signals apply to the deviator sigma_1 - sigma_3.
-#include <cmath>
 #include <optional>
 
 #include <fmt/format.h>
@@ -31,40 +30,9 @@ class TriaxialProtocol final : public PlatenTest {
 
  private:
   double pressure() const { return scene_.loading.confining_pressure; }
-  // The static isotropic state sigma_1 = sigma_3 = p: the pressure on the jacket and the platen closure that makes
-  // the platen stress p, found by superposing the two linear solutions (and re-solved until the linear parts'
-  // states agree).
-  StaticResult isotropic_state(const Simulation& sim, const std::atomic<int>* threads = nullptr) const;
 
   std::optional<StaticResult> prepared_isotropic_;  // prepare()'s isotropic_state, taken by start()
 };
-
-StaticResult TriaxialProtocol::isotropic_state(const Simulation& sim, const std::atomic<int>* threads) const {
-  const double p = pressure();
-  const double target = p * sim.specimen().width() * sim.specimen().thickness;  // N: the platen force of sigma_1 = p
-  StaticOptions with_pressure;
-  with_pressure.platen_displacement = 0.0;
-  with_pressure.load = sim.pressure_load(p);
-  with_pressure.threads = threads;
-  StaticOptions closure;
-  closure.threads = threads;
-  closure.platen_displacement = 1e-6 * sim.specimen().height();
-  const StaticResult a = sim.solve_static(with_pressure);  // the jacket's pressure between fixed platens
-  const StaticResult b = sim.solve_static(closure);        // a platen closure alone
-  // sigma_1 = p: s closures on top of the pressure. Superposition holds while the linear parts' states agree; a
-  // combined solve checks it and corrects s (secant on the platen force) until the force is p times the area.
-  double s = (target - a.top_force) / b.top_force;
-  StaticResult state = superpose(a, 1.0, b, s);
-  for (int it = 0; it < 10; ++it) {
-    StaticOptions both = with_pressure;
-    both.platen_displacement = s * closure.platen_displacement;
-    state = sim.solve_static(both);
-    const double miss = target - state.top_force;
-    if (std::abs(miss) <= 1e-10 * target) break;
-    s += miss / b.top_force;
-  }
-  return state;
-}
 
 // The static solves do not depend on the jacket's pressure at rest (the pressure's load is an input of each).
 void TriaxialProtocol::prepare(const Simulation& sim, const std::atomic<int>& threads) {
@@ -72,7 +40,7 @@ void TriaxialProtocol::prepare(const Simulation& sim, const std::atomic<int>& th
     PlatenTest::prepare(sim, threads);
     return;
   }
-  prepared_isotropic_ = isotropic_state(sim, &threads);
+  prepared_isotropic_ = isotropic_state(sim, pressure(), &threads);
   prepared_closure_ = closure_solve(sim, &threads);
 }
 
@@ -84,7 +52,7 @@ void TriaxialProtocol::start(Simulation& sim, TestRecord& record) {
     return;
   }
   const double H = sim.specimen().height(), v = scene_.loading.platen_velocity;
-  const StaticResult iso = prepared_isotropic_ ? std::move(*prepared_isotropic_) : isotropic_state(sim);
+  const StaticResult iso = prepared_isotropic_ ? std::move(*prepared_isotropic_) : isotropic_state(sim, p);
   prepared_isotropic_.reset();
   record.preload_strain = iso.platen_displacement / H;
   const double iso_lateral = sim.lateral_strain_of(iso);
