@@ -1,15 +1,16 @@
 // deal.II model of the Brazilian test: a homogeneous transversely isotropic disc under two opposite point forces
 // on its vertical diameter. See fe_disc.hpp for the model, the pins and the three centre-stress estimates, and
 // theory/disc.hpp for the closed forms it is checked against. The deal.II 9.4 pitfalls of docs/continuum.md are
-// avoided as in continuum/fe_model.cpp: CellData<2>(3) for triangles, counter-clockwise cells (checked), MPI before
-// Trilinos, MappingFE(FE_SimplexP(1)) passed explicitly.
+// avoided as in continuum/fe_model.cpp: CellData<2>(3) for triangles, counter-clockwise cells (checked),
+// MappingFE(FE_SimplexP(1)) passed explicitly; MPI before Trilinos is solvers.cpp's.
 //
 // Stages: check inputs -> disc geometry from the boundary nodes -> triangulation straight from the arrays (cell k
 // is triangle k) -> DoFs, sparsity -> K per unit thickness (sigma = C eps, K_ij = int eps(phi_i) : C : eps(phi_j))
 // -> point loads -P/t, +P/t on u_y of the top and bottom nodes -> keep the pinned rows of K, impose the pins ->
-// solve -> reactions (K u - f on the kept rows, times t) -> cell stresses -> centre estimates.
+// solve (solvers.cpp) -> reactions (K u - f on the kept rows, times t) -> cell stresses -> centre estimates.
 #include "continuum/fe_internal.hpp"
 #include "continuum/fe_disc.hpp"
+#include "continuum/solvers.hpp"
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/symmetric_tensor.h>
@@ -22,29 +23,17 @@
 #include <deal.II/grid/tria.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/full_matrix.h>
-#include <deal.II/lac/solver_cg.h>
-#include <deal.II/lac/solver_control.h>
-#include <deal.II/lac/sparse_direct.h>
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
-#include <deal.II/lac/trilinos_precondition.h>
-#include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/vector.h>
 #include <deal.II/numerics/matrix_tools.h>
-
-#include <Epetra_MultiVector.h>
-#include <Teuchos_ParameterList.hpp>
-#include <mpi.h>
 
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 #include <map>
-#include <memory>
-#include <mutex>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -167,6 +156,21 @@ Disc disc_geometry(const TriMesh& mesh, double tolerance) {
   return d;
 }
 
+// The cells whose centroid lies within r_avg of the centre, which centre_mean and centre_fit average over; decided
+// from the mesh before any work so that a bad radius fails early.
+std::vector<std::size_t> cells_within(const TriMesh& mesh, const Disc& disc, double r_avg) {
+  std::vector<std::size_t> inside;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    double x = 0, y = 0;
+    for (int v : mesh.triangles[t]) x += mesh.nodes[v][0] / 3, y += mesh.nodes[v][1] / 3;
+    if (std::hypot(x - disc.cx, y - disc.cy) <= r_avg) inside.push_back(t);
+  }
+  if (inside.empty())
+    fail("no triangle centroid lies within average_radius = " + num(r_avg) + " m of the centre (" + num(disc.cx) +
+         ", " + num(disc.cy) + "); give a larger DiscOptions::average_radius or a finer mesh");
+  return inside;
+}
+
 // ---- Triangulation, DoFs -----------------------------------------------------------------------------------------
 
 // One level-0 cell per triangle in mesh order, vertices in the triangle's (counter-clockwise) order. Returns the
@@ -201,67 +205,58 @@ types::global_dof_index vertex_dof(const DoFHandler<dim>& dof, unsigned vertex, 
   throw std::logic_error("solve_disc: no DoF at a mesh vertex");
 }
 
-// Coordinates and component of every DoF (support points of the affine cells), for the AMG's rigid-body modes.
-void dof_geometry(const DoFHandler<dim>& dof, std::vector<Point<dim>>& point, std::vector<unsigned char>& component) {
-  const FiniteElement<dim>& fe = dof.get_fe();
-  point.resize(dof.n_dofs());
-  component.resize(dof.n_dofs());
-  std::vector<types::global_dof_index> local(fe.n_dofs_per_cell());
-  for (const auto& cell : dof.active_cell_iterators()) {
-    cell->get_dof_indices(local);
-    const Point<dim> v0 = cell->vertex(0);
-    const Tensor<1, dim> e1 = cell->vertex(1) - v0, e2 = cell->vertex(2) - v0;
-    for (unsigned i = 0; i < local.size(); ++i) {
-      const Point<dim>& xi = fe.unit_support_point(i);
-      point[local[i]] = v0 + xi[0] * e1 + xi[1] * e2;
-      component[local[i]] = static_cast<unsigned char>(fe.system_to_component_index(i).first);
-    }
+// ---- Pins, reactions ---------------------------------------------------------------------------------------------
+
+using Pin = std::pair<int, unsigned>;  // (mesh node, component)
+
+// The point constraints of each DiscPins choice (fe_disc.hpp).
+std::vector<Pin> pin_list(DiscPins pins, const Disc& disc) {
+  switch (pins) {
+    case DiscPins::centre_and_top: return {{disc.centre, 0}, {disc.centre, 1}, {disc.top, 0}};
+    case DiscPins::diameter_ends: return {{disc.top, 0}, {disc.bottom, 0}, {disc.centre, 1}};
+    case DiscPins::centre_top_and_bottom: return {{disc.centre, 0}, {disc.centre, 1}, {disc.top, 0}, {disc.bottom, 0}};
   }
+  return {};
 }
 
-// ---- Assembly, solvers -------------------------------------------------------------------------------------------
+// A row of the unconstrained K and f at a pin: the reaction is (K u - f)_row, kept before the constraints
+// overwrite it.
+struct KeptRow {
+  std::vector<std::pair<types::global_dof_index, double>> entries;
+  double f = 0;
+};
 
-// CG preconditioned by smoothed-aggregation AMG with the three rigid-body modes about the disc centre as near null
-// space: the same set-up as continuum/fe_model.cpp (docs/continuum.md, "Solvers"). Returns the CG iterations.
-unsigned solve_cg_amg(const SparseMatrix<double>& K, const Vector<double>& b, Vector<double>& u,
-                      const DoFHandler<dim>& dof, double cx, double cy, int degree, double tolerance) {
-  std::lock_guard<std::mutex> lock(internal::trilinos_mutex());
-  internal::ensure_mpi("solve_disc", "DiscOptions::solver = Solver::direct");
-  std::vector<Point<dim>> point;
-  std::vector<unsigned char> component;
-  dof_geometry(dof, point, component);
-  const auto n = K.m();
-  TrilinosWrappers::SparseMatrix K_epetra;
-  K_epetra.reinit(complete_index_set(n), complete_index_set(n), K, MPI_COMM_SELF, 0.0, true);
-  TrilinosWrappers::PreconditionAMG::AdditionalData data;
-  data.elliptic = true;
-  data.higher_order_elements = degree > 1;
-  Teuchos::ParameterList parameters;
-  std::unique_ptr<Epetra_MultiVector> no_modes;
-  data.set_parameters(parameters, no_modes, K_epetra);
-  Epetra_MultiVector modes(K_epetra.trilinos_matrix().OperatorDomainMap(), 3);
-  for (types::global_dof_index i = 0; i < n; ++i) {
-    const bool x = component[i] == 0;
-    modes[0][i] = x ? 1.0 : 0.0;
-    modes[1][i] = x ? 0.0 : 1.0;
-    modes[2][i] = x ? -(point[i][1] - cy) : point[i][0] - cx;
+// Keeps the rows of the pinned DoFs, then imposes the pins (zero displacement) on K u = b. Returns the kept rows.
+std::vector<KeptRow> impose_pins(const std::vector<Pin>& pins, const DoFHandler<dim>& dof,
+                                 const std::vector<unsigned>& vertex_of, SparseMatrix<double>& K, Vector<double>& u,
+                                 Vector<double>& b) {
+  std::vector<KeptRow> kept(pins.size());
+  std::map<types::global_dof_index, double> fixed;
+  for (std::size_t k = 0; k < pins.size(); ++k) {
+    const auto row = vertex_dof(dof, vertex_of[pins[k].first], pins[k].second);
+    for (auto it = K.begin(row); it != K.end(row); ++it) kept[k].entries.emplace_back(it->column(), it->value());
+    kept[k].f = b[row];
+    fixed[row] = 0.0;
   }
-  parameters.set("null space: type", "pre-computed");
-  parameters.set("null space: dimension", modes.NumVectors());
-  parameters.set("null space: vectors", modes.Values());
-  parameters.set("PDE equations", dim);  // (u_x, u_y) of a node are consecutive in FESystem's numbering
-  TrilinosWrappers::PreconditionAMG amg;
-  amg.initialize(K_epetra, parameters);
-  SolverControl control(10000, tolerance * b.l2_norm());
-  SolverCG<Vector<double>> cg(control);
-  try {
-    cg.solve(K, u, b, amg);
-  } catch (const SolverControl::NoConvergence& e) {
-    throw std::runtime_error("solve_disc: CG+AMG did not reach DiscOptions::cg_tolerance in " +
-                             std::to_string(e.last_step) + " iterations (residual " + num(e.last_residual) +
-                             "); try Solver::direct or a looser tolerance");
+  MatrixTools::apply_boundary_values(fixed, K, u, b, true);  // symmetric: eliminates the columns too
+  return kept;
+}
+
+// The pins' reactions (N, for the thickness) into result.reactions and result.max_reaction. With three pins they
+// are 0 by statics (the load has no resultant and no moment): anything above 1e-6 P means the load or the pins are
+// not what this file thinks they are.
+void pin_reactions(const std::vector<Pin>& pins, const std::vector<KeptRow>& kept, const Vector<double>& u,
+                   double load, double thickness, DiscResult& result) {
+  for (std::size_t k = 0; k < pins.size(); ++k) {
+    double s = -kept[k].f;
+    for (const auto& [col, value] : kept[k].entries) s += value * u[col];
+    result.reactions.push_back({pins[k].first, int(pins[k].second), s * thickness});
+    result.max_reaction = std::max(result.max_reaction, std::abs(s * thickness));
   }
-  return control.last_step();
+  if (pins.size() == 3 && result.max_reaction > 1e-6 * load)
+    throw std::runtime_error("solve_disc: the statically determinate pins carry a reaction of " +
+                             num(result.max_reaction) + " N for a load of " + num(load) +
+                             " N; it must be 0 (internal check)");
 }
 
 // ---- Centre estimates --------------------------------------------------------------------------------------------
@@ -315,6 +310,69 @@ theory::DiscStress quadratic_fit(const std::vector<CellStress>& cells, const std
   return {M[0][m] / M[0][0], M[0][m + 1] / M[0][0], M[0][m + 2] / M[0][0]};
 }
 
+// The FE stress of every cell at its centroid (the cell mean: the stress is constant (P1) or linear (P2) in a
+// cell), with the cell's area and vertices; cell k is triangle k.
+std::vector<CellStress> cell_stresses(const TriMesh& mesh, const DoFHandler<dim>& dof, const Mapping<dim>& mapping,
+                                      const FiniteElement<dim>& fe, const SymmetricTensor<4, dim>& C,
+                                      const Vector<double>& u) {
+  std::vector<CellStress> cells(mesh.triangles.size());
+  const Quadrature<dim> centroid(Point<dim>(1.0 / 3.0, 1.0 / 3.0));
+  FEValues<dim> fev(mapping, fe, centroid, update_gradients);
+  const FEValuesExtractors::Vector disp(0);
+  std::vector<SymmetricTensor<2, dim>> strain(1);
+  for (const auto& cell : dof.active_cell_iterators()) {
+    fev.reinit(cell);
+    fev[disp].get_function_symmetric_gradients(u, strain);
+    const std::size_t t = cell->index();  // cell k is triangle k
+    cells[t].mean = stress_of(C * strain[0]);
+    cells[t].area = signed_area(mesh, t);
+    for (int v = 0; v < 3; ++v) cells[t].vertex[v] = mesh.nodes[mesh.triangles[t][v]];
+  }
+  return cells;
+}
+
+// centre_mean: the area-weighted mean of the cell means within r_avg (`inside`), with the area and the number of
+// cells it averages over.
+void centre_mean(const std::vector<CellStress>& cells, const std::vector<std::size_t>& inside, DiscResult& result) {
+  theory::DiscStress s;
+  double area = 0;
+  for (const std::size_t t : inside) {
+    s.xx += cells[t].area * cells[t].mean.xx, s.yy += cells[t].area * cells[t].mean.yy;
+    s.xy += cells[t].area * cells[t].mean.xy, area += cells[t].area;
+  }
+  result.centre_mean = {s.xx / area, s.yy / area, s.xy / area};
+  result.average_area = area;
+  result.average_cells = inside.size();
+}
+
+// centre_point: the FE stress at (cx, cy) in every cell that contains it (barycentric coordinates >= -1e-10),
+// area-weighted.
+theory::DiscStress centre_point(const DoFHandler<dim>& dof, const Mapping<dim>& mapping, const FiniteElement<dim>& fe,
+                                const SymmetricTensor<4, dim>& C, const Vector<double>& u, double cx, double cy) {
+  const FEValuesExtractors::Vector disp(0);
+  std::vector<SymmetricTensor<2, dim>> strain(1);
+  theory::DiscStress s;
+  double area = 0;
+  for (const auto& cell : dof.active_cell_iterators()) {
+    const Point<dim> v0 = cell->vertex(0);
+    const Tensor<1, dim> e1 = cell->vertex(1) - v0, e2 = cell->vertex(2) - v0;
+    const double det = e1[0] * e2[1] - e1[1] * e2[0];
+    const double dx = cx - v0[0], dy = cy - v0[1];
+    const double xi = (dx * e2[1] - dy * e2[0]) / det, eta = (e1[0] * dy - e1[1] * dx) / det;
+    if (xi < -1e-10 || eta < -1e-10 || 1 - xi - eta < -1e-10) continue;
+    const Quadrature<dim> at(Point<dim>(std::clamp(xi, 0.0, 1.0), std::clamp(eta, 0.0, 1.0)));
+    FEValues<dim> fev(mapping, fe, at, update_gradients);
+    fev.reinit(cell);
+    fev[disp].get_function_symmetric_gradients(u, strain);
+    const theory::DiscStress here = stress_of(C * strain[0]);
+    const double a = 0.5 * std::abs(det);
+    s.xx += a * here.xx, s.yy += a * here.yy, s.xy += a * here.xy, area += a;
+  }
+  if (area > 0) return {s.xx / area, s.yy / area, s.xy / area};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  return {nan, nan, nan};  // unreachable for a disc: its centre lies in some cell
+}
+
 }  // namespace
 
 // ---- Public ------------------------------------------------------------------------------------------------------
@@ -329,17 +387,7 @@ DiscResult solve_disc(const TriMesh& mesh, const theory::TIConstants& c, double 
   result.cx = disc.cx, result.cy = disc.cy, result.radius = disc.R;
   result.top_node = disc.top, result.bottom_node = disc.bottom, result.centre_node = disc.centre;
   result.average_radius = r_avg;
-
-  // The cells averaged over, decided from the mesh before any work so that a bad radius fails early.
-  std::vector<std::size_t> inside;
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    double x = 0, y = 0;
-    for (int v : mesh.triangles[t]) x += mesh.nodes[v][0] / 3, y += mesh.nodes[v][1] / 3;
-    if (std::hypot(x - disc.cx, y - disc.cy) <= r_avg) inside.push_back(t);
-  }
-  if (inside.empty())
-    fail("no triangle centroid lies within average_radius = " + num(r_avg) + " m of the centre (" + num(disc.cx) +
-         ", " + num(disc.cy) + "); give a larger DiscOptions::average_radius or a finer mesh");
+  const std::vector<std::size_t> inside = cells_within(mesh, disc, r_avg);
 
   Triangulation<dim> tria;
   const std::vector<unsigned> vertex_of = make_triangulation(mesh, tria);
@@ -365,119 +413,34 @@ DiscResult solve_disc(const TriMesh& mesh, const theory::TIConstants& c, double 
   Vector<double> u(n_dofs), b(n_dofs);
   b[vertex_dof(dof, vertex_of[disc.top], 1)] = -load / thickness;
   b[vertex_dof(dof, vertex_of[disc.bottom], 1)] = load / thickness;
-
-  std::vector<std::pair<int, unsigned>> pins;  // (mesh node, component)
-  switch (options.pins) {
-    case DiscPins::centre_and_top: pins = {{disc.centre, 0}, {disc.centre, 1}, {disc.top, 0}}; break;
-    case DiscPins::diameter_ends: pins = {{disc.top, 0}, {disc.bottom, 0}, {disc.centre, 1}}; break;
-    case DiscPins::centre_top_and_bottom:
-      pins = {{disc.centre, 0}, {disc.centre, 1}, {disc.top, 0}, {disc.bottom, 0}};
-      break;
-  }
-  // Rows of the unconstrained K and f at the pins: the reaction is (K u - f)_row, kept before the constraints
-  // overwrite them.
-  struct KeptRow {
-    std::vector<std::pair<types::global_dof_index, double>> entries;
-    double f = 0;
-  };
-  std::vector<KeptRow> kept(pins.size());
-  std::map<types::global_dof_index, double> fixed;
-  for (std::size_t k = 0; k < pins.size(); ++k) {
-    const auto row = vertex_dof(dof, vertex_of[pins[k].first], pins[k].second);
-    for (auto it = K.begin(row); it != K.end(row); ++it) kept[k].entries.emplace_back(it->column(), it->value());
-    kept[k].f = b[row];
-    fixed[row] = 0.0;
-  }
-  MatrixTools::apply_boundary_values(fixed, K, u, b, true);  // symmetric: eliminates the columns too
+  const std::vector<Pin> pins = pin_list(options.pins, disc);
+  const std::vector<KeptRow> kept = impose_pins(pins, dof, vertex_of, K, u, b);
 
   const bool direct =
       options.solver == Solver::direct || (options.solver == Solver::automatic && n_dofs < options.direct_dof_limit);
   result.solver_used = direct ? Solver::direct : Solver::cg_amg;
   if (direct) {
-    SparseDirectUMFPACK umfpack;
-    umfpack.initialize(K);
-    umfpack.vmult(u, b);
+    internal::solve_direct(K, b, u);
   } else {
-    result.iterations = solve_cg_amg(K, b, u, dof, disc.cx, disc.cy, options.degree, options.cg_tolerance);
+    // The rotation mode about the disc centre.
+    result.iterations = internal::solve_cg_amg(K, b, u, internal::dof_geometry(dof),
+                                               {Point<dim>(disc.cx, disc.cy), options.cg_tolerance, 10000,
+                                                options.degree > 1},
+                                               {"solve_disc", "DiscOptions", num})
+                            .iterations;
   }
+  pin_reactions(pins, kept, u, load, thickness, result);
 
-  // Reactions. With three pins they are 0 by statics (the load has no resultant and no moment): anything
-  // above 1e-6 P means the load or the pins are not what this file thinks they are.
-  for (std::size_t k = 0; k < pins.size(); ++k) {
-    double s = -kept[k].f;
-    for (const auto& [col, value] : kept[k].entries) s += value * u[col];
-    result.reactions.push_back({pins[k].first, int(pins[k].second), s * thickness});
-    result.max_reaction = std::max(result.max_reaction, std::abs(s * thickness));
-  }
-  if (pins.size() == 3 && result.max_reaction > 1e-6 * load)
-    throw std::runtime_error("solve_disc: the statically determinate pins carry a reaction of " +
-                             num(result.max_reaction) + " N for a load of " + num(load) +
-                             " N; it must be 0 (internal check)");
-
-  // Cell stresses at the centroids (the cell mean: the stress is constant (P1) or linear (P2) in a cell).
-  std::vector<CellStress> cells(mesh.triangles.size());
-  {
-    const Quadrature<dim> centroid(Point<dim>(1.0 / 3.0, 1.0 / 3.0));
-    FEValues<dim> fev(mapping, fe, centroid, update_gradients);
-    const FEValuesExtractors::Vector disp(0);
-    std::vector<SymmetricTensor<2, dim>> strain(1);
-    for (const auto& cell : dof.active_cell_iterators()) {
-      fev.reinit(cell);
-      fev[disp].get_function_symmetric_gradients(u, strain);
-      const std::size_t t = cell->index();  // cell k is triangle k
-      cells[t].mean = stress_of(C * strain[0]);
-      cells[t].area = signed_area(mesh, t);
-      for (int v = 0; v < 3; ++v) cells[t].vertex[v] = mesh.nodes[mesh.triangles[t][v]];
-    }
-  }
+  // Cell stresses and the three centre estimates.
+  const std::vector<CellStress> cells = cell_stresses(mesh, dof, mapping, fe, C, u);
   if (options.fields) {
     result.sxx.resize(cells.size()), result.syy.resize(cells.size()), result.sxy.resize(cells.size());
     for (std::size_t t = 0; t < cells.size(); ++t)
       result.sxx[t] = cells[t].mean.xx, result.syy[t] = cells[t].mean.yy, result.sxy[t] = cells[t].mean.xy;
   }
-
-  // centre_mean over the cells within r_avg.
-  {
-    theory::DiscStress s;
-    double area = 0;
-    for (const std::size_t t : inside) {
-      s.xx += cells[t].area * cells[t].mean.xx, s.yy += cells[t].area * cells[t].mean.yy;
-      s.xy += cells[t].area * cells[t].mean.xy, area += cells[t].area;
-    }
-    result.centre_mean = {s.xx / area, s.yy / area, s.xy / area};
-    result.average_area = area;
-    result.average_cells = inside.size();
-  }
+  centre_mean(cells, inside, result);
   result.centre_fit = quadratic_fit(cells, inside, disc.cx, disc.cy, r_avg);
-
-  // centre_point: the FE stress at (cx, cy) in every cell that contains it (barycentric coordinates >= -1e-10),
-  // area-weighted.
-  {
-    const FEValuesExtractors::Vector disp(0);
-    std::vector<SymmetricTensor<2, dim>> strain(1);
-    theory::DiscStress s;
-    double area = 0;
-    for (const auto& cell : dof.active_cell_iterators()) {
-      const Point<dim> v0 = cell->vertex(0);
-      const Tensor<1, dim> e1 = cell->vertex(1) - v0, e2 = cell->vertex(2) - v0;
-      const double det = e1[0] * e2[1] - e1[1] * e2[0];
-      const double dx = disc.cx - v0[0], dy = disc.cy - v0[1];
-      const double xi = (dx * e2[1] - dy * e2[0]) / det, eta = (e1[0] * dy - e1[1] * dx) / det;
-      if (xi < -1e-10 || eta < -1e-10 || 1 - xi - eta < -1e-10) continue;
-      const Quadrature<dim> at(Point<dim>(std::clamp(xi, 0.0, 1.0), std::clamp(eta, 0.0, 1.0)));
-      FEValues<dim> fev(mapping, fe, at, update_gradients);
-      fev.reinit(cell);
-      fev[disp].get_function_symmetric_gradients(u, strain);
-      const theory::DiscStress here = stress_of(C * strain[0]);
-      const double a = 0.5 * std::abs(det);
-      s.xx += a * here.xx, s.yy += a * here.yy, s.xy += a * here.xy, area += a;
-    }
-    if (area > 0) result.centre_point = {s.xx / area, s.yy / area, s.xy / area};
-    else {
-      const double nan = std::numeric_limits<double>::quiet_NaN();
-      result.centre_point = {nan, nan, nan};  // unreachable for a disc: its centre lies in some cell
-    }
-  }
+  result.centre_point = centre_point(dof, mapping, fe, C, u, disc.cx, disc.cy);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

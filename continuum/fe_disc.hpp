@@ -94,8 +94,8 @@ struct DiscResult {
 // non-positive or non-finite load or thickness, degree other than 1 or 2, a negative average_radius or one that
 // holds no cell centroid. Throws std::runtime_error when CG does not converge, or when a statically determinate set
 // of pins shows a reaction above 1e-6 P (an internal check: it is 0 by statics).
-// The CG + AMG stage initialises MPI when nobody has (Trilinos needs it) and runs one call at a time within this
-// file; the direct solver needs no MPI.
+// The CG + AMG stage initialises MPI when nobody has (Trilinos needs it) and runs one at a time with the CG + AMG
+// stages of every model of continuum/; the direct solver needs no MPI.
 DiscResult solve_disc(const TriMesh& mesh, const theory::TIConstants& c, double bedding_deg, theory::Plane plane,
                       double load, double thickness, const DiscOptions& options = {});
 

@@ -1,9 +1,9 @@
-// What the deal.II solvers of continuum/ share (fe_model.cpp, fe_joints.cpp, fe_disc.cpp); defined in
-// fe_model.cpp. Internal to continuum/: it includes deal.II, which nothing outside this folder may.
+// What the deal.II models of continuum/ share (fe_model.cpp, fe_joints.cpp, fe_disc.cpp) besides the linear solves
+// (solvers.hpp); defined in fe_model.cpp. Internal to continuum/: it includes deal.II, which nothing outside this
+// folder may.
 #pragma once
 
 #include <chrono>
-#include <mutex>
 
 #include <deal.II/base/quadrature.h>
 #include <deal.II/base/symmetric_tensor.h>
@@ -28,15 +28,6 @@ class Stopwatch {
  private:
   std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
 };
-
-// Trilinos runs under MPI_THREAD_SERIALIZED: every CG+AMG stage of continuum/, whichever solver it belongs to, holds
-// this one lock, so two threads (e.g. the elastic gate's dips, run two at a time) never enter Trilinos together.
-std::mutex& trilinos_mutex();
-
-// Initialises MPI once for the whole process (Trilinos needs it even serially; docs/continuum.md, "Solvers"), unless
-// the application already did (mpirun). Throws std::runtime_error naming `solver` and the option that avoids
-// Trilinos (`direct_option`) when MPI has already been finalised.
-void ensure_mpi(const char* solver, const char* direct_option);
 
 // Voigt [xx, yy, xy] with engineering shear -> the tensor with sigma = C : eps.
 dealii::SymmetricTensor<4, 2> stiffness_tensor(const Stiffness3& C);

@@ -1,14 +1,16 @@
 // The FE twin with joints: deal.II P1 elasticity on a TriMesh split along its joints, with zero-thickness interface
 // elements assembled by hand (deal.II has none). See fe_joints.hpp for the model and tests/test_fe_joints.cpp for
 // the closed forms it meets; docs/continuum.md describes the homogenized model whose platens and solvers it
-// shares. The one deal.II translation unit of this feature.
+// shares. deal.II stays in this file and in the solvers it shares with that model (solvers.cpp).
 //
 // Stages: check inputs -> split the mesh (corner classes, one vertex per class) -> triangulation of the copies ->
 // DoFs, constraints (platens, pin, ties of glued copies), sparsity with the interface couplings -> assemble cells
 // (constant strain triangles, per-layer C) and interfaces into the constrained matrix, and the platen rows of the
-// unconstrained one into two vectors (reactions) -> solve (UMFPACK or CG+AMG) -> distribute -> reactions, fields.
+// unconstrained one into two vectors (reactions) -> solve (UMFPACK or CG+AMG, solvers.cpp) -> distribute ->
+// reactions, fields.
 #include "continuum/fe_internal.hpp"
 #include "continuum/fe_joints.hpp"
+#include "continuum/solvers.hpp"
 
 #include <deal.II/base/index_set.h>
 #include <deal.II/dofs/dof_handler.h>
@@ -19,28 +21,15 @@
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/full_matrix.h>
-#include <deal.II/lac/solver_cg.h>
-#include <deal.II/lac/solver_control.h>
-#include <deal.II/lac/sparse_direct.h>
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
-#include <deal.II/lac/trilinos_precondition.h>
-#include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/vector.h>
-
-#include <Epetra_MultiVector.h>
-#include <Teuchos_ParameterList.hpp>
-#include <mpi.h>
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <limits>
-#include <memory>
-#include <mutex>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
@@ -340,59 +329,63 @@ void interface_matrix(const Interface& g, FullMatrix<double>& K) {
     }
 }
 
-// ---- Solvers (as fe_model.cpp) -----------------------------------------------------------------------------------
+// ---- Inputs ------------------------------------------------------------------------------------------------------
 
-void solve_direct(const SparseMatrix<double>& K, const Vector<double>& b, Vector<double>& u) {
-  SparseDirectUMFPACK umfpack;
-  umfpack.initialize(K);
-  umfpack.vmult(u, b);
+// Checks the mesh and every input of solve_elastic_jointed but the interfaces (mark_interfaces); returns the number
+// of layers.
+std::size_t check_inputs(const char* function, const TriMesh& mesh,
+                         const std::vector<theory::TIConstants>& layer_constants, double bedding_deg,
+                         double thickness, const JointedFeOptions& o) {
+  check_mesh(function, mesh);
+  int max_layer = 0;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) max_layer = std::max(max_layer, layer_of(mesh, t));
+  const std::size_t n_layers = std::max(mesh.num_layers(), std::size_t(max_layer) + 1);
+  if (layer_constants.size() != n_layers)
+    fail(function, "layer_constants has " + std::to_string(layer_constants.size()) + " entries but the mesh has " +
+                       std::to_string(n_layers) + " layers (mesh.layer_names: " +
+                       std::to_string(mesh.num_layers()) + ", largest layer id: " + std::to_string(max_layer) +
+                       "); give the constants of every layer, in layer id order");
+  for (std::size_t l = 0; l < layer_constants.size(); ++l)
+    if (!layer_constants[l].admissible()) {
+      const auto& c = layer_constants[l];
+      fail(function, "layer_constants[" + std::to_string(l) + "] (E = " + text(c.E) + " Pa, nu = " + text(c.nu) +
+                         ", E' = " + text(c.E_prime) + " Pa, nu' = " + text(c.nu_prime) + ", G' = " + text(c.G_prime) +
+                         " Pa) is not admissible: it needs E, E', G' > 0, -1 < nu < 1 and 1 - nu - 2 nu'^2 E/E' > 0");
+    }
+  if (!std::isfinite(bedding_deg)) fail(function, "bedding_deg is not a finite angle; give the bedding dip in degrees");
+  if (!(thickness > 0) || !std::isfinite(thickness))
+    fail(function, "thickness = " + text(thickness) + " m; give the positive out-of-plane thickness in m");
+  if (!(o.platen_displacement > 0) || !std::isfinite(o.platen_displacement))
+    fail(function, "JointedFeOptions::platen_displacement = " + text(o.platen_displacement) +
+                       " m; give the positive downward displacement of the top platen in m (compression)");
+  if (!(o.cg_tolerance > 0 && o.cg_tolerance < 1))
+    fail(function, "JointedFeOptions::cg_tolerance = " + text(o.cg_tolerance) + "; give a relative residual in (0, 1)");
+  return n_layers;
 }
 
-// CG with smoothed-aggregation AMG (Trilinos ML) and the three rigid-body modes of the whole specimen as near null
-// space; "PDE equations" = 2 needs the two DoFs of a vertex to be consecutive (FESystem numbering).
-unsigned solve_cg_amg(const SparseMatrix<double>& K, const Vector<double>& b, Vector<double>& u,
-                      const std::vector<Point<dim>>& dof_point, const std::vector<unsigned char>& dof_component,
-                      const Box& box, double tolerance) {
-  std::lock_guard<std::mutex> lock(internal::trilinos_mutex());
-  internal::ensure_mpi("solve_elastic_jointed", "JointedFeOptions::solver = Solver::direct");
-  const auto n = K.m();
-  TrilinosWrappers::SparseMatrix K_epetra;
-  K_epetra.reinit(complete_index_set(n), complete_index_set(n), K, MPI_COMM_SELF, 0.0, true);
-  TrilinosWrappers::PreconditionAMG::AdditionalData data;
-  data.elliptic = true;
-  Teuchos::ParameterList parameters;
-  std::unique_ptr<Epetra_MultiVector> no_modes;
-  data.set_parameters(parameters, no_modes, K_epetra);
-  Epetra_MultiVector modes(K_epetra.trilinos_matrix().OperatorDomainMap(), 3);
-  const double xc = 0.5 * (box.xmin + box.xmax), yc = 0.5 * (box.ymin + box.ymax);
-  for (types::global_dof_index i = 0; i < n; ++i) {
-    const bool x = dof_component[i] == 0;
-    modes[0][i] = x ? 1.0 : 0.0;
-    modes[1][i] = x ? 0.0 : 1.0;
-    modes[2][i] = x ? -(dof_point[i][1] - yc) : dof_point[i][0] - xc;
+// Throws unless a boundary edge lies on the top and one on the bottom of the bounding box, as fe_model requires.
+void require_platen_edges(const char* function, const TriMesh& mesh, const EdgeMap& edges, const Box& box,
+                          double tol) {
+  bool top_edge = false, bottom_edge = false;
+  for (const auto& [key, e] : edges) {
+    if (e.n != 1) continue;
+    const auto &p = mesh.nodes[key >> 32], &q = mesh.nodes[key & 0xFFFFFFFFu];
+    top_edge |= std::abs(p[1] - box.ymax) < tol && std::abs(q[1] - box.ymax) < tol;
+    bottom_edge |= std::abs(p[1] - box.ymin) < tol && std::abs(q[1] - box.ymin) < tol;
   }
-  parameters.set("null space: type", "pre-computed");
-  parameters.set("null space: dimension", modes.NumVectors());
-  parameters.set("null space: vectors", modes.Values());
-  parameters.set("PDE equations", dim);
-  TrilinosWrappers::PreconditionAMG amg;
-  amg.initialize(K_epetra, parameters);
-  SolverControl control(20000, tolerance * b.l2_norm());
-  SolverCG<Vector<double>> cg(control);
-  try {
-    cg.solve(K, u, b, amg);
-  } catch (const SolverControl::NoConvergence& e) {
-    throw std::runtime_error("solve_elastic_jointed: CG+AMG did not reach JointedFeOptions::cg_tolerance in " +
-                             std::to_string(e.last_step) + " iterations (residual " + text(e.last_residual) +
-                             "); try Solver::direct or a looser tolerance");
-  }
-  return control.last_step();
+  if (!top_edge || !bottom_edge)
+    fail(function, "no mesh edge lies on the " + std::string(!top_edge ? "top (y = ymax)" : "bottom (y = ymin)") +
+                       " of the mesh's bounding box; the specimen must be a rectangle loaded along y");
 }
+
+// ---- DoFs and constraints ----------------------------------------------------------------------------------------
+
+using CopyDofs = std::vector<std::array<types::global_dof_index, 2>>;  // copy -> its u_x, u_y DoFs
 
 // Global DoF index of each copy's u_x, u_y.
-std::vector<std::array<types::global_dof_index, 2>> copy_dofs(const DoFHandler<dim>& dof, std::size_t n_copies) {
+CopyDofs copy_dofs(const DoFHandler<dim>& dof, std::size_t n_copies) {
   const FiniteElement<dim>& fe = dof.get_fe();
-  std::vector<std::array<types::global_dof_index, 2>> out(n_copies);
+  CopyDofs out(n_copies);
   for (const auto& cell : dof.active_cell_iterators())
     for (const unsigned v : cell->vertex_indices())
       for (unsigned k = 0; k < fe.n_dofs_per_vertex(); ++k) {
@@ -400,6 +393,243 @@ std::vector<std::array<types::global_dof_index, 2>> copy_dofs(const DoFHandler<d
         out[cell->vertex_index(v)][component] = cell->vertex_dof_index(v, k);
       }
   return out;
+}
+
+// Position (its copy's node) and component of every DoF: where the AMG's rigid-body modes are evaluated.
+internal::DofGeometry copy_geometry(const TriMesh& mesh, const Split& split, const CopyDofs& cdof,
+                                    types::global_dof_index n_dofs) {
+  internal::DofGeometry g;
+  g.point.resize(n_dofs);
+  g.component.resize(n_dofs);
+  for (std::size_t c = 0; c < cdof.size(); ++c)
+    for (unsigned k = 0; k < dim; ++k) {
+      g.point[cdof[c][k]] = Point<dim>(mesh.nodes[split.copy_node[c]][0], mesh.nodes[split.copy_node[c]][1]);
+      g.component[cdof[c][k]] = static_cast<unsigned char>(k);
+    }
+  return g;
+}
+
+// The platen u_y DoFs (1 = yes): their rows of the unconstrained K give the reactions.
+struct PlatenDofs {
+  std::vector<char> top_uy, bottom_uy;
+};
+
+// Platen values by position (every copy keeps its node's boundary position); the pin on one copy of the
+// bottom-left node; glued copies tied to the smallest DoF of their class. A class that holds a platen or pinned DoF
+// is fixed as a whole (all its members share position and value), so no DoF is both tied and fixed. Fills and
+// closes `constraints`; returns the platen u_y DoFs.
+PlatenDofs make_constraints(const TriMesh& mesh, const Split& split, const std::vector<Interface>& elements,
+                            const CopyDofs& cdof, types::global_dof_index n_dofs, const Box& box, double tol,
+                            const JointedFeOptions& o, AffineConstraints<double>& constraints) {
+  const std::size_t n_copies = cdof.size();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> fixed(n_dofs, nan);
+  PlatenDofs platen{std::vector<char>(n_dofs, 0), std::vector<char>(n_dofs, 0)};
+  std::size_t pin = n_copies;
+  for (std::size_t c = 0; c < n_copies; ++c) {
+    const auto& p = mesh.nodes[split.copy_node[c]];
+    const bool top = std::abs(p[1] - box.ymax) < tol, bottom = std::abs(p[1] - box.ymin) < tol;
+    if (top) fixed[cdof[c][1]] = -o.platen_displacement, platen.top_uy[cdof[c][1]] = 1;
+    if (bottom) fixed[cdof[c][1]] = 0.0, platen.bottom_uy[cdof[c][1]] = 1;
+    if (o.platens == Platens::bonded && (top || bottom)) fixed[cdof[c][0]] = 0.0;
+    if (bottom && (pin == n_copies || p[0] < mesh.nodes[split.copy_node[pin]][0])) pin = c;
+  }
+  if (o.platens == Platens::frictionless) fixed[cdof[pin][0]] = 0.0;  // removes the rigid x-translation only
+  UnionFind tied(n_dofs);
+  for (const Interface& g : elements)
+    if (g.glued)
+      for (unsigned k = 0; k < dim; ++k) {
+        tied.unite(unsigned(cdof[g.copy[0]][k]), unsigned(cdof[g.copy[2]][k]));  // p: side 1 = side 2
+        tied.unite(unsigned(cdof[g.copy[1]][k]), unsigned(cdof[g.copy[3]][k]));  // q
+      }
+  for (types::global_dof_index i = 0; i < n_dofs; ++i)  // a fixed member fixes its class (through its root)
+    if (!std::isnan(fixed[i])) fixed[tied.find(unsigned(i))] = fixed[i];
+  for (types::global_dof_index i = 0; i < n_dofs; ++i) {
+    const unsigned root = tied.find(unsigned(i));
+    if (!std::isnan(fixed[root])) {
+      constraints.add_line(i);
+      constraints.set_inhomogeneity(i, fixed[root]);
+    } else if (root != i) {
+      constraints.add_line(i);
+      constraints.add_entry(i, root, 1.0);
+    }
+  }
+  constraints.close();
+  return platen;
+}
+
+// ---- Sparsity and assembly ---------------------------------------------------------------------------------------
+
+using ElementDofs = std::array<types::global_dof_index, 8>;  // [p1x p1y q1x q1y p2x p2y q2x q2y]
+
+// The DoFs of each interface element, in the order of `elements` without the glued edges (ties, not elements).
+std::vector<ElementDofs> interface_element_dofs(const std::vector<Interface>& elements, const CopyDofs& cdof) {
+  std::vector<ElementDofs> element_dofs;
+  for (const Interface& g : elements)
+    if (!g.glued)
+      element_dofs.push_back({cdof[g.copy[0]][0], cdof[g.copy[0]][1], cdof[g.copy[1]][0], cdof[g.copy[1]][1],
+                              cdof[g.copy[2]][0], cdof[g.copy[2]][1], cdof[g.copy[3]][0], cdof[g.copy[3]][1]});
+  return element_dofs;
+}
+
+// The cells' couplings and those of each interface element's 8 DoFs, the constrained DoFs condensed.
+void make_pattern(const DoFHandler<dim>& dof, const AffineConstraints<double>& constraints,
+                  const std::vector<ElementDofs>& element_dofs, SparsityPattern& pattern) {
+  DynamicSparsityPattern dsp(dof.n_dofs(), dof.n_dofs());
+  DoFTools::make_sparsity_pattern(dof, dsp, constraints, /*keep_constrained_dofs=*/false);
+  for (const auto& d : element_dofs) {
+    std::vector<types::global_dof_index> local(d.begin(), d.end());
+    std::sort(local.begin(), local.end());
+    local.erase(std::unique(local.begin(), local.end()), local.end());  // the tip of an ending joint: one copy
+    constraints.add_entries_local_to_global(local, dsp, false);
+  }
+  pattern.copy_from(dsp);
+}
+
+// The system per unit thickness: the constrained K u = b, and the platen rows of the unconstrained K summed into
+// g_top, g_bottom on the way (reaction = g . u with the distributed u).
+struct JointedSystem {
+  JointedSystem(const SparsityPattern& pattern, const AffineConstraints<double>& c, const PlatenDofs& p)
+      : constraints(c), platen(p), K(pattern), b(pattern.n_rows()), g_top(pattern.n_rows()),
+        g_bottom(pattern.n_rows()) {}
+
+  // Adds the element matrix Ke of the (distinct) DoFs `local`; `zero` is its load vector, zero, of the same size.
+  void add(const FullMatrix<double>& Ke, const std::vector<types::global_dof_index>& local, Vector<double>& zero) {
+    constraints.distribute_local_to_global(Ke, zero, local, K, b);
+    for (unsigned i = 0; i < local.size(); ++i) {
+      Vector<double>* g = platen.top_uy[local[i]] ? &g_top : platen.bottom_uy[local[i]] ? &g_bottom : nullptr;
+      if (g)
+        for (unsigned j = 0; j < local.size(); ++j) (*g)[local[j]] += Ke(i, j);
+    }
+  }
+
+  const AffineConstraints<double>& constraints;
+  const PlatenDofs& platen;
+  SparseMatrix<double> K;
+  Vector<double> b, g_top, g_bottom;
+};
+
+// The constant strain triangles, each with the stiffness C[l] of its layer l.
+void assemble_cells(const DoFHandler<dim>& dof, const TriMesh& mesh, const std::vector<unsigned>& cell_triangle,
+                    const std::vector<Stiffness3>& C, JointedSystem& system) {
+  const FiniteElement<dim>& fe = dof.get_fe();
+  std::array<unsigned, 6> comp{}, vert{};
+  for (unsigned i = 0; i < 6; ++i) {
+    comp[i] = fe.system_to_component_index(i).first;
+    vert[i] = fe.system_to_component_index(i).second;  // the vertex: P1 has one shape function per vertex
+  }
+  FullMatrix<double> Ke(6, 6);
+  Vector<double> zero(6);
+  std::vector<types::global_dof_index> local(6);
+  for (const auto& cell : dof.active_cell_iterators()) {
+    cst_matrix({cell->vertex(0), cell->vertex(1), cell->vertex(2)}, C[layer_of(mesh, cell_triangle[cell->index()])],
+               comp, vert, Ke);
+    cell->get_dof_indices(local);
+    system.add(Ke, local, zero);
+  }
+}
+
+// The interface elements that are not glued, element_dofs[k] the DoFs of the k-th of them.
+void assemble_interfaces(const std::vector<Interface>& elements, const std::vector<ElementDofs>& element_dofs,
+                         JointedSystem& system) {
+  FullMatrix<double> Ke(8, 8);
+  std::size_t k = 0;
+  for (const Interface& g : elements) {
+    if (g.glued) continue;
+    interface_matrix(g, Ke);
+    // At the tip of a joint that ends inside the specimen both sides hold the same copy: its jump is zero and its
+    // rows cancel. The local DoFs are merged first, since deal.II's local-to-global functions expect them unique.
+    std::vector<types::global_dof_index> local;
+    std::array<unsigned, 8> slot{};
+    for (unsigned i = 0; i < 8; ++i) {
+      const auto d = element_dofs[k][i];
+      slot[i] = unsigned(std::find(local.begin(), local.end(), d) - local.begin());
+      if (slot[i] == local.size()) local.push_back(d);
+    }
+    ++k;
+    FullMatrix<double> Km(local.size(), local.size());
+    for (unsigned i = 0; i < 8; ++i)
+      for (unsigned j = 0; j < 8; ++j) Km(slot[i], slot[j]) += Ke(i, j);
+    Vector<double> zero(local.size());
+    system.add(Km, local, zero);
+  }
+}
+
+// ---- Results -----------------------------------------------------------------------------------------------------
+
+// Per interface (the order of `elements`): the mean normal jump over the edge, positive when its sides separate;
+// 0 for a glued edge.
+std::vector<double> interface_openings(const std::vector<Interface>& elements, const CopyDofs& cdof,
+                                       const Vector<double>& u) {
+  std::vector<double> opening(elements.size(), 0.0);
+  for (std::size_t k = 0; k < elements.size(); ++k) {
+    const Interface& g = elements[k];
+    if (g.glued) continue;
+    double jump[2];  // mean jump over the edge: the mean of its two ends (linear along the edge)
+    for (unsigned c = 0; c < dim; ++c)
+      jump[c] = 0.5 * (u[cdof[g.copy[2]][c]] - u[cdof[g.copy[0]][c]] + u[cdof[g.copy[3]][c]] - u[cdof[g.copy[1]][c]]);
+    opening[k] = g.side2 * (jump[0] * g.nx + jump[1] * g.ny);
+  }
+  return opening;
+}
+
+// The displacement at the centroid and the stress of every triangle (mesh order) into r.ux ... r.sxy.
+void centroid_fields(const TriMesh& mesh, const Split& split, const CopyDofs& cdof, const std::vector<Stiffness3>& C,
+                     const Vector<double>& u, JointedFeResult& r) {
+  const std::size_t n = mesh.triangles.size();
+  r.ux.assign(n, 0), r.uy.assign(n, 0), r.sxx.assign(n, 0), r.syy.assign(n, 0), r.sxy.assign(n, 0);
+  for (std::size_t t = 0; t < n; ++t) {
+    std::array<double, 6> ue{};  // [x0 y0 x1 y1 x2 y2]
+    for (unsigned i = 0; i < 3; ++i) {
+      const unsigned c = split.corner_copy[3 * t + i];
+      ue[2 * i] = u[cdof[c][0]], ue[2 * i + 1] = u[cdof[c][1]];
+      r.ux[t] += ue[2 * i] / 3, r.uy[t] += ue[2 * i + 1] / 3;
+    }
+    // Strain of the constant strain triangle, then sigma = C_l eps.
+    const auto &p0 = mesh.nodes[mesh.triangles[t][0]], &p1 = mesh.nodes[mesh.triangles[t][1]],
+               &p2 = mesh.nodes[mesh.triangles[t][2]];
+    const std::array<std::array<double, 2>, 3> v{{{p0[0], p0[1]}, {p1[0], p1[1]}, {p2[0], p2[1]}}};
+    const double two_area = (v[1][0] - v[0][0]) * (v[2][1] - v[0][1]) - (v[2][0] - v[0][0]) * (v[1][1] - v[0][1]);
+    double eps[3] = {0, 0, 0};
+    for (unsigned a = 0; a < 3; ++a) {
+      const auto &q1 = v[(a + 1) % 3], &q2 = v[(a + 2) % 3];
+      const double dx = (q1[1] - q2[1]) / two_area, dy = (q2[0] - q1[0]) / two_area;
+      eps[0] += dx * ue[2 * a], eps[1] += dy * ue[2 * a + 1], eps[2] += dy * ue[2 * a] + dx * ue[2 * a + 1];
+    }
+    const Stiffness3& Cl = C[layer_of(mesh, t)];
+    r.sxx[t] = Cl[0][0] * eps[0] + Cl[0][1] * eps[1] + Cl[0][2] * eps[2];
+    r.syy[t] = Cl[1][0] * eps[0] + Cl[1][1] * eps[1] + Cl[1][2] * eps[2];
+    r.sxy[t] = Cl[2][0] * eps[0] + Cl[2][1] * eps[1] + Cl[2][2] * eps[2];
+  }
+}
+
+// solve_elastic_jointed with o.refinement levels: the given interfaces checked on the given mesh, the refined mesh
+// solved once, its fields and openings returned per given triangle and interface.
+JointedFeResult solve_refined(const TriMesh& mesh, const std::vector<theory::TIConstants>& layer_constants,
+                              double bedding_deg, const std::vector<InterfaceEdge>& interfaces, double thickness,
+                              const JointedFeOptions& o) {
+  constexpr const char* function = "solve_elastic_jointed";
+  if (o.refinement < 0 || o.refinement > 4)
+    fail(function, "JointedFeOptions::refinement = " + std::to_string(o.refinement) +
+                       "; give 0 to 4 uniform refinement levels");
+  check_mesh(function, mesh);
+  {
+    EdgeMap edges = edge_map(function, mesh);  // the given interfaces are checked on the given mesh
+    mark_interfaces(function, mesh, interfaces, edges);
+  }
+  Stopwatch total;
+  const RefinedJointedMesh fine = refine_jointed_mesh(mesh, interfaces, o.refinement);
+  JointedFeOptions once = o;
+  once.refinement = 0;
+  JointedFeResult r = solve_elastic_jointed(fine.mesh, layer_constants, bedding_deg, fine.interfaces, thickness, once);
+  r.interface_edges = interfaces.size();
+  r.glued_edges = 0;
+  for (const auto& e : interfaces) r.glued_edges += std::isinf(e.k_n) ? 1 : 0;
+  if (o.fields)
+    for (auto* v : {&r.ux, &r.uy, &r.sxx, &r.syy, &r.sxy}) *v = parent_means(*v, fine.children);
+  r.interface_opening = parent_means(r.interface_opening, std::size_t(1) << o.refinement);  // 2 halves per level
+  r.seconds = total.lap();
+  return r;
 }
 
 }  // namespace
@@ -430,79 +660,23 @@ JointedFeResult solve_elastic_jointed(const TriMesh& mesh, const std::vector<the
                                       double bedding_deg, const std::vector<InterfaceEdge>& interfaces,
                                       double thickness, const JointedFeOptions& o) {
   constexpr const char* function = "solve_elastic_jointed";
-  if (o.refinement != 0) {
-    if (o.refinement < 0 || o.refinement > 4)
-      fail(function, "JointedFeOptions::refinement = " + std::to_string(o.refinement) +
-                         "; give 0 to 4 uniform refinement levels");
-    check_mesh(function, mesh);
-    {
-      EdgeMap edges = edge_map(function, mesh);  // the given interfaces are checked on the given mesh
-      mark_interfaces(function, mesh, interfaces, edges);
-    }
-    Stopwatch total;
-    const RefinedJointedMesh fine = refine_jointed_mesh(mesh, interfaces, o.refinement);
-    JointedFeOptions once = o;
-    once.refinement = 0;
-    JointedFeResult r = solve_elastic_jointed(fine.mesh, layer_constants, bedding_deg, fine.interfaces, thickness, once);
-    r.interface_edges = interfaces.size();
-    r.glued_edges = 0;
-    for (const auto& e : interfaces) r.glued_edges += std::isinf(e.k_n) ? 1 : 0;
-    if (o.fields)
-      for (auto* v : {&r.ux, &r.uy, &r.sxx, &r.syy, &r.sxy}) *v = parent_means(*v, fine.children);
-    r.interface_opening = parent_means(r.interface_opening, std::size_t(1) << o.refinement);  // 2 halves per level
-    r.seconds = total.lap();
-    return r;
-  }
+  if (o.refinement != 0) return solve_refined(mesh, layer_constants, bedding_deg, interfaces, thickness, o);
   Stopwatch total, clock;
   JointedFeResult r;
 
   // ---- Inputs.
-  check_mesh(function, mesh);
-  int max_layer = 0;
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) max_layer = std::max(max_layer, layer_of(mesh, t));
-  const std::size_t n_layers = std::max(mesh.num_layers(), std::size_t(max_layer) + 1);
-  if (layer_constants.size() != n_layers)
-    fail(function, "layer_constants has " + std::to_string(layer_constants.size()) + " entries but the mesh has " +
-                       std::to_string(n_layers) + " layers (mesh.layer_names: " +
-                       std::to_string(mesh.num_layers()) + ", largest layer id: " + std::to_string(max_layer) +
-                       "); give the constants of every layer, in layer id order");
-  for (std::size_t l = 0; l < layer_constants.size(); ++l)
-    if (!layer_constants[l].admissible()) {
-      const auto& c = layer_constants[l];
-      fail(function, "layer_constants[" + std::to_string(l) + "] (E = " + text(c.E) + " Pa, nu = " + text(c.nu) +
-                         ", E' = " + text(c.E_prime) + " Pa, nu' = " + text(c.nu_prime) + ", G' = " + text(c.G_prime) +
-                         " Pa) is not admissible: it needs E, E', G' > 0, -1 < nu < 1 and 1 - nu - 2 nu'^2 E/E' > 0");
-    }
-  if (!std::isfinite(bedding_deg)) fail(function, "bedding_deg is not a finite angle; give the bedding dip in degrees");
-  if (!(thickness > 0) || !std::isfinite(thickness))
-    fail(function, "thickness = " + text(thickness) + " m; give the positive out-of-plane thickness in m");
-  if (!(o.platen_displacement > 0) || !std::isfinite(o.platen_displacement))
-    fail(function, "JointedFeOptions::platen_displacement = " + text(o.platen_displacement) +
-                       " m; give the positive downward displacement of the top platen in m (compression)");
-  if (!(o.cg_tolerance > 0 && o.cg_tolerance < 1))
-    fail(function, "JointedFeOptions::cg_tolerance = " + text(o.cg_tolerance) + "; give a relative residual in (0, 1)");
+  const std::size_t n_layers = check_inputs(function, mesh, layer_constants, bedding_deg, thickness, o);
   EdgeMap edges = edge_map(function, mesh);
   mark_interfaces(function, mesh, interfaces, edges);
 
   // ---- Split, triangulation, DoFs.
   const Box box = bounding_box(mesh);
   const double tol = 1e-6 * std::max(box.width(), box.height());
-  bool top_edge = false, bottom_edge = false;  // a boundary edge on each platen, as fe_model requires
-  for (const auto& [key, e] : edges) {
-    if (e.n != 1) continue;
-    const auto &p = mesh.nodes[key >> 32], &q = mesh.nodes[key & 0xFFFFFFFFu];
-    top_edge |= std::abs(p[1] - box.ymax) < tol && std::abs(q[1] - box.ymax) < tol;
-    bottom_edge |= std::abs(p[1] - box.ymin) < tol && std::abs(q[1] - box.ymin) < tol;
-  }
-  if (!top_edge || !bottom_edge)
-    fail(function, "no mesh edge lies on the " + std::string(!top_edge ? "top (y = ymax)" : "bottom (y = ymin)") +
-                       " of the mesh's bounding box; the specimen must be a rectangle loaded along y");
+  require_platen_edges(function, mesh, edges, box, tol);
   const std::vector<unsigned> cell_triangle = morton_order(mesh, box);
   const Split split = split_mesh(mesh, edges, cell_triangle);
   const std::vector<Interface> elements = interface_elements(mesh, interfaces, edges, split);
-  const std::size_t n_copies = split.copy_node.size();
   for (int c : split.copies_per_node) r.duplicated_nodes += c > 1 ? std::size_t(c - 1) : 0;
-
   Triangulation<dim> tria;
   make_triangulation(mesh, split, cell_triangle, tria);
   const FESystem<dim> fe(FE_SimplexP<dim>(1), dim);
@@ -510,182 +684,49 @@ JointedFeResult solve_elastic_jointed(const TriMesh& mesh, const std::vector<the
   dof.distribute_dofs(fe);
   const auto n_dofs = dof.n_dofs();
   r.dofs = n_dofs, r.cells = tria.n_active_cells(), r.interface_edges = interfaces.size();
-  const auto cdof = copy_dofs(dof, n_copies);
-  std::vector<Point<dim>> dof_point(n_dofs);
-  std::vector<unsigned char> dof_component(n_dofs);
-  for (std::size_t c = 0; c < n_copies; ++c)
-    for (unsigned k = 0; k < dim; ++k) {
-      dof_point[cdof[c][k]] = Point<dim>(mesh.nodes[split.copy_node[c]][0], mesh.nodes[split.copy_node[c]][1]);
-      dof_component[cdof[c][k]] = static_cast<unsigned char>(k);
-    }
+  const CopyDofs cdof = copy_dofs(dof, split.copy_node.size());
 
-  // ---- Constraints. Platen values by position (every copy keeps its node's boundary position); the pin on one
-  // copy of the bottom-left node; glued copies tied to the smallest DoF of their class. A class that holds a platen
-  // or pinned DoF is fixed as a whole (all its members share position and value), so no DoF is both tied and fixed.
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  std::vector<double> fixed(n_dofs, nan);
-  std::vector<char> top_uy(n_dofs, 0), bottom_uy(n_dofs, 0);
-  std::size_t pin = n_copies;
-  for (std::size_t c = 0; c < n_copies; ++c) {
-    const auto& p = mesh.nodes[split.copy_node[c]];
-    const bool top = std::abs(p[1] - box.ymax) < tol, bottom = std::abs(p[1] - box.ymin) < tol;
-    if (top) fixed[cdof[c][1]] = -o.platen_displacement, top_uy[cdof[c][1]] = 1;
-    if (bottom) fixed[cdof[c][1]] = 0.0, bottom_uy[cdof[c][1]] = 1;
-    if (o.platens == Platens::bonded && (top || bottom)) fixed[cdof[c][0]] = 0.0;
-    if (bottom && (pin == n_copies || p[0] < mesh.nodes[split.copy_node[pin]][0])) pin = c;
-  }
-  if (o.platens == Platens::frictionless) fixed[cdof[pin][0]] = 0.0;  // removes the rigid x-translation only
-  UnionFind tied(n_dofs);
-  for (const Interface& g : elements)
-    if (g.glued)
-      for (unsigned k = 0; k < dim; ++k) {
-        tied.unite(unsigned(cdof[g.copy[0]][k]), unsigned(cdof[g.copy[2]][k]));  // p: side 1 = side 2
-        tied.unite(unsigned(cdof[g.copy[1]][k]), unsigned(cdof[g.copy[3]][k]));  // q
-      }
-  for (types::global_dof_index i = 0; i < n_dofs; ++i)  // a fixed member fixes its class (through its root)
-    if (!std::isnan(fixed[i])) fixed[tied.find(unsigned(i))] = fixed[i];
+  // ---- Constraints (platens, pin, ties of glued copies) and the sparsity with the interface couplings.
   AffineConstraints<double> constraints;
-  for (types::global_dof_index i = 0; i < n_dofs; ++i) {
-    const unsigned root = tied.find(unsigned(i));
-    if (!std::isnan(fixed[root])) {
-      constraints.add_line(i);
-      constraints.set_inhomogeneity(i, fixed[root]);
-    } else if (root != i) {
-      constraints.add_line(i);
-      constraints.add_entry(i, root, 1.0);
-    }
-  }
-  constraints.close();
+  const PlatenDofs platen = make_constraints(mesh, split, elements, cdof, n_dofs, box, tol, o, constraints);
   r.constrained_dofs = constraints.n_constraints();
   for (const Interface& g : elements) r.glued_edges += g.glued ? 1 : 0;
-
-  // ---- Sparsity: the cells' couplings and those of each interface element's 8 DoFs.
-  std::vector<std::array<types::global_dof_index, 8>> element_dofs;
-  for (const Interface& g : elements)
-    if (!g.glued)
-      element_dofs.push_back({cdof[g.copy[0]][0], cdof[g.copy[0]][1], cdof[g.copy[1]][0], cdof[g.copy[1]][1],
-                              cdof[g.copy[2]][0], cdof[g.copy[2]][1], cdof[g.copy[3]][0], cdof[g.copy[3]][1]});
+  const std::vector<ElementDofs> element_dofs = interface_element_dofs(elements, cdof);
   SparsityPattern pattern;
-  {
-    DynamicSparsityPattern dsp(n_dofs, n_dofs);
-    DoFTools::make_sparsity_pattern(dof, dsp, constraints, /*keep_constrained_dofs=*/false);
-    for (const auto& d : element_dofs) {
-      std::vector<types::global_dof_index> local(d.begin(), d.end());
-      std::sort(local.begin(), local.end());
-      local.erase(std::unique(local.begin(), local.end()), local.end());  // the tip of an ending joint: one copy
-      constraints.add_entries_local_to_global(local, dsp, false);
-    }
-    pattern.copy_from(dsp);
-  }
+  make_pattern(dof, constraints, element_dofs, pattern);
   r.setup_seconds = clock.lap();
 
-  // ---- Assembly per unit thickness. The constrained system goes into K; the platen rows of the unconstrained K
-  // are summed into g_top, g_bottom on the way (reaction = g . u with the distributed u).
+  // ---- Assembly per unit thickness.
   std::vector<Stiffness3> C(n_layers);
   for (std::size_t l = 0; l < n_layers; ++l) C[l] = stiffness_voigt(layer_constants[l], bedding_deg, o.plane);
-  SparseMatrix<double> K(pattern);
-  Vector<double> b(n_dofs), g_top(n_dofs), g_bottom(n_dofs);
-  auto add = [&](const FullMatrix<double>& Ke, const std::vector<types::global_dof_index>& local,
-                 Vector<double>& zero) {
-    constraints.distribute_local_to_global(Ke, zero, local, K, b);
-    for (unsigned i = 0; i < local.size(); ++i) {
-      Vector<double>* g = top_uy[local[i]] ? &g_top : bottom_uy[local[i]] ? &g_bottom : nullptr;
-      if (g)
-        for (unsigned j = 0; j < local.size(); ++j) (*g)[local[j]] += Ke(i, j);
-    }
-  };
-  {
-    std::array<unsigned, 6> comp{}, vert{};
-    for (unsigned i = 0; i < 6; ++i) {
-      comp[i] = fe.system_to_component_index(i).first;
-      vert[i] = fe.system_to_component_index(i).second;  // the vertex: P1 has one shape function per vertex
-    }
-    FullMatrix<double> Ke(6, 6);
-    Vector<double> zero(6);
-    std::vector<types::global_dof_index> local(6);
-    for (const auto& cell : dof.active_cell_iterators()) {
-      cst_matrix({cell->vertex(0), cell->vertex(1), cell->vertex(2)}, C[layer_of(mesh, cell_triangle[cell->index()])],
-                 comp, vert, Ke);
-      cell->get_dof_indices(local);
-      add(Ke, local, zero);
-    }
-  }
-  {
-    FullMatrix<double> Ke(8, 8);
-    std::size_t k = 0;
-    for (const Interface& g : elements) {
-      if (g.glued) continue;
-      interface_matrix(g, Ke);
-      // At the tip of a joint that ends inside the specimen both sides hold the same copy: its jump is zero and its
-      // rows cancel. The local DoFs are merged first, since deal.II's local-to-global functions expect them unique.
-      std::vector<types::global_dof_index> local;
-      std::array<unsigned, 8> slot{};
-      for (unsigned i = 0; i < 8; ++i) {
-        const auto d = element_dofs[k][i];
-        slot[i] = unsigned(std::find(local.begin(), local.end(), d) - local.begin());
-        if (slot[i] == local.size()) local.push_back(d);
-      }
-      ++k;
-      FullMatrix<double> Km(local.size(), local.size());
-      for (unsigned i = 0; i < 8; ++i)
-        for (unsigned j = 0; j < 8; ++j) Km(slot[i], slot[j]) += Ke(i, j);
-      Vector<double> zero(local.size());
-      add(Km, local, zero);
-    }
-  }
+  JointedSystem system(pattern, constraints, platen);
+  assemble_cells(dof, mesh, cell_triangle, C, system);
+  assemble_interfaces(elements, element_dofs, system);
   r.assemble_seconds = clock.lap();
 
   // ---- Solve.
   const bool direct = o.solver == Solver::direct || (o.solver == Solver::automatic && n_dofs < o.direct_dof_limit);
   r.solver_used = direct ? Solver::direct : Solver::cg_amg;
   Vector<double> u(n_dofs);
-  if (direct)
-    solve_direct(K, b, u);
-  else
-    r.iterations = solve_cg_amg(K, b, u, dof_point, dof_component, box, o.cg_tolerance);
+  if (direct) {
+    internal::solve_direct(system.K, system.b, u);
+  } else {
+    // The rotation mode about the centre of the specimen's bounding box; soft joints need more CG iterations.
+    const Point<dim> centre(0.5 * (box.xmin + box.xmax), 0.5 * (box.ymin + box.ymax));
+    r.iterations = internal::solve_cg_amg(system.K, system.b, u, copy_geometry(mesh, split, cdof, n_dofs),
+                                          {centre, o.cg_tolerance, 20000, false},
+                                          {function, "JointedFeOptions", text})
+                       .iterations;
+  }
   constraints.distribute(u);
   r.solve_seconds = clock.lap();
 
   // ---- Reactions (compression positive) and fields.
-  r.top_force = -(g_top * u) * thickness;
-  r.bottom_force = (g_bottom * u) * thickness;
+  r.top_force = -(system.g_top * u) * thickness;
+  r.bottom_force = (system.g_bottom * u) * thickness;
   r.apparent_modulus = (r.top_force / (box.width() * thickness)) / (o.platen_displacement / box.height());
-  r.interface_opening.assign(elements.size(), 0.0);
-  for (std::size_t k = 0; k < elements.size(); ++k) {
-    const Interface& g = elements[k];
-    if (g.glued) continue;
-    double jump[2];  // mean jump over the edge: the mean of its two ends (linear along the edge)
-    for (unsigned c = 0; c < dim; ++c)
-      jump[c] = 0.5 * (u[cdof[g.copy[2]][c]] - u[cdof[g.copy[0]][c]] + u[cdof[g.copy[3]][c]] - u[cdof[g.copy[1]][c]]);
-    r.interface_opening[k] = g.side2 * (jump[0] * g.nx + jump[1] * g.ny);
-  }
-  if (o.fields) {
-    const std::size_t n = mesh.triangles.size();
-    r.ux.assign(n, 0), r.uy.assign(n, 0), r.sxx.assign(n, 0), r.syy.assign(n, 0), r.sxy.assign(n, 0);
-    for (std::size_t t = 0; t < n; ++t) {
-      std::array<double, 6> ue{};  // [x0 y0 x1 y1 x2 y2]
-      for (unsigned i = 0; i < 3; ++i) {
-        const unsigned c = split.corner_copy[3 * t + i];
-        ue[2 * i] = u[cdof[c][0]], ue[2 * i + 1] = u[cdof[c][1]];
-        r.ux[t] += ue[2 * i] / 3, r.uy[t] += ue[2 * i + 1] / 3;
-      }
-      // Strain of the constant strain triangle, then sigma = C_l eps.
-      const auto &p0 = mesh.nodes[mesh.triangles[t][0]], &p1 = mesh.nodes[mesh.triangles[t][1]],
-                 &p2 = mesh.nodes[mesh.triangles[t][2]];
-      const std::array<std::array<double, 2>, 3> v{{{p0[0], p0[1]}, {p1[0], p1[1]}, {p2[0], p2[1]}}};
-      const double two_area = (v[1][0] - v[0][0]) * (v[2][1] - v[0][1]) - (v[2][0] - v[0][0]) * (v[1][1] - v[0][1]);
-      double eps[3] = {0, 0, 0};
-      for (unsigned a = 0; a < 3; ++a) {
-        const auto &q1 = v[(a + 1) % 3], &q2 = v[(a + 2) % 3];
-        const double dx = (q1[1] - q2[1]) / two_area, dy = (q2[0] - q1[0]) / two_area;
-        eps[0] += dx * ue[2 * a], eps[1] += dy * ue[2 * a + 1], eps[2] += dy * ue[2 * a] + dx * ue[2 * a + 1];
-      }
-      const Stiffness3& Cl = C[layer_of(mesh, t)];
-      r.sxx[t] = Cl[0][0] * eps[0] + Cl[0][1] * eps[1] + Cl[0][2] * eps[2];
-      r.syy[t] = Cl[1][0] * eps[0] + Cl[1][1] * eps[1] + Cl[1][2] * eps[2];
-      r.sxy[t] = Cl[2][0] * eps[0] + Cl[2][1] * eps[1] + Cl[2][2] * eps[2];
-    }
-  }
+  r.interface_opening = interface_openings(elements, cdof, u);
+  if (o.fields) centroid_fields(mesh, split, cdof, C, u, r);
   r.fields_seconds = clock.lap();
   r.seconds = total.lap();
   return r;

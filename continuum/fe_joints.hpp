@@ -103,8 +103,8 @@ struct JointedFeResult {
 // Throws std::invalid_argument naming the input for everything a user can get wrong: an empty, clockwise or
 // out-of-range mesh, a wrong layer_constants size, non-admissible constants, an interface that is not an interior
 // mesh edge or is listed twice, a stiffness that is not > 0 or only half infinite, non-positive thickness or
-// displacement. MPI: as solve_elastic (initialised on the first CG+AMG call when nobody did; CG+AMG stages of
-// solve_elastic_jointed run one at a time, but are not serialised against those of solve_elastic).
+// displacement. MPI: as solve_elastic (initialised on the first CG+AMG call when nobody did; the CG+AMG stages of
+// solve_elastic_jointed, solve_elastic and solve_disc run one at a time).
 JointedFeResult solve_elastic_jointed(const TriMesh& mesh, const std::vector<theory::TIConstants>& layer_constants,
                                       double bedding_deg, const std::vector<InterfaceEdge>& interfaces,
                                       double thickness, const JointedFeOptions& options = {});

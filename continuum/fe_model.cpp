@@ -1,12 +1,15 @@
 // deal.II transversely isotropic elastic model on a TriMesh. See fe_model.hpp for the model and its boundary
 // conditions, docs/theory.md (section 2) for the constants, docs/continuum.md for the deal.II 9.4 pitfalls avoided
-// here (CellData<2>(3) for triangles, counter-clockwise cells, MPI before Trilinos, the mapping passed explicitly).
+// here (CellData<2>(3) for triangles, counter-clockwise cells, the mapping passed explicitly; MPI before Trilinos is
+// solvers.cpp's).
 //
 // Stages, each a function below: check inputs -> triangulation straight from the arrays -> DoFs, sparsity and
 // platen DoFs -> assemble K per unit thickness -> keep the platen rows of K, impose the platen displacements ->
-// solve -> reactions from the kept rows (the unconstrained residual K u; there is no body force) -> centroid fields.
+// solve (solvers.cpp) -> reactions from the kept rows (the unconstrained residual K u; there is no body force) ->
+// centroid fields. Also defines what the models of continuum/ share besides the solvers (fe_internal.hpp).
 #include "continuum/fe_model.hpp"
 #include "continuum/fe_internal.hpp"
+#include "continuum/solvers.hpp"
 
 #include <deal.II/base/config.h>
 #include <deal.II/base/index_set.h>
@@ -21,65 +24,26 @@
 #include <deal.II/grid/tria.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/full_matrix.h>
-#include <deal.II/lac/solver_cg.h>
-#include <deal.II/lac/solver_control.h>
-#include <deal.II/lac/sparse_direct.h>
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
-#include <deal.II/lac/trilinos_precondition.h>
-#include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/vector.h>
 #include <deal.II/numerics/matrix_tools.h>
 
-#include <Epetra_MultiVector.h>
-#include <Teuchos_ParameterList.hpp>
-#include <mpi.h>
-
 #include <algorithm>
-#include <cassert>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <limits>
 #include <map>
-#include <mutex>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 namespace rbdem::continuum {
 
-// ---- What the solvers of continuum/ share (fe_internal.hpp) ----------------------------------------------------
+// ---- What the models of continuum/ share (fe_internal.hpp) -----------------------------------------------------
 
 namespace internal {
-
-std::mutex& trilinos_mutex() {
-  static std::mutex m;
-  return m;
-}
-
-void ensure_mpi(const char* solver, const char* direct_option) {
-  static std::once_flag once;
-  std::call_once(once, [&] {
-    int initialized = 0;
-    MPI_Initialized(&initialized);
-    if (initialized) return;  // the application (e.g. under mpirun) owns MPI: leave it alone
-    int finalized = 0;
-    MPI_Finalized(&finalized);
-    if (finalized)
-      throw std::runtime_error(std::string(solver) +
-                               ": MPI has already been finalised, but the CG+AMG solver (Trilinos) needs it; solve "
-                               "before MPI_Finalize or use " + direct_option);
-    int provided = 0;
-    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);
-    std::atexit([] {
-      int done = 0;
-      MPI_Finalized(&done);
-      if (!done) MPI_Finalize();
-    });
-  });
-}
 
 dealii::SymmetricTensor<4, 2> stiffness_tensor(const Stiffness3& C) {
   constexpr unsigned voigt[3][2] = {{0, 0}, {1, 1}, {0, 1}};
@@ -249,31 +213,6 @@ void mark_platens(Triangulation<dim>& tria, const Box& box, double tol) {
     }
 }
 
-// Coordinates and vector component of every DoF (the support points of the affine cells).
-struct DofGeometry {
-  std::vector<Point<dim>> point;
-  std::vector<unsigned char> component;
-};
-
-DofGeometry dof_geometry(const DoFHandler<dim>& dof) {
-  const FiniteElement<dim>& fe = dof.get_fe();
-  DofGeometry g;
-  g.point.resize(dof.n_dofs());
-  g.component.resize(dof.n_dofs());
-  std::vector<types::global_dof_index> local(fe.n_dofs_per_cell());
-  for (const auto& cell : dof.active_cell_iterators()) {
-    cell->get_dof_indices(local);
-    const Point<dim> v0 = cell->vertex(0);
-    const Tensor<1, dim> e1 = cell->vertex(1) - v0, e2 = cell->vertex(2) - v0;
-    for (unsigned i = 0; i < local.size(); ++i) {
-      const Point<dim>& xi = fe.unit_support_point(i);
-      g.point[local[i]] = v0 + xi[0] * e1 + xi[1] * e2;
-      g.component[local[i]] = static_cast<unsigned char>(fe.system_to_component_index(i).first);
-    }
-  }
-  return g;
-}
-
 // The u_x DoF of the bottom-left node (the frictionless pin).
 types::global_dof_index corner_ux_dof(const DoFHandler<dim>& dof, const Box& box, double tol) {
   const FiniteElement<dim>& fe = dof.get_fe();
@@ -369,6 +308,33 @@ void assemble_affine(const DoFHandler<dim>& dof, const Quadrature<dim>& q, const
 
 // ---- Platens -----------------------------------------------------------------------------------------------------
 
+// The platen u_y DoFs and the displacements imposed: u_y = -platen_displacement on the top platen and 0 on the
+// bottom one, u_x = 0 on both (bonded) or at the bottom-left node (frictionless).
+struct PlatenDofs {
+  IndexSet top_uy, bottom_uy;
+  std::map<types::global_dof_index, double> fixed;
+};
+
+PlatenDofs platen_dofs(const DoFHandler<dim>& dof, const Box& box, double tol, const FeOptions& options) {
+  const FiniteElement<dim>& fe = dof.get_fe();
+  const ComponentMask ux_mask = fe.component_mask(FEValuesExtractors::Scalar(0));
+  const ComponentMask uy_mask = fe.component_mask(FEValuesExtractors::Scalar(1));
+  PlatenDofs p;
+  p.top_uy = DoFTools::extract_boundary_dofs(dof, uy_mask, {top_id});
+  p.bottom_uy = DoFTools::extract_boundary_dofs(dof, uy_mask, {bottom_id});
+  if (p.top_uy.n_elements() == 0 || p.bottom_uy.n_elements() == 0)
+    throw std::invalid_argument("solve_elastic: no mesh edge lies on the " +
+                                std::string(p.top_uy.n_elements() == 0 ? "top (y = ymax)" : "bottom (y = ymin)") +
+                                " of the mesh's bounding box; the specimen must be a rectangle loaded along y");
+  for (const auto i : p.top_uy) p.fixed[i] = -options.platen_displacement;
+  for (const auto i : p.bottom_uy) p.fixed[i] = 0.0;
+  if (options.platens == Platens::bonded)
+    for (const auto i : DoFTools::extract_boundary_dofs(dof, ux_mask, {top_id, bottom_id})) p.fixed[i] = 0.0;
+  else
+    p.fixed[corner_ux_dof(dof, box, tol)] = 0.0;  // the one pin: rigid x-translation only
+  return p;
+}
+
 // Rows of the unconstrained K for the platen u_y DoFs: their product with u is the reaction (residual K u - f,
 // f = 0), per unit thickness. Kept before the boundary conditions overwrite them.
 struct ReactionRows {
@@ -389,71 +355,6 @@ struct ReactionRows {
     return s;
   }
 };
-
-// ---- Solvers -----------------------------------------------------------------------------------------------------
-
-void solve_direct(const SparseMatrix<double>& K, const Vector<double>& b, Vector<double>& u,
-                  double& factorise_seconds) {
-  Stopwatch clock;
-  SparseDirectUMFPACK umfpack;
-  umfpack.initialize(K);
-  factorise_seconds = clock.lap();
-  umfpack.vmult(u, b);
-}
-
-// Smoothed-aggregation AMG (Trilinos ML, deal.II's elliptic defaults: Chebyshev smoother of degree 2, KLU on the
-// coarsest level) with the three rigid-body modes of plane elasticity as near null space, preconditioning CG on the
-// deal.II matrix. The DoFs of a node are consecutive (FESystem numbering), which ML's "PDE equations" = 2 needs.
-// Trilinos runs on MPI_COMM_SELF: serial on each rank under mpirun. Returns the CG iterations.
-unsigned solve_cg_amg(const SparseMatrix<double>& K, const Vector<double>& b, Vector<double>& u,
-                      const DofGeometry& geometry, const Box& box, int degree, double tolerance,
-                      double& precondition_seconds) {
-  Stopwatch clock;
-  std::lock_guard<std::mutex> lock(internal::trilinos_mutex());
-  internal::ensure_mpi("solve_elastic", "FeOptions::solver = Solver::direct");
-  const auto n = K.m();
-  TrilinosWrappers::SparseMatrix K_epetra;
-  K_epetra.reinit(complete_index_set(n), complete_index_set(n), K, MPI_COMM_SELF, 0.0, true);
-
-  TrilinosWrappers::PreconditionAMG::AdditionalData data;
-  data.elliptic = true;
-  data.higher_order_elements = degree > 1;
-  Teuchos::ParameterList parameters;
-  std::unique_ptr<Epetra_MultiVector> no_modes;  // deal.II's constant modes would give translations only
-  data.set_parameters(parameters, no_modes, K_epetra);
-
-  // Rigid-body modes about the specimen centre: u = (1, 0), (0, 1), (-(y - yc), x - xc). With the rotation ML
-  // needs a third fewer CG iterations than with the two translations of DoFTools::extract_constant_modes (P2 at
-  // 1e5 DoFs: 30 instead of 44).
-  Epetra_MultiVector modes(K_epetra.trilinos_matrix().OperatorDomainMap(), 3);
-  const double xc = 0.5 * (box.xmin + box.xmax), yc = 0.5 * (box.ymin + box.ymax);
-  for (types::global_dof_index i = 0; i < n; ++i) {
-    const bool x = geometry.component[i] == 0;
-    assert(x == (i % 2 == 0));  // node-wise (u_x, u_y) pairs, as "PDE equations" = 2 assumes
-    modes[0][i] = x ? 1.0 : 0.0;
-    modes[1][i] = x ? 0.0 : 1.0;
-    modes[2][i] = x ? -(geometry.point[i][1] - yc) : geometry.point[i][0] - xc;
-  }
-  parameters.set("null space: type", "pre-computed");
-  parameters.set("null space: dimension", modes.NumVectors());
-  parameters.set("null space: vectors", modes.Values());
-  parameters.set("PDE equations", dim);
-
-  TrilinosWrappers::PreconditionAMG amg;
-  amg.initialize(K_epetra, parameters);
-  precondition_seconds = clock.lap();
-
-  SolverControl control(10000, tolerance * b.l2_norm());
-  SolverCG<Vector<double>> cg(control);
-  try {
-    cg.solve(K, u, b, amg);
-  } catch (const SolverControl::NoConvergence& e) {
-    throw std::runtime_error("solve_elastic: CG+AMG did not reach FeOptions::cg_tolerance in " +
-                             std::to_string(e.last_step) + " iterations (residual " + std::to_string(e.last_residual) +
-                             "); try Solver::direct or a looser tolerance");
-  }
-  return control.last_step();
-}
 
 // ---- Fields ------------------------------------------------------------------------------------------------------
 
@@ -509,22 +410,7 @@ FeResult solve_elastic(const TriMesh& mesh, const theory::TIConstants& c, double
     DoFTools::make_sparsity_pattern(dof, dsp);
     pattern.copy_from(dsp);
   }
-  const ComponentMask ux_mask = fe.component_mask(FEValuesExtractors::Scalar(0));
-  const ComponentMask uy_mask = fe.component_mask(FEValuesExtractors::Scalar(1));
-  const IndexSet top_uy = DoFTools::extract_boundary_dofs(dof, uy_mask, {top_id});
-  const IndexSet bottom_uy = DoFTools::extract_boundary_dofs(dof, uy_mask, {bottom_id});
-  if (top_uy.n_elements() == 0 || bottom_uy.n_elements() == 0)
-    throw std::invalid_argument("solve_elastic: no mesh edge lies on the " +
-                                std::string(top_uy.n_elements() == 0 ? "top (y = ymax)" : "bottom (y = ymin)") +
-                                " of the mesh's bounding box; the specimen must be a rectangle loaded along y");
-  std::map<types::global_dof_index, double> fixed;
-  for (const auto i : top_uy) fixed[i] = -options.platen_displacement;
-  for (const auto i : bottom_uy) fixed[i] = 0.0;
-  if (options.platens == Platens::bonded)
-    for (const auto i : DoFTools::extract_boundary_dofs(dof, ux_mask, {top_id, bottom_id})) fixed[i] = 0.0;
-  else
-    fixed[corner_ux_dof(dof, box, tol)] = 0.0;  // the one pin: rigid x-translation only
-  const DofGeometry geometry = dof_geometry(dof);
+  const PlatenDofs platen = platen_dofs(dof, box, tol, options);
   result.setup_seconds = clock.lap();
 
   // Assembly per unit thickness; the platen rows are kept before the boundary values overwrite them.
@@ -535,21 +421,27 @@ FeResult solve_elastic(const TriMesh& mesh, const theory::TIConstants& c, double
   else
     internal::assemble_fe_values(dof, mapping, quadrature, C, K);
   ReactionRows top_rows, bottom_rows;
-  top_rows.keep(K, top_uy);
-  bottom_rows.keep(K, bottom_uy);
+  top_rows.keep(K, platen.top_uy);
+  bottom_rows.keep(K, platen.bottom_uy);
   Vector<double> u(n_dofs), b(n_dofs);
-  MatrixTools::apply_boundary_values(fixed, K, u, b, true);  // symmetric: eliminates the columns too
+  MatrixTools::apply_boundary_values(platen.fixed, K, u, b, true);  // symmetric: eliminates the columns too
   result.assemble_seconds = clock.lap();
 
   // Solve.
   const bool direct =
       options.solver == Solver::direct || (options.solver == Solver::automatic && n_dofs < options.direct_dof_limit);
   result.solver_used = direct ? Solver::direct : Solver::cg_amg;
-  if (direct)
-    solve_direct(K, b, u, result.precondition_seconds);
-  else
-    result.iterations =
-        solve_cg_amg(K, b, u, geometry, box, options.degree, options.cg_tolerance, result.precondition_seconds);
+  if (direct) {
+    result.precondition_seconds = internal::solve_direct(K, b, u);
+  } else {
+    // The rotation mode about the centre of the specimen's bounding box.
+    const Point<dim> centre(0.5 * (box.xmin + box.xmax), 0.5 * (box.ymin + box.ymax));
+    const internal::CgAmgReport cg = internal::solve_cg_amg(
+        K, b, u, internal::dof_geometry(dof), {centre, options.cg_tolerance, 10000, options.degree > 1},
+        {"solve_elastic", "FeOptions", [](double v) { return std::to_string(v); }});
+    result.iterations = cg.iterations;
+    result.precondition_seconds = cg.precondition_seconds;
+  }
   result.solve_seconds = clock.lap();
 
   // Reactions (compression positive) and fields.

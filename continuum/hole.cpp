@@ -2,8 +2,10 @@
 //
 // Stages, each a function below: check inputs -> graded polar mesh (vertices and cells straight from arrays,
 // boundary ids by coordinate, PolarManifold on the hole) -> DoFs and constraints (symmetry planes or three point
-// pins) -> assemble K and the traction load per unit thickness -> UMFPACK -> FE stress at the hole vertices.
+// pins) -> assemble K and the traction load per unit thickness -> UMFPACK (solvers.cpp) -> FE stress at the hole
+// vertices.
 #include "continuum/hole.hpp"
+#include "continuum/solvers.hpp"
 
 #include <deal.II/base/function.h>
 #include <deal.II/base/geometry_info.h>
@@ -22,7 +24,6 @@
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/full_matrix.h>
-#include <deal.II/lac/sparse_direct.h>
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
 #include <deal.II/lac/vector.h>
@@ -295,9 +296,7 @@ HoleResult solve_hole(const theory::TIConstants& c, double material_angle_deg, t
   Vector<double> f(dof.n_dofs()), u(dof.n_dofs());
   assemble(dof, mapping, C, p, constraints, K, f);
 
-  SparseDirectUMFPACK direct;
-  direct.initialize(K);
-  direct.vmult(u, f);
+  internal::solve_direct(K, f, u);
   constraints.distribute(u);
 
   // Hoop and radial stress at the hole vertices; the top of the hole is the vertex with the largest y.
