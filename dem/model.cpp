@@ -45,18 +45,15 @@ bool Model<2>::bonded(int i, int j, const std::vector<std::uint8_t>& broken) con
   return false;
 }
 
-Model<2> build_model(const Topology<2>& topo, const Scene& scene, double mass_scaling) {
-  constexpr double deg = std::numbers::pi / 180.0;
-  Model<2> m;
-  m.topology = &topo;
-  m.thickness = topo.thickness;
-  m.width = topo.width(), m.height = topo.height();
-  m.xmin = topo.xmin, m.xmax = topo.xmax, m.ymin = topo.ymin, m.ymax = topo.ymax;
+namespace {
 
+using MaterialTable = std::array<const MaterialParams*, material_count>;
+
+// The blocks: masses and inertias (rock2's blocks at its density, both with the mass scaling), reference centroids,
+// shapes, inradii.
+void build_blocks(const Topology<2>& topo, const Scene& scene, double mass_scaling, Model<2>& m) {
   const auto& G = topo.blocks;
   const std::size_t nb = G.size();
-  const MaterialMap materials = assign_materials(topo, scene);
-  m.block_material = materials.block;
   // The topology's masses are at rock.density; blocks of rock2 scale by the density ratio.
   const double rock2_density = scene.rock2.density / scene.rock.density;
   m.mass.resize(nb), m.inv_mass.resize(nb), m.inertia.resize(nb);
@@ -78,10 +75,11 @@ Model<2> build_model(const Topology<2>& topo, const Scene& scene, double mass_sc
     m.inradius[b] = 2.0 * G.area[b] / perimeter;
   }
   m.fixed.assign(nb, 0);
+}
 
-  // Laws by material (dem/materials.hpp).
-  std::array<const MaterialParams*, material_count> mat{};
-  for (std::size_t k = 0; k < material_count; ++k) mat[k] = &material_params(scene, k);
+// The law of each material (dem/materials.hpp).
+void build_laws(const MaterialTable& mat, double thickness, Model<2>& m) {
+  constexpr double deg = std::numbers::pi / 180.0;
   for (std::size_t k = 0; k < material_count; ++k) {
     BondKindLaw& kl = m.law[k];
     kl.modulus = mat[k]->effective_modulus;
@@ -94,12 +92,16 @@ Model<2> build_model(const Topology<2>& topo, const Scene& scene, double mass_sc
     kl.bond.strength = {mat[k]->tensile_strength, mat[k]->cohesion, std::tan(mat[k]->friction_deg * deg),
                         mat[k]->moment_factor};
     const double sc = mat[k]->tensile_strength;
-    kl.bond.softening = 2.0 * mat[k]->fracture_energy / (sc * sc * m.thickness);
+    kl.bond.softening = 2.0 * mat[k]->fracture_energy / (sc * sc * thickness);
   }
+}
 
+// The bond frames: lever arms, reference normal, length, the stiffnesses and the strength in force units from the
+// bond's law.
+void build_frames(const Topology<2>& topo, Model<2>& m) {
+  const auto& G = topo.blocks;
   const auto& N = topo.bonds;
   const std::size_t nbond = N.size();
-  m.bi = N.i, m.bj = N.j, m.kind = N.kind, m.material = materials.bond;
   BondFrames& f = m.frame;
   for (auto* v : {&f.rix, &f.riy, &f.rjx, &f.rjy, &f.n0x, &f.n0y, &f.L, &f.inv_L, &f.K, &f.Ks, &f.KI, &f.A,
                   &f.rupture, &f.mu_bonded, &f.tension_limit, &f.cohesion_A, &f.tan_phi, &f.beta_m})
@@ -121,36 +123,42 @@ Model<2> build_model(const Topology<2>& topo, const Scene& scene, double mass_sc
     f.tension_limit[b] = st.sigma_c * f.A[b], f.cohesion_A[b] = st.cohesion * f.A[b];
     f.tan_phi[b] = st.tan_phi, f.beta_m[b] = st.beta_m;
   }
+}
 
-  // Strength heterogeneity: per-bond factors w from a Weibull distribution of modulus m scaled to mean 1,
-  // w = (-ln(1 - u))^(1/m) / Gamma(1 + 1/m), one uniform u in (0, 1) per bond in bond order from mesh.strength_seed
-  // (drawn for every bond, so a material's factors do not depend on which other materials are heterogeneous). A
-  // softening bond keeps its fracture energy: r_u ~ 1 / sigma_c^2 scales by 1 / w^2.
+// Strength heterogeneity: per-bond factors w from a Weibull distribution of modulus m scaled to mean 1,
+// w = (-ln(1 - u))^(1/m) / Gamma(1 + 1/m), one uniform u in (0, 1) per bond in bond order from mesh.strength_seed
+// (drawn for every bond, so a material's factors do not depend on which other materials are heterogeneous). A
+// softening bond keeps its fracture energy: r_u ~ 1 / sigma_c^2 scales by 1 / w^2.
+void apply_heterogeneity(const MaterialTable& mat, int seed, Model<2>& m) {
+  BondFrames& f = m.frame;
+  const std::size_t nbond = m.num_bonds();
   f.strength_factor.assign(nbond, 1.0);
   bool heterogeneous = false;
   for (std::size_t k = 0; k < material_count; ++k) heterogeneous = heterogeneous || mat[k]->weibull_modulus > 0;
-  if (heterogeneous) {
-    std::mt19937_64 random(static_cast<std::uint64_t>(scene.mesh.strength_seed));
-    for (std::size_t b = 0; b < nbond; ++b) {
-      const double u = (double(random() >> 11) + 0.5) * 0x1.0p-53;  // (0, 1), the same on every platform
-      const double wm = mat[m.material[b]]->weibull_modulus;
-      if (!(wm > 0)) continue;
-      const double w = std::pow(-std::log1p(-u), 1.0 / wm) / std::tgamma(1.0 + 1.0 / wm);
-      f.strength_factor[b] = w;
-      f.tension_limit[b] *= w, f.cohesion_A[b] *= w;
-      f.rupture[b] /= w * w;
-    }
+  if (!heterogeneous) return;
+  std::mt19937_64 random(static_cast<std::uint64_t>(seed));
+  for (std::size_t b = 0; b < nbond; ++b) {
+    const double u = (double(random() >> 11) + 0.5) * 0x1.0p-53;  // (0, 1), the same on every platform
+    const double wm = mat[m.material[b]]->weibull_modulus;
+    if (!(wm > 0)) continue;
+    const double w = std::pow(-std::log1p(-u), 1.0 / wm) / std::tgamma(1.0 + 1.0 / wm);
+    f.strength_factor[b] = w;
+    f.tension_limit[b] *= w, f.cohesion_A[b] *= w;
+    f.rupture[b] /= w * w;
   }
+}
 
-  // CSR with the block's role encoded: entry = 2 bond + (block is j).
+// The CSR of the force gather (entry = 2 bond + (block is j)) and its padded copy, as wide as the block with the
+// most bonds and at least 3 (every block of a triangle mesh).
+void build_gather(const Topology<2>& topo, Model<2>& m) {
+  const std::size_t nb = m.num_blocks();
   m.csr_offset = topo.bond_offset;
   m.csr_entry.resize(topo.bond_of.size());
   for (std::size_t b = 0; b < nb; ++b)
     for (int o = m.csr_offset[b]; o < m.csr_offset[b + 1]; ++o) {
       const int bond = topo.bond_of[std::size_t(o)];
-      m.csr_entry[std::size_t(o)] = 2 * bond + (N.j[std::size_t(bond)] == int(b) ? 1 : 0);
+      m.csr_entry[std::size_t(o)] = 2 * bond + (topo.bonds.j[std::size_t(bond)] == int(b) ? 1 : 0);
     }
-  // The padded gather: as wide as the block with the most bonds, and at least 3 (every block of a triangle mesh).
   m.gather_width = 3;
   for (std::size_t b = 0; b < nb; ++b)
     m.gather_width = std::max(m.gather_width, m.csr_offset[b + 1] - m.csr_offset[b]);
@@ -159,11 +167,31 @@ Model<2> build_model(const Topology<2>& topo, const Scene& scene, double mass_sc
   for (std::size_t b = 0; b < nb; ++b)
     for (int o = m.csr_offset[b]; o < m.csr_offset[b + 1]; ++o)
       m.gather[width * b + std::size_t(o - m.csr_offset[b])] = m.csr_entry[std::size_t(o)];
+}
 
+}  // namespace
+
+Model<2> build_model(const Topology<2>& topo, const Scene& scene, double mass_scaling) {
+  Model<2> m;
+  m.topology = &topo;
+  m.thickness = topo.thickness;
+  m.width = topo.width(), m.height = topo.height();
+  m.xmin = topo.xmin, m.xmax = topo.xmax, m.ymin = topo.ymin, m.ymax = topo.ymax;
+  const MaterialMap materials = assign_materials(topo, scene);
+  m.block_material = materials.block;
+  build_blocks(topo, scene, mass_scaling, m);
+  MaterialTable mat{};
+  for (std::size_t k = 0; k < material_count; ++k) mat[k] = &material_params(scene, k);
+  build_laws(mat, m.thickness, m);
+  m.bi = topo.bonds.i, m.bj = topo.bonds.j, m.kind = topo.bonds.kind, m.material = materials.bond;
+  build_frames(topo, m);
+  apply_heterogeneity(mat, scene.mesh.strength_seed, m);
+  build_gather(topo, m);
   double mean_length = 0;
-  for (double L : N.length) mean_length += L;
+  for (double L : topo.bonds.length) mean_length += L;
+  const std::size_t nbond = m.num_bonds();
   mean_length = nbond ? mean_length / double(nbond) : 1e-3;
-  m.skin = 0.2 * mean_length;
+  m.skin = 0.2 * mean_length;  // the broad phase's skin: 0.2 mean edge lengths
   return m;
 }
 

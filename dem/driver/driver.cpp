@@ -88,6 +88,7 @@ class TestRun {
       peaks_.after_step(view);
       frames_.after_step(view);
       const bool sampled = curve_.after_step(view);
+      protocol_.control(sim_, reading, rec_);
       if (std::string reason; protocol_.stop(sim_, reading, rec_, reason)) {
         if (!sampled) rec_.curve.push_back(sample_point(sim_, reading));
         stop_reason_ = reason;

@@ -7,10 +7,12 @@
 //             thread computes the stability limit
 //   start()   before the explicit run: boundary set-up and a static start where it is exact
 //   read()    after each step: the axial strain and the stresses that the curve, the peak and the stop criterion use
+//   control() after each step: what the boundaries do next
 //   stop()    whether the test is over, and why
 //   results() the test's own numbers (summary.json), and finish() its failure classes where it has its own
-// A protocol is one file in dem/driver/protocols/ with one line in the registry (dem/driver/registry.cpp); the
-// loop, the recorders, the watchdog, the checkpoints, the summary and the writers are shared.
+// A protocol is one file in dem/driver/protocols/ with one line in the registry (dem/driver/registry.cpp), or one
+// registered at run time (register_protocol); the loop, the recorders, the watchdog, the checkpoints, the summary
+// and the writers are shared.
 #pragma once
 
 #include <atomic>
@@ -52,6 +54,12 @@ class LoadingProtocol {
   virtual void prepare(const Simulation& sim, const std::atomic<int>& threads) { (void)sim, (void)threads; }
   // The reading after a step.
   virtual Reading read(const Simulation& sim) const = 0;
+  // After each step's reading and monitors: what the protocol changes before the next step (a platen's speed or
+  // servo, a group's velocity: a cyclic or a hold test). What it keeps must live in the simulation's boundaries or
+  // the record, so that a resumed run goes on the same.
+  virtual void control(Simulation& sim, const Reading& reading, const TestRecord& record) {
+    (void)sim, (void)reading, (void)record;
+  }
   // The most explicit steps the run may take (the max_strain limit).
   virtual long max_steps(const Simulation& sim, const TestRecord& record) const = 0;
   // After each step (and its samples): true when the test is over; `reason` says why ("post_peak",

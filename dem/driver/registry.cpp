@@ -18,11 +18,26 @@ namespace rbdem {
 RBDEM_PROTOCOLS(RBDEM_DECLARE)
 #undef RBDEM_DECLARE
 
-const std::vector<ProtocolInfo>& protocols() {
+namespace {
+
+std::vector<ProtocolInfo>& registry() {
 #define RBDEM_ENTRY(name) name##_protocol(),
-  static const std::vector<ProtocolInfo> all = {RBDEM_PROTOCOLS(RBDEM_ENTRY)};
+  static std::vector<ProtocolInfo> all = {RBDEM_PROTOCOLS(RBDEM_ENTRY)};
 #undef RBDEM_ENTRY
   return all;
+}
+
+}  // namespace
+
+const std::vector<ProtocolInfo>& protocols() { return registry(); }
+
+void register_protocol(ProtocolInfo protocol) {
+  for (const ProtocolInfo& p : registry())
+    if (p.name == protocol.name)
+      throw std::invalid_argument("a protocol named '" + protocol.name + "' is registered already");
+  if (!protocol.make || !protocol.check || !protocol.headline)
+    throw std::invalid_argument("protocol '" + protocol.name + "': make, check and headline are required");
+  registry().push_back(std::move(protocol));
 }
 
 const ProtocolInfo& protocol_info(const std::string& name) {

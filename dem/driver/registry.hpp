@@ -35,8 +35,12 @@ struct ProtocolInfo {
 
 // The protocol named `name`; a SceneError that lists the names when there is none.
 const ProtocolInfo& protocol_info(const std::string& name);
-// Every registered protocol, in the registry's order.
+// Every registered protocol: the built-in ones in the registry's order, then those registered at run time.
 const std::vector<ProtocolInfo>& protocols();
+// Registers a protocol at run time (a test's own, a script's): from then on protocol_info finds it and run_case
+// runs it like a built-in one. Throws std::invalid_argument when the name is taken or a function is missing. Not
+// for concurrent use with runs: register before running.
+void register_protocol(ProtocolInfo protocol);
 
 // Refuses a confining pressure for a test that does not apply one (every protocol but the confined ones).
 void refuse_confining_pressure(const std::string& test, const Scene& scene);
