@@ -3,10 +3,8 @@
 #include "compare/gate/elastic_gate.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <exception>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
@@ -14,6 +12,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "common/parallel_map.hpp"
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
 #include "dem/version.hpp"
@@ -30,29 +29,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-// Runs job(k) for k in [0, n) on up to `threads` threads; rethrows the first exception.
-void parallel_for(std::size_t n, int threads, const std::function<void(std::size_t)>& job) {
-  const std::size_t workers = std::min<std::size_t>(n, std::size_t(std::max(threads, 1)));
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  auto work = [&]() {
-    for (std::size_t k = next++; k < n; k = next++) {
-      try {
-        job(k);
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (std::size_t w = 1; w < workers; ++w) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
-}
 
 // One DEM measurement: the mesh (kept for the FE stage), the virtual test and, with fields, the displacements.
 struct DemJob {
@@ -199,7 +175,7 @@ void linear_check(ElasticReport& rep, const std::vector<DemJob>& jobs, const std
     const Scene s = dip_scene(scene, 0, true);
     intact = isotropic_constants(virtual_test(jobs.back().topo, s, 0, options.end_fraction, nullptr, true), rep.plane);
   }
-  parallel_for(rep.angles.size(), threads, [&](std::size_t k) {
+  parallel_map(rep.angles.size(), threads, [&](std::size_t k) {
     ElasticAngle& a = rep.angles[k];
     const DemJob& job = jobs[k];
     const Scene s = dip_scene(scene, a.beta_deg, false);
@@ -303,7 +279,7 @@ ElasticReport run_elastic_gate(const Scene& scene_in, const ElasticGateOptions& 
   for (std::size_t k = 0; k < options.betas.size(); ++k) jobs[k].beta_deg = options.betas[k];
   jobs.back().intact = true;
   const auto t_dem = Clock::now();
-  parallel_for(jobs.size(), threads, [&](std::size_t k) {
+  parallel_map(jobs.size(), threads, [&](std::size_t k) {
     DemJob& job = jobs[k];
     const Scene s = dip_scene(scene, job.beta_deg, job.intact);
     job.mesh = make_mesh(s);
@@ -391,7 +367,7 @@ ElasticReport run_elastic_gate(const Scene& scene_in, const ElasticGateOptions& 
     rep.fe_available = true;
     const auto t_fe = Clock::now();
     const bool dem_ok = rep.dem.admissible, goodman_ok = rep.goodman.constants.admissible();
-    parallel_for(rep.angles.size(), threads, [&](std::size_t k) {
+    parallel_map(rep.angles.size(), threads, [&](std::size_t k) {
       ElasticAngle& a = rep.angles[k];
       const DemJob& job = jobs[k];
       const auto t = Clock::now();
