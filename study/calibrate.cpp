@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <set>
 
 #include <Eigen/Dense>
@@ -107,14 +108,11 @@ CalibrationSpec load_calibration(const std::filesystem::path& path) {
   return spec;
 }
 
-CalibrationResult calibrate(const CalibrationSpec& spec, const std::filesystem::path& out, int workers,
-                            const std::function<void(const std::string&)>& log) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::size_t n = spec.parameters.size();
-  std::vector<std::size_t> opt;  // indices of optimised targets
-  for (std::size_t k = 0; k < spec.targets.size(); ++k)
-    if (optimised(spec.targets[k])) opt.push_back(k);
-  const std::size_t m = opt.size();
+namespace {
+
+// The dips each evaluation runs: those of the strength and modulus targets and, when a target reads the whole dip
+// curve (min_strength, anisotropy, min_angle), spec.dips.
+std::set<double> evaluation_dips(const CalibrationSpec& spec) {
   bool need_dips = false;
   std::set<double> betas;
   for (const auto& t : spec.targets) {
@@ -123,18 +121,74 @@ CalibrationResult calibrate(const CalibrationSpec& spec, const std::filesystem::
   }
   if (need_dips)
     for (double d : spec.dips) betas.insert(d);
+  return betas;
+}
 
-  CalibrationResult result;
-  auto scene_for = [&](const std::vector<double>& p) {
-    Scene s = spec.base;
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t k = 0; k < spec.parameters[i].keys.size(); ++k)
-        set_parameter(s, spec.parameters[i].keys[k], fmt::format("{}", p[i] * spec.parameters[i].ratios[k]));
-    validate(s);
-    return s;
-  };
-  auto evaluate = [&](const std::vector<double>& p, const char* kind) {
-    const Scene s = scene_for(p);
+// The base scene with every parameter's keys set to its value p[i] times the key's ratio, validated.
+Scene scene_for(const CalibrationSpec& spec, const std::vector<double>& p) {
+  Scene s = spec.base;
+  for (std::size_t i = 0; i < spec.parameters.size(); ++i)
+    for (std::size_t k = 0; k < spec.parameters[i].keys.size(); ++k)
+      set_parameter(s, spec.parameters[i].keys[k], fmt::format("{}", p[i] * spec.parameters[i].ratios[k]));
+  validate(s);
+  return s;
+}
+
+// Every target's quantity from one evaluation's cases (their summaries, by dip).
+std::vector<double> measure_targets(const CalibrationSpec& spec, const std::vector<CaseResult>& results) {
+  std::map<double, const nlohmann::json*> at;
+  for (const auto& r : results) at[r.c.beta] = &r.summary;
+  std::vector<double> measured;
+  for (const auto& t : spec.targets) {
+    double v = 0;
+    if (t.quantity == "strength") v = (*at.at(t.beta))["peak_stress_pa"].get<double>();
+    else if (t.quantity == "modulus") v = (*at.at(t.beta))["youngs_modulus_pa"].get<double>();
+    else {
+      double mn = std::numeric_limits<double>::infinity(), arg = 0;
+      for (double d : spec.dips) {
+        const double s_d = (*at.at(d))["peak_stress_pa"].get<double>();
+        if (s_d < mn) mn = s_d, arg = d;
+      }
+      if (t.quantity == "min_strength") v = mn;
+      else if (t.quantity == "min_angle") v = arg;
+      else v = (*at.at(90.0))["peak_stress_pa"].get<double>() / mn;  // anisotropy
+    }
+    measured.push_back(v);
+  }
+  return measured;
+}
+
+// The log line of one evaluation: its parameters, every target as measured (with its error, or its target where a
+// percentage means nothing) and the max error.
+std::string evaluation_line(const CalibrationSpec& spec, const CalibrationIteration& it) {
+  std::string line = fmt::format("{:>2} {:<9}", it.iteration, it.kind);
+  for (std::size_t i = 0; i < spec.parameters.size(); ++i)
+    line += fmt::format(" {}={:.4g}", spec.parameters[i].name, it.parameters[i]);
+  line += " |";
+  for (std::size_t k = 0; k < spec.targets.size(); ++k) {
+    const bool pct = spec.targets[k].quantity != "min_angle" && spec.targets[k].quantity != "anisotropy";
+    line += pct ? fmt::format(" {}={:.4g} ({:+.1f}%)", spec.targets[k].label(), it.measured[k],
+                              100 * (it.measured[k] / spec.targets[k].value - 1))
+                : fmt::format(" {}={:.3g} (target {:g})", spec.targets[k].label(), it.measured[k],
+                              spec.targets[k].value);
+  }
+  line += fmt::format(" | max error {:.1f}%", 100 * it.max_error);
+  return line;
+}
+
+// The evaluations of one calibration: each runs the dip study of a parameter set under out/eval_NN, measures the
+// targets, logs a line and is kept in result.history. Also the maps between parameters and the search's log space.
+struct Evaluator {
+  const CalibrationSpec& spec;
+  std::vector<std::size_t> opt;  // indices of optimised targets
+  std::set<double> betas;        // the dips each evaluation runs
+  std::filesystem::path out;
+  int workers = 0;
+  const std::function<void(const std::string&)>& log;
+  CalibrationResult& result;
+
+  CalibrationIteration operator()(const std::vector<double>& p, const char* kind) {
+    const Scene s = scene_for(spec, p);
     StudySpec st = dip_study(s, "calibration");
     st.dips.assign(betas.begin(), betas.end());
     const auto dir = out / fmt::format("eval_{:02d}", result.evaluations);
@@ -142,77 +196,44 @@ CalibrationResult calibrate(const CalibrationSpec& spec, const std::filesystem::
     ro.workers = workers;
     const auto results = run_cases(expand(st), dir, ro);
     ++result.evaluations;
-    std::map<double, const nlohmann::json*> at;
-    for (const auto& r : results) at[r.c.beta] = &r.summary;
     CalibrationIteration it;
     it.kind = kind;
     it.parameters = p;
-    for (const auto& t : spec.targets) {
-      double v = 0;
-      if (t.quantity == "strength") v = (*at.at(t.beta))["peak_stress_pa"].get<double>();
-      else if (t.quantity == "modulus") v = (*at.at(t.beta))["youngs_modulus_pa"].get<double>();
-      else {
-        double mn = std::numeric_limits<double>::infinity(), arg = 0;
-        for (double d : spec.dips) {
-          const double s_d = (*at.at(d))["peak_stress_pa"].get<double>();
-          if (s_d < mn) mn = s_d, arg = d;
-        }
-        if (t.quantity == "min_strength") v = mn;
-        else if (t.quantity == "min_angle") v = arg;
-        else v = (*at.at(90.0))["peak_stress_pa"].get<double>() / mn;  // anisotropy
-      }
-      it.measured.push_back(v);
-    }
-    for (std::size_t j : opt) it.max_error = std::max(it.max_error, std::abs(it.measured[j] / spec.targets[j].value - 1));
+    it.measured = measure_targets(spec, results);
+    for (std::size_t j : opt)
+      it.max_error = std::max(it.max_error, std::abs(it.measured[j] / spec.targets[j].value - 1));
     it.iteration = int(result.history.size());
-    std::string line = fmt::format("{:>2} {:<9}", it.iteration, kind);
-    for (std::size_t i = 0; i < n; ++i) line += fmt::format(" {}={:.4g}", spec.parameters[i].name, p[i]);
-    line += " |";
-    for (std::size_t k = 0; k < spec.targets.size(); ++k) {
-      const bool pct = spec.targets[k].quantity != "min_angle" && spec.targets[k].quantity != "anisotropy";
-      line += pct ? fmt::format(" {}={:.4g} ({:+.1f}%)", spec.targets[k].label(), it.measured[k],
-                                100 * (it.measured[k] / spec.targets[k].value - 1))
-                  : fmt::format(" {}={:.3g} (target {:g})", spec.targets[k].label(), it.measured[k],
-                                spec.targets[k].value);
-    }
-    line += fmt::format(" | max error {:.1f}%", 100 * it.max_error);
-    log(line);
+    log(evaluation_line(spec, it));
     result.history.push_back(it);
     return it;
-  };
-  auto residual = [&](const CalibrationIteration& it) {
-    Eigen::VectorXd r(static_cast<Eigen::Index>(m));
-    for (std::size_t j = 0; j < m; ++j) r[long(j)] = std::log(it.measured[opt[j]] / spec.targets[opt[j]].value);
+  }
+  // log(measured / target) of the optimised targets: the residual the search drives to zero.
+  Eigen::VectorXd residual(const CalibrationIteration& it) const {
+    Eigen::VectorXd r(static_cast<Eigen::Index>(opt.size()));
+    for (std::size_t j = 0; j < opt.size(); ++j)
+      r[long(j)] = std::log(it.measured[opt[j]] / spec.targets[opt[j]].value);
     return r;
-  };
-  auto to_x = [&](const std::vector<double>& p) {
-    Eigen::VectorXd x(static_cast<Eigen::Index>(n));
-    for (std::size_t i = 0; i < n; ++i) x[long(i)] = std::log(p[i]);
+  }
+  Eigen::VectorXd to_x(const std::vector<double>& p) const {
+    Eigen::VectorXd x(static_cast<Eigen::Index>(p.size()));
+    for (std::size_t i = 0; i < p.size(); ++i) x[long(i)] = std::log(p[i]);
     return x;
-  };
-  auto to_p = [&](const Eigen::VectorXd& x) {
-    std::vector<double> p(n);
-    for (std::size_t i = 0; i < n; ++i)
+  }
+  // The parameters of a point in log space, clamped to [min, max].
+  std::vector<double> to_p(const Eigen::VectorXd& x) const {
+    std::vector<double> p(spec.parameters.size());
+    for (std::size_t i = 0; i < p.size(); ++i)
       p[i] = std::clamp(std::exp(x[long(i)]), spec.parameters[i].min, spec.parameters[i].max);
     return p;
-  };
+  }
+};
 
-  std::vector<double> p0(n);
-  for (std::size_t i = 0; i < n; ++i) p0[i] = spec.parameters[i].start;
-  CalibrationIteration cur = evaluate(p0, "start");
-  result.best = cur;
-  Eigen::VectorXd x = to_x(p0), r = residual(cur);
-  // Initial Jacobian d log(measured) / d log(parameter) by forward differences of 15 %.
-  Eigen::MatrixXd J(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(n));
-  const double h = std::log(1.15);
-  if (cur.max_error > spec.tolerance)
-    for (std::size_t i = 0; i < n; ++i) {
-      Eigen::VectorXd xi = x;
-      xi[long(i)] += h;
-      const auto it = evaluate(to_p(xi), "jacobian");
-      J.col(long(i)) = (residual(it) - r) / h;
-      if (it.max_error < result.best.max_error) result.best = it;
-    }
+// Levenberg-Marquardt from the point x (residual r) with Broyden's updates of the Jacobian J (all three updated in
+// place), until the best evaluation is within the tolerance, the step vanishes or spec.max_iterations steps are
+// spent. A step that does not lower the residual is kept in the history as "rejected" and raises the damping.
+void broyden_search(Evaluator& evaluate, Eigen::VectorXd& x, Eigen::VectorXd& r, Eigen::MatrixXd& J) {
+  const CalibrationSpec& spec = evaluate.spec;
+  CalibrationResult& result = evaluate.result;
   double lambda = 1e-3;
   for (int iter = 0; iter < spec.max_iterations && result.best.max_error > spec.tolerance; ++iter) {
     const Eigen::MatrixXd JtJ = J.transpose() * J;
@@ -221,11 +242,11 @@ CalibrationResult calibrate(const CalibrationSpec& spec, const std::filesystem::
     Eigen::VectorXd dx = A.ldlt().solve(-J.transpose() * r);
     const double cap = std::log(3.0);
     if (dx.cwiseAbs().maxCoeff() > cap) dx *= cap / dx.cwiseAbs().maxCoeff();
-    const Eigen::VectorXd xn = to_x(to_p(x + dx));
+    const Eigen::VectorXd xn = evaluate.to_x(evaluate.to_p(x + dx));
     const Eigen::VectorXd step = xn - x;
     if (step.norm() < 1e-6) break;
-    const auto it = evaluate(to_p(xn), "step");
-    const Eigen::VectorXd rn = residual(it);
+    const auto it = evaluate(evaluate.to_p(xn), "step");
+    const Eigen::VectorXd rn = evaluate.residual(it);
     J += ((rn - r) - J * step) * step.transpose() / step.squaredNorm();  // Broyden's update
     if (it.max_error < result.best.max_error) result.best = it;
     if (rn.squaredNorm() < r.squaredNorm()) {
@@ -235,11 +256,10 @@ CalibrationResult calibrate(const CalibrationSpec& spec, const std::filesystem::
       result.history.back().kind = "rejected";
     }
   }
-  result.converged = result.best.max_error <= spec.tolerance;
-  result.scene = scene_for(result.best.parameters);
-  result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
 
-  // calibration.csv, calibrated.toml
+// calibration.csv (every evaluation) and calibrated.toml (the best scene, its errors in a header).
+void write_calibration(const CalibrationSpec& spec, const CalibrationResult& result, const std::filesystem::path& out) {
   std::string csv = "iteration,kind";
   for (const auto& p : spec.parameters) csv += "," + p.name;
   for (const auto& t : spec.targets) csv += "," + t.label() + "," + t.label() + "_target";
@@ -260,6 +280,40 @@ CalibrationResult calibrate(const CalibrationSpec& spec, const std::filesystem::
     header += fmt::format("#   {} = {:.4g} (target {:.4g})\n", spec.targets[k].label(), result.best.measured[k],
                           spec.targets[k].value);
   io::write_text_atomic(out / "calibrated.toml", header + "\n" + to_toml(result.scene));
+}
+
+}  // namespace
+
+CalibrationResult calibrate(const CalibrationSpec& spec, const std::filesystem::path& out, int workers,
+                            const std::function<void(const std::string&)>& log) {
+  const auto t0 = std::chrono::steady_clock::now();
+  CalibrationResult result;
+  Evaluator evaluate{spec, {}, evaluation_dips(spec), out, workers, log, result};
+  for (std::size_t k = 0; k < spec.targets.size(); ++k)
+    if (optimised(spec.targets[k])) evaluate.opt.push_back(k);
+  const std::size_t n = spec.parameters.size(), m = evaluate.opt.size();
+
+  std::vector<double> p0(n);
+  for (std::size_t i = 0; i < n; ++i) p0[i] = spec.parameters[i].start;
+  CalibrationIteration cur = evaluate(p0, "start");
+  result.best = cur;
+  Eigen::VectorXd x = evaluate.to_x(p0), r = evaluate.residual(cur);
+  // Initial Jacobian d log(measured) / d log(parameter) by forward differences of 15 %.
+  Eigen::MatrixXd J(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(n));
+  const double h = std::log(1.15);
+  if (cur.max_error > spec.tolerance)
+    for (std::size_t i = 0; i < n; ++i) {
+      Eigen::VectorXd xi = x;
+      xi[long(i)] += h;
+      const auto it = evaluate(evaluate.to_p(xi), "jacobian");
+      J.col(long(i)) = (evaluate.residual(it) - r) / h;
+      if (it.max_error < result.best.max_error) result.best = it;
+    }
+  broyden_search(evaluate, x, r, J);
+  result.converged = result.best.max_error <= spec.tolerance;
+  result.scene = scene_for(spec, result.best.parameters);
+  result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  write_calibration(spec, result, out);
   return result;
 }
 

@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
+#include "common/parallel_map.hpp"
 #include "theory/elasticity.hpp"
 #include "dem/laws/parallel_bond.hpp"
 #include "dem/mesh_cache.hpp"
@@ -269,63 +270,59 @@ std::vector<CaseResult> run_cases(const std::vector<Case>& cases, const std::fil
   const int workers = std::max(1, std::min(int(todo.size()), options.workers > 0
                                                                   ? options.workers
                                                                   : int(std::thread::hardware_concurrency())));
-  std::atomic<std::size_t> next{0};
+  auto cancel_set = [&]() { return options.cancel && options.cancel->load(); };
   std::mutex lock;
   std::string first_error;
-  bool cancelled = false;
   std::size_t done = mine.size() - todo.size();
   // Each case starts with one thread. A worker that finds the queue empty hands its thread to the running case
   // with the fewest, so the last cases of a sweep do not leave cores idle; results do not depend on the count.
   const auto threads = std::make_unique<std::atomic<int>[]>(todo.size());
   std::vector<char> running(todo.size(), 0);
   for (std::size_t n = 0; n < todo.size(); ++n) threads[n] = 1;
-  auto worker = [&]() {
-    while (true) {
-      if (options.cancel && options.cancel->load()) return;
-      const std::size_t n = next.fetch_add(1);
-      if (n >= todo.size()) {
-        std::lock_guard<std::mutex> g(lock);
-        std::size_t to = todo.size();
-        for (std::size_t m = 0; m < todo.size(); ++m)
-          if (running[m] && (to == todo.size() || threads[m] < threads[to])) to = m;
-        if (to < todo.size()) threads[to] += 1;
-        return;
-      }
-      const std::size_t k = todo[n];
+  auto hand_over = [&]() {
+    if (cancel_set()) return;  // the running cases are stopping: nothing to hand over
+    std::lock_guard<std::mutex> g(lock);
+    std::size_t to = todo.size();
+    for (std::size_t m = 0; m < todo.size(); ++m)
+      if (running[m] && (to == todo.size() || threads[m] < threads[to])) to = m;
+    if (to < todo.size()) threads[to] += 1;
+  };
+  // One case: a failed case is recorded and the others go on; a cancelled one throws Cancelled, which stops the
+  // workers (parallel_map hands out no more cases) and leaves run_cases.
+  auto run_case = [&](std::size_t n) {
+    if (cancel_set()) throw Cancelled();
+    const std::size_t k = todo[n];
+    {
+      std::lock_guard<std::mutex> g(lock);
+      running[n] = 1;
+    }
+    try {
+      CaseResult r = run_one(cases[k], out / cases[k].id, options.cancel, &threads[n], workers);
+      std::lock_guard<std::mutex> g(lock);
+      running[n] = 0;
+      results[k] = std::move(r);
+      have[k] = 1;
+      ++done;
+      if (options.progress)
+        fmt::print(stderr, "[{}/{}] {:<40} peak {:8.2f} MPa  {:<26} {:6.1f} s\n", done, mine.size(), cases[k].id,
+                   results[k].summary["peak_stress_pa"].get<double>() / 1e6,
+                   results[k].summary["failure_mode"].get<std::string>(), results[k].wall_seconds);
+      if (options.on_done) options.on_done(results[k]);
+    } catch (const RunCancelled&) {
       {
         std::lock_guard<std::mutex> g(lock);
-        running[n] = 1;
-      }
-      try {
-        CaseResult r = run_one(cases[k], out / cases[k].id, options.cancel, &threads[n], workers);
-        std::lock_guard<std::mutex> g(lock);
         running[n] = 0;
-        results[k] = std::move(r);
-        have[k] = 1;
-        ++done;
-        if (options.progress)
-          fmt::print(stderr, "[{}/{}] {:<40} peak {:8.2f} MPa  {:<26} {:6.1f} s\n", done, mine.size(), cases[k].id,
-                     results[k].summary["peak_stress_pa"].get<double>() / 1e6,
-                     results[k].summary["failure_mode"].get<std::string>(), results[k].wall_seconds);
-        if (options.on_done) options.on_done(results[k]);
-      } catch (const RunCancelled&) {
-        std::lock_guard<std::mutex> g(lock);
-        running[n] = 0;
-        cancelled = true;
         std::filesystem::remove_all(out / cases[k].id);
-        return;
-      } catch (const std::exception& e) {
-        std::lock_guard<std::mutex> g(lock);
-        running[n] = 0;
-        if (first_error.empty()) first_error = fmt::format("case {}: {}", cases[k].id, e.what());
       }
+      throw Cancelled();
+    } catch (const std::exception& e) {
+      std::lock_guard<std::mutex> g(lock);
+      running[n] = 0;
+      if (first_error.empty()) first_error = fmt::format("case {}: {}", cases[k].id, e.what());
     }
   };
-  std::vector<std::thread> pool;
-  for (int w = 1; w < workers; ++w) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-  if (cancelled || (options.cancel && options.cancel->load())) throw Cancelled();
+  parallel_map(todo.size(), workers, run_case, hand_over);
+  if (cancel_set()) throw Cancelled();
   if (!first_error.empty()) throw std::runtime_error(first_error);
   std::vector<CaseResult> list;
   for (std::size_t k = 0; k < cases.size(); ++k)

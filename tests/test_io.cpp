@@ -87,7 +87,9 @@ void expect_same_rows(const std::vector<Record>& a, const std::vector<Record>& b
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t k = 0; k < a.size(); ++k)
     Record::fields(dim, [&](const Field& f, auto get) {
-      if constexpr (stored_field<decltype(get), Record>) EXPECT_TRUE(same(get(a[k]), get(b[k]))) << f.name << ", row " << k;
+      if constexpr (stored_field<decltype(get), Record>) {
+        EXPECT_TRUE(same(get(a[k]), get(b[k]))) << f.name << ", row " << k;
+      }
     });
 }
 

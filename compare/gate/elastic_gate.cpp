@@ -1,12 +1,11 @@
 // The elastic gate: DEM static moduli against the FE model with the joints (the verdict), Amadei and the homogenized
-// FE twin. See elastic_gate.hpp.
+// FE twin. See elastic_gate.hpp; elastic_gate_report.cpp writes elastic.json and the table.
 #include "compare/gate/elastic_gate.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <exception>
+#include <limits>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
@@ -14,9 +13,9 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "common/parallel_map.hpp"
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
-#include "dem/version.hpp"
 #include "mesh/trimesh.hpp"
 
 #ifdef RBDEM_HAVE_CONTINUUM
@@ -30,29 +29,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-// Runs job(k) for k in [0, n) on up to `threads` threads; rethrows the first exception.
-void parallel_for(std::size_t n, int threads, const std::function<void(std::size_t)>& job) {
-  const std::size_t workers = std::min<std::size_t>(n, std::size_t(std::max(threads, 1)));
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  auto work = [&]() {
-    for (std::size_t k = next++; k < n; k = next++) {
-      try {
-        job(k);
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (std::size_t w = 1; w < workers; ++w) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
-}
 
 // One DEM measurement: the mesh (kept for the FE stage), the virtual test and, with fields, the displacements.
 struct DemJob {
@@ -199,7 +175,7 @@ void linear_check(ElasticReport& rep, const std::vector<DemJob>& jobs, const std
     const Scene s = dip_scene(scene, 0, true);
     intact = isotropic_constants(virtual_test(jobs.back().topo, s, 0, options.end_fraction, nullptr, true), rep.plane);
   }
-  parallel_for(rep.angles.size(), threads, [&](std::size_t k) {
+  parallel_map(rep.angles.size(), threads, [&](std::size_t k) {
     ElasticAngle& a = rep.angles[k];
     const DemJob& job = jobs[k];
     const Scene s = dip_scene(scene, a.beta_deg, false);
@@ -252,22 +228,23 @@ double relative_l2(std::vector<double>& ax, const std::vector<double>& ay, std::
 }
 #endif
 
-std::string gpa(double v) { return std::isfinite(v) ? fmt::format("{:8.2f}", v / 1e9) : fmt::format("{:>8}", "-"); }
-std::string pct(double v) { return std::isfinite(v) ? fmt::format("{:+7.2f}", 100.0 * v) : fmt::format("{:>7}", "-"); }
+// The progress log, serialised: the dips report from worker threads.
+class SerialLog {
+ public:
+  explicit SerialLog(const std::function<void(const std::string&)>& sink) : sink_(sink) {}
+  void operator()(const std::string& s) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (sink_) sink_(s);
+  }
 
-nlohmann::json constants_json(const theory::TIConstants& c) {
-  return {{"E", c.E}, {"nu", c.nu}, {"E_prime", c.E_prime}, {"nu_prime", c.nu_prime}, {"G_prime", c.G_prime}};
-}
+ private:
+  const std::function<void(const std::string&)>& sink_;
+  std::mutex mutex_;
+};
 
-// NaN is not JSON: write null.
-nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
-
-}  // namespace
-
-const char* measure_name(GateMeasure m) { return m == GateMeasure::gauge ? "dem_gauge" : "dem_static"; }
-
-ElasticReport run_elastic_gate(const Scene& scene_in, const ElasticGateOptions& options) {
-  const auto t0 = Clock::now();
+// Throws when the scene or the options cannot be gated: a user mesh (the dips cannot be re-meshed) or a fit angle
+// that is not run.
+void check_gate_inputs(const Scene& scene_in, const ElasticGateOptions& options) {
   if (!scene_in.mesh.file.empty())
     throw SceneError(fmt::format("the elastic gate re-meshes the specimen at beta = 0, 15, ..., 90 deg and cannot do "
                                  "that with a user mesh (mesh.file = \"{}\"): run it on the generated specimen (no --mesh, "
@@ -276,55 +253,44 @@ ElasticReport run_elastic_gate(const Scene& scene_in, const ElasticGateOptions& 
   for (double b : options.fit_betas)
     if (find_angle(options.betas, b) == options.betas.size())
       throw std::invalid_argument(fmt::format("elastic gate: the fit angle {} deg is not among the angles run", b));
-  const Scene scene = elastic_test_scene(scene_in);
-  const int threads = options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()));
-  std::mutex log_mutex;  // the angles report from worker threads
-  auto log = [&](const std::string& s) {
-    const std::lock_guard<std::mutex> lock(log_mutex);
-    if (options.log) options.log(s);
-  };
-#ifdef RBDEM_HAVE_CONTINUUM
-  const bool with_fe = options.with_fe;
-#else
-  const bool with_fe = false;
-#endif
-  const bool same_mesh_rock = with_fe && options.layer_rock == ElasticGateOptions::LayerRock::same_mesh;
+}
 
-  ElasticReport rep;
-  rep.plane = theory::plane_from_string(scene.specimen.model);
-  rep.mesh_size = scene.mesh.size;
-  rep.gate.tolerance = scene.elastic.tolerance;
-  rep.gate.measure = options.measure;
+// One dip (or, with job.intact, the unjointed specimen): its mesh, topology and virtual test, with the rock of its
+// layers (the joint bonds given the rock's bond parameters) when same_mesh_rock. Returns the progress line.
+std::string measure_dip(DemJob& job, const Scene& scene, const ElasticGateOptions& options, bool same_mesh_rock) {
+  const Scene s = dip_scene(scene, job.beta_deg, job.intact);
+  job.mesh = make_mesh(s);
+  job.topo = build_topology(job.mesh, s.specimen.thickness, s.rock.density);
+  StaticResult state;
+  job.test = virtual_test(job.topo, s, job.beta_deg, options.end_fraction, options.fields ? &state : nullptr);
+  job.joints.add(job.topo);
+  if (same_mesh_rock && !job.intact)
+    job.rock_test = virtual_test(job.topo, rock_joints_scene(s), job.beta_deg, options.end_fraction);
+  if (options.fields && !job.intact) job.ux = state.component(0), job.uy = state.component(1);
+  return fmt::format("  DEM {:<10} {:>6} blocks, E_static {:7.2f} GPa, E_gauge {:7.2f} GPa, {:.2f} s{}",
+                     job.intact ? "intact" : fmt::format("beta {:g}", job.beta_deg), job.test.blocks,
+                     job.test.platen_modulus / 1e9, job.test.gauge_modulus / 1e9, job.test.solve_seconds,
+                     job.rock_test.S22 != 0
+                         ? fmt::format("; rock of the layers E_gauge {:7.2f} GPa", job.rock_test.gauge_modulus / 1e9)
+                         : "");
+}
 
-  // Stage 1: mesh and solve the DEM at every angle, and the unjointed specimen (gmsh runs one mesh at a time;
-  // the static solves overlap it). With the FE model with the joints, each dip's mesh is solved a second time with
-  // the joint bonds given the rock's bond parameters: the rock of its layers.
+// Stage 1: mesh and solve the DEM at every angle, and the unjointed specimen (the last job; gmsh runs one mesh at a
+// time, the static solves overlap it). With the FE model with the joints, each dip's mesh is solved a second time
+// with the joint bonds given the rock's bond parameters: the rock of its layers.
+std::vector<DemJob> measure_dips(const Scene& scene, const ElasticGateOptions& options, bool same_mesh_rock,
+                                 int threads, SerialLog& log) {
   std::vector<DemJob> jobs(options.betas.size() + 1);
   for (std::size_t k = 0; k < options.betas.size(); ++k) jobs[k].beta_deg = options.betas[k];
   jobs.back().intact = true;
-  const auto t_dem = Clock::now();
-  parallel_for(jobs.size(), threads, [&](std::size_t k) {
-    DemJob& job = jobs[k];
-    const Scene s = dip_scene(scene, job.beta_deg, job.intact);
-    job.mesh = make_mesh(s);
-    job.topo = build_topology(job.mesh, s.specimen.thickness, s.rock.density);
-    StaticResult state;
-    job.test = virtual_test(job.topo, s, job.beta_deg, options.end_fraction, options.fields ? &state : nullptr);
-    job.joints.add(job.topo);
-    if (same_mesh_rock && !job.intact)
-      job.rock_test = virtual_test(job.topo, rock_joints_scene(s), job.beta_deg, options.end_fraction);
-    if (options.fields && !job.intact) job.ux = state.component(0), job.uy = state.component(1);
-    log(fmt::format("  DEM {:<10} {:>6} blocks, E_static {:7.2f} GPa, E_gauge {:7.2f} GPa, {:.2f} s{}",
-                    job.intact ? "intact" : fmt::format("beta {:g}", job.beta_deg), job.test.blocks,
-                    job.test.platen_modulus / 1e9, job.test.gauge_modulus / 1e9, job.test.solve_seconds,
-                    job.rock_test.S22 != 0
-                        ? fmt::format("; rock of the layers E_gauge {:7.2f} GPa", job.rock_test.gauge_modulus / 1e9)
-                        : ""));
-  });
-  rep.dem_seconds = seconds_since(t_dem);
-  rep.width = jobs.back().topo.width(), rep.height = jobs.back().topo.height();
+  parallel_map(jobs.size(), threads,
+               [&](std::size_t k) { log(measure_dip(jobs[k], scene, options, same_mesh_rock)); });
+  return jobs;
+}
 
-  // Stage 2: the constants.
+// Stage 2: the constants: the DEM-measured ones (fit over the fit angles), the intact rock's and Goodman's.
+void fit_constants(ElasticReport& rep, const std::vector<DemJob>& jobs, const Scene& scene,
+                   const ElasticGateOptions& options) {
   std::vector<VirtualTest> fit_tests;
   for (double b : options.fit_betas) fit_tests.push_back(jobs[find_angle(options.betas, b)].test);
   rep.dem = fit_compliance(fit_tests, rep.plane);
@@ -334,36 +300,42 @@ ElasticReport run_elastic_gate(const Scene& scene_in, const ElasticGateOptions& 
   JointBondStats joints;
   for (std::size_t k = 0; k + 1 < jobs.size(); ++k) joints.merge(jobs[k].joints);
   rep.goodman = goodman_estimate(scene, rep.intact_constants, joints.mean_d());
+}
 
-  // The joint interfaces of every dip (per bond, with its own d) and their summary.
-  std::vector<JointInterfaces> interfaces(options.betas.size());
-  {
-    JointInterfaces all;
-    for (std::size_t k = 0; k < options.betas.size(); ++k) {
-      interfaces[k] = joint_interfaces(jobs[k].topo, scene, rep.intact_constants.E);
-      JointInterfaces stats = interfaces[k];
-      stats.edges.clear();
-      all.merge(stats);
-    }
-    InterfaceSummary& is = rep.interfaces;
-    const JointCompliance c = joint_compliance(scene);
-    is.c_n = c.c_n, is.c_s = c.c_s;
-    is.k_n = all.mean_k_n(), is.k_s = all.mean_k_s();
-    is.glued = all.glued, is.stiffened = all.stiffened;
-    for (const auto& f : interfaces) is.edges += f.edges.size();
-    if (is.glued > 0)
-      is.note = fmt::format("joints not softer than the rock (E*_j {:.3g} Pa >= E*_r {:.3g} Pa and kappa_j / E*_j <= "
-                            "kappa_r / E*_r): all {} joint edges glued in the FE model with the joints (no extra "
-                            "compliance)",
-                            scene.joint.effective_modulus, scene.rock.effective_modulus, is.glued);
-    else if (is.stiffened > 0)
-      is.note = fmt::format("joints not softer than the rock in {} (c_n = {:.3g}, c_s = {:.3g} 1/Pa): that direction "
-                            "is rigid (penalty 1e4 E_r / d) on all {} joint edges",
-                            c.c_n > 0 ? "shear" : "the normal direction", c.c_n, c.c_s, is.stiffened);
+// The joint interfaces of every dip (per bond, with its own d) and their summary (rep.interfaces).
+std::vector<JointInterfaces> dip_interfaces(ElasticReport& rep, const std::vector<DemJob>& jobs, const Scene& scene) {
+  std::vector<JointInterfaces> interfaces(jobs.size() - 1);
+  JointInterfaces all;
+  for (std::size_t k = 0; k < interfaces.size(); ++k) {
+    interfaces[k] = joint_interfaces(jobs[k].topo, scene, rep.intact_constants.E);
+    JointInterfaces stats = interfaces[k];
+    stats.edges.clear();
+    all.merge(stats);
   }
+  InterfaceSummary& is = rep.interfaces;
+  const JointCompliance c = joint_compliance(scene);
+  is.c_n = c.c_n, is.c_s = c.c_s;
+  is.k_n = all.mean_k_n(), is.k_s = all.mean_k_s();
+  is.glued = all.glued, is.stiffened = all.stiffened;
+  for (const auto& f : interfaces) is.edges += f.edges.size();
+  if (is.glued > 0)
+    is.note = fmt::format("joints not softer than the rock (E*_j {:.3g} Pa >= E*_r {:.3g} Pa and kappa_j / E*_j <= "
+                          "kappa_r / E*_r): all {} joint edges glued in the FE model with the joints (no extra "
+                          "compliance)",
+                          scene.joint.effective_modulus, scene.rock.effective_modulus, is.glued);
+  else if (is.stiffened > 0)
+    is.note = fmt::format("joints not softer than the rock in {} (c_n = {:.3g}, c_s = {:.3g} 1/Pa): that direction "
+                          "is rigid (penalty 1e4 E_r / d) on all {} joint edges",
+                          c.c_n > 0 ? "shear" : "the normal direction", c.c_n, c.c_s, is.stiffened);
+  return interfaces;
+}
 
-  rep.angles.resize(options.betas.size());
-  for (std::size_t k = 0; k < options.betas.size(); ++k) {
+// The columns that need no FE: the DEM's moduli, Amadei's with the DEM-measured and with Goodman's constants, the
+// rock of the layers, the interfaces and Goodman's homogenized modulus of the same structure.
+void theory_columns(ElasticReport& rep, const std::vector<DemJob>& jobs,
+                    const std::vector<JointInterfaces>& interfaces, const Scene& scene, bool same_mesh_rock) {
+  rep.angles.resize(interfaces.size());
+  for (std::size_t k = 0; k < interfaces.size(); ++k) {
     ElasticAngle& a = rep.angles[k];
     const DemJob& job = jobs[k];
     a.beta_deg = job.beta_deg;
@@ -384,138 +356,257 @@ ElasticReport run_elastic_gate(const Scene& scene_in, const ElasticGateOptions& 
                           interfaces[k].mean_k_s(), scene.joint_set.spacing),
           a.beta_deg, rep.plane);
   }
+}
 
-  // Stage 3: the FE models on the same meshes: homogenized (DEM constants, Goodman's) and with the joints.
 #ifdef RBDEM_HAVE_CONTINUUM
-  if (with_fe) {
-    rep.fe_available = true;
-    const auto t_fe = Clock::now();
-    const bool dem_ok = rep.dem.admissible, goodman_ok = rep.goodman.constants.admissible();
-    parallel_for(rep.angles.size(), threads, [&](std::size_t k) {
-      ElasticAngle& a = rep.angles[k];
-      const DemJob& job = jobs[k];
-      const auto t = Clock::now();
-      continuum::FeOptions fo;
-      fo.plane = rep.plane;
-      fo.platens = continuum::Platens::frictionless;
-      fo.platen_displacement = job.test.platen_displacement;
-      fo.fields = options.fields;
-      if (dem_ok) {
-        const auto fe = continuum::solve_elastic(job.mesh, rep.dem.constants, a.beta_deg, scene.specimen.thickness, fo);
-        a.fe = fe.apparent_modulus;
-        if (options.fields) {
-          // Same platen displacement in both models; the rigid x translation removed from each.
-          AngleFields& f = a.fields;
-          f.x = job.topo.blocks.cx, f.y = job.topo.blocks.cy, f.dem_ux = job.ux, f.dem_uy = job.uy;
-          f.fe_ux = fe.ux, f.fe_uy = fe.uy;
-          a.field_l2 = relative_l2(f.dem_ux, f.dem_uy, f.fe_ux, f.fe_uy, job.topo.blocks.area);
-        }
-      }
-      if (goodman_ok) {
-        fo.fields = false;
-        a.fe_goodman = continuum::solve_elastic(job.mesh, rep.goodman.constants, a.beta_deg,
-                                                scene.specimen.thickness, fo)
-                           .apparent_modulus;
-      }
-      a.fe_seconds = seconds_since(t);
-
-      // The FE model with the joints: the rock of the layers, and the intact rock for the homogenization measure.
-      const auto tj = Clock::now();
-      if (a.rock_constants.admissible()) {
-        const JointsSolve fj = solve_joints(job, a.rock_constants, interfaces[k], rep.plane, options, true,
-                                            options.joints_refinement, true);
-        a.fe_joints_open_edges = fj.open_edges, a.fe_joints_state_solves = fj.state_solves;
-        a.fe_joints_states_settled = fj.states_settled;
-        a.fe_joints = fj.gauge_modulus, a.fe_joints_platen = fj.platen_modulus;
-        a.fe_joints_gauge = fj.gauge, a.fe_joints_dofs = fj.dofs;
-        if (options.fields) {
-          AngleFields& f = a.fields;
-          if (f.x.empty()) f.x = job.topo.blocks.cx, f.y = job.topo.blocks.cy;
-          if (f.dem_ux.empty()) f.dem_ux = job.ux, f.dem_uy = job.uy;
-          std::vector<double> dem_ux = job.ux;
-          f.fe_joints_ux = fj.ux, f.fe_joints_uy = fj.uy;
-          a.field_l2_joints = relative_l2(dem_ux, job.uy, f.fe_joints_ux, f.fe_joints_uy, job.topo.blocks.area);
-          if (!dem_ok) f.dem_ux = std::move(dem_ux);  // the mean u_x removed, as relative_l2 does for the FE
-        }
-      }
-      if (rep.intact_constants.admissible() && std::isfinite(a.homogenized))
-        a.fe_joints_intact_platen =
-            solve_joints(job, rep.intact_constants, interfaces[k], rep.plane, options, false, 0, false).platen_modulus;
-      a.fe_joints_seconds = seconds_since(tj);
-      log(fmt::format("  FE with joints beta {:g}: {} DoFs, {} interfaces ({} glued, {} open after {} solves{}; the "
-                      "DEM opens {}), E_gauge {:.2f} GPa, {:.2f} s",
-                      a.beta_deg, a.fe_joints_dofs, a.interface_edges, a.glued_edges, a.fe_joints_open_edges,
-                      a.fe_joints_state_solves, a.fe_joints_states_settled ? "" : ", not settled",
-                      a.test.open_joint_bonds, a.fe_joints / 1e9, a.fe_joints_seconds));
-    });
-    rep.fe_seconds = seconds_since(t_fe);
-    for (const auto& a : rep.angles) rep.fe_joints_seconds += a.fe_joints_seconds;
+// The homogenized FE models on one dip's mesh: the DEM-measured constants (dem_ok; with fields, the displacements
+// beside the DEM's) and Goodman's (goodman_ok).
+void homogenized_fe(ElasticAngle& a, const DemJob& job, const ElasticReport& rep, const Scene& scene,
+                    const ElasticGateOptions& options, bool dem_ok, bool goodman_ok) {
+  const auto t = Clock::now();
+  continuum::FeOptions fo;
+  fo.plane = rep.plane;
+  fo.platens = continuum::Platens::frictionless;
+  fo.platen_displacement = job.test.platen_displacement;
+  fo.fields = options.fields;
+  if (dem_ok) {
+    const auto fe = continuum::solve_elastic(job.mesh, rep.dem.constants, a.beta_deg, scene.specimen.thickness, fo);
+    a.fe = fe.apparent_modulus;
+    if (options.fields) {
+      // Same platen displacement in both models; the rigid x translation removed from each.
+      AngleFields& f = a.fields;
+      f.x = job.topo.blocks.cx, f.y = job.topo.blocks.cy, f.dem_ux = job.ux, f.dem_uy = job.uy;
+      f.fe_ux = fe.ux, f.fe_uy = fe.uy;
+      a.field_l2 = relative_l2(f.dem_ux, f.dem_uy, f.fe_ux, f.fe_uy, job.topo.blocks.area);
+    }
   }
+  if (goodman_ok) {
+    fo.fields = false;
+    a.fe_goodman = continuum::solve_elastic(job.mesh, rep.goodman.constants, a.beta_deg,
+                                            scene.specimen.thickness, fo)
+                       .apparent_modulus;
+  }
+  a.fe_seconds = seconds_since(t);
+}
+
+// The FE model with the joints on one dip's mesh: the rock of the layers (unilateral joints, the gauge and, with
+// fields, the displacements), and the intact rock for the homogenization measure.
+void jointed_fe(ElasticAngle& a, const DemJob& job, const JointInterfaces& interfaces, const ElasticReport& rep,
+                const ElasticGateOptions& options, bool dem_ok) {
+  const auto tj = Clock::now();
+  if (a.rock_constants.admissible()) {
+    const JointsSolve fj = solve_joints(job, a.rock_constants, interfaces, rep.plane, options, true,
+                                        options.joints_refinement, true);
+    a.fe_joints_open_edges = fj.open_edges, a.fe_joints_state_solves = fj.state_solves;
+    a.fe_joints_states_settled = fj.states_settled;
+    a.fe_joints = fj.gauge_modulus, a.fe_joints_platen = fj.platen_modulus;
+    a.fe_joints_gauge = fj.gauge, a.fe_joints_dofs = fj.dofs;
+    if (options.fields) {
+      AngleFields& f = a.fields;
+      if (f.x.empty()) f.x = job.topo.blocks.cx, f.y = job.topo.blocks.cy;
+      if (f.dem_ux.empty()) f.dem_ux = job.ux, f.dem_uy = job.uy;
+      std::vector<double> dem_ux = job.ux;
+      f.fe_joints_ux = fj.ux, f.fe_joints_uy = fj.uy;
+      a.field_l2_joints = relative_l2(dem_ux, job.uy, f.fe_joints_ux, f.fe_joints_uy, job.topo.blocks.area);
+      if (!dem_ok) f.dem_ux = std::move(dem_ux);  // the mean u_x removed, as relative_l2 does for the FE
+    }
+  }
+  if (rep.intact_constants.admissible() && std::isfinite(a.homogenized))
+    a.fe_joints_intact_platen =
+        solve_joints(job, rep.intact_constants, interfaces, rep.plane, options, false, 0, false).platen_modulus;
+  a.fe_joints_seconds = seconds_since(tj);
+}
+
+// Stage 3: the FE models on the same meshes, the dips side by side: homogenized (DEM constants, Goodman's) and with
+// the joints.
+void fe_stage(ElasticReport& rep, const std::vector<DemJob>& jobs, const std::vector<JointInterfaces>& interfaces,
+              const Scene& scene, const ElasticGateOptions& options, int threads, SerialLog& log) {
+  rep.fe_available = true;
+  const auto t_fe = Clock::now();
+  const bool dem_ok = rep.dem.admissible, goodman_ok = rep.goodman.constants.admissible();
+  parallel_map(rep.angles.size(), threads, [&](std::size_t k) {
+    ElasticAngle& a = rep.angles[k];
+    homogenized_fe(a, jobs[k], rep, scene, options, dem_ok, goodman_ok);
+    jointed_fe(a, jobs[k], interfaces[k], rep, options, dem_ok);
+    log(fmt::format("  FE with joints beta {:g}: {} DoFs, {} interfaces ({} glued, {} open after {} solves{}; the "
+                    "DEM opens {}), E_gauge {:.2f} GPa, {:.2f} s",
+                    a.beta_deg, a.fe_joints_dofs, a.interface_edges, a.glued_edges, a.fe_joints_open_edges,
+                    a.fe_joints_state_solves, a.fe_joints_states_settled ? "" : ", not settled",
+                    a.test.open_joint_bonds, a.fe_joints / 1e9, a.fe_joints_seconds));
+  });
+  rep.fe_seconds = seconds_since(t_fe);
+  for (const auto& a : rep.angles) rep.fe_joints_seconds += a.fe_joints_seconds;
+}
 #endif
 
-  // Homogenization: the indicator and, with the FE, its measured counterpart.
-  {
-    Homogenization& h = rep.homogenization;
-    const double s = scene.joint_set.spacing;
-    const bool jointed = scene.joint_set.enabled && rep.interfaces.edges > 0;
-    for (std::size_t k = 0; k < options.betas.size(); ++k)
-      h.joints_held = std::max(h.joints_held, jobs[k].mesh.num_layers() > 0 ? jobs[k].mesh.num_layers() - 1 : 0);
-    h.layers_across = jointed ? rep.width / s : std::numeric_limits<double>::infinity();
-    h.contrast = scene.rock.effective_modulus / scene.joint.effective_modulus;
-    h.compliance_ratio = jointed ? rep.goodman.E_r / (rep.interfaces.k_n * s) : 0.0;  // 0 when glued (k_n = inf)
-    h.indicator = jointed ? h.compliance_ratio / h.layers_across : 0.0;
-    h.max_indicator = homogenization_max_indicator;
-    h.applies = h.indicator <= h.max_indicator;
-    // Goodman's homogenized medium (docs/theory.md) is one rock with one set of through-going joints. With two sets
-    // the compliances of both add and the medium is no longer transversely isotropic (the five-parameter theory does
-    // not hold); rock bridges and a second rock are outside it too. The FE model with the joints carries all three.
-    std::vector<std::string> outside;
-    if (scene.joint_set2.enabled) outside.push_back("two joint sets (their compliances add; the medium is not TI)");
-    if ((scene.joint_set.enabled && scene.joint_set.persistence < 1.0) ||
-        (scene.joint_set2.enabled && scene.joint_set2.persistence < 1.0))
-      outside.push_back("joints with rock bridges (persistence < 1)");
-    if (!scene.rock2.groups.empty()) outside.push_back("layers of a second rock (rock2.groups)");
-    if (!outside.empty()) {
-      h.applies = false;
-      h.outside = fmt::format("Goodman's one-set medium does not model {}", fmt::join(outside, ", "));
-    }
-    if (rep.fe_available && jointed) {
-      double worst = 0;
-      for (const auto& a : rep.angles) worst = worse(worst, a.homogenization_error());
-      h.measured_error = worst;
-    } else if (!jointed) {
-      h.measured_error = 0;
-    }
-  }
+// Goodman's homogenized medium (docs/theory.md) is one rock with one set of through-going joints. With two sets
+// the compliances of both add and the medium is no longer transversely isotropic (the five-parameter theory does
+// not hold); rock bridges and a second rock are outside it too. The FE model with the joints carries all three.
+// Returns what of the scene is outside it (empty when nothing is).
+std::string outside_goodman(const Scene& scene) {
+  std::vector<std::string> outside;
+  if (scene.joint_set2.enabled) outside.push_back("two joint sets (their compliances add; the medium is not TI)");
+  if ((scene.joint_set.enabled && scene.joint_set.persistence < 1.0) ||
+      (scene.joint_set2.enabled && scene.joint_set2.persistence < 1.0))
+    outside.push_back("joints with rock bridges (persistence < 1)");
+  if (!scene.rock2.groups.empty()) outside.push_back("layers of a second rock (rock2.groups)");
+  if (outside.empty()) return {};
+  return fmt::format("Goodman's one-set medium does not model {}", fmt::join(outside, ", "));
+}
 
-  // Amadei beside the verdict: a fair comparison when homogenization applies and the DEM is one TI continuum.
-  {
-    AmadeiCheck& am = rep.amadei;
-    for (const auto& a : rep.angles) track(am.max_deviation, am.worst_beta_deg, a.deviation(options.measure), a.beta_deg);
-    const Homogenization& h = rep.homogenization;
-    const bool ti = rep.dem.admissible && rep.dem.residual <= am.max_residual_for_ti;
-    am.applicable = h.applies && ti;
-    std::vector<std::string> why;
-    if (!h.outside.empty())
-      why.push_back(h.outside);
-    else if (!h.applies)
-      why.push_back(fmt::format("layers do not homogenize ({:.3g} layers across, joint compliance {:.3g} x the "
-                                "rock's over one spacing, contrast E*_r/E*_j {:.3g}: indicator {:.3g} > {:.3g})",
-                                h.layers_across, h.compliance_ratio, h.contrast, h.indicator, h.max_indicator));
-    if (!rep.dem.admissible)
-      why.push_back("the DEM-measured constants are not admissible (the compliance is not positive definite)");
-    else if (!ti)
-      why.push_back(fmt::format("the DEM is not one TI continuum (fit residual {:.2f} % > {:.2f} %)",
-                                100.0 * rep.dem.residual, 100.0 * am.max_residual_for_ti));
-    if (am.applicable)
-      am.note = fmt::format("homogenization applies: {:.3g} layers across, joint compliance {:.3g} x the rock's over "
-                            "one spacing, contrast E*_r/E*_j {:.3g}, fit residual {:.2f} %",
-                            h.layers_across, h.compliance_ratio, h.contrast, 100.0 * rep.dem.residual);
-    else
-      am.note = fmt::format("{}", fmt::join(why, " and "));
+// Homogenization: the indicator and, with the FE, its measured counterpart.
+void homogenization(ElasticReport& rep, const std::vector<DemJob>& jobs, const Scene& scene) {
+  Homogenization& h = rep.homogenization;
+  const double s = scene.joint_set.spacing;
+  const bool jointed = scene.joint_set.enabled && rep.interfaces.edges > 0;
+  for (std::size_t k = 0; k + 1 < jobs.size(); ++k)
+    h.joints_held = std::max(h.joints_held, jobs[k].mesh.num_layers() > 0 ? jobs[k].mesh.num_layers() - 1 : 0);
+  h.layers_across = jointed ? rep.width / s : std::numeric_limits<double>::infinity();
+  h.contrast = scene.rock.effective_modulus / scene.joint.effective_modulus;
+  h.compliance_ratio = jointed ? rep.goodman.E_r / (rep.interfaces.k_n * s) : 0.0;  // 0 when glued (k_n = inf)
+  h.indicator = jointed ? h.compliance_ratio / h.layers_across : 0.0;
+  h.max_indicator = homogenization_max_indicator;
+  h.applies = h.indicator <= h.max_indicator;
+  h.outside = outside_goodman(scene);
+  if (!h.outside.empty()) h.applies = false;
+  if (rep.fe_available && jointed) {
+    double worst = 0;
+    for (const auto& a : rep.angles) worst = worse(worst, a.homogenization_error());
+    h.measured_error = worst;
+  } else if (!jointed) {
+    h.measured_error = 0;
   }
+}
 
-  // The verdict: the DEM against the FE model with the joints (Amadei when the build has no deal.II).
+// Amadei beside the verdict: a fair comparison when homogenization applies and the DEM is one TI continuum.
+void amadei_check(ElasticReport& rep, GateMeasure measure) {
+  AmadeiCheck& am = rep.amadei;
+  for (const auto& a : rep.angles) track(am.max_deviation, am.worst_beta_deg, a.deviation(measure), a.beta_deg);
+  const Homogenization& h = rep.homogenization;
+  const bool ti = rep.dem.admissible && rep.dem.residual <= am.max_residual_for_ti;
+  am.applicable = h.applies && ti;
+  std::vector<std::string> why;
+  if (!h.outside.empty())
+    why.push_back(h.outside);
+  else if (!h.applies)
+    why.push_back(fmt::format("layers do not homogenize ({:.3g} layers across, joint compliance {:.3g} x the "
+                              "rock's over one spacing, contrast E*_r/E*_j {:.3g}: indicator {:.3g} > {:.3g})",
+                              h.layers_across, h.compliance_ratio, h.contrast, h.indicator, h.max_indicator));
+  if (!rep.dem.admissible)
+    why.push_back("the DEM-measured constants are not admissible (the compliance is not positive definite)");
+  else if (!ti)
+    why.push_back(fmt::format("the DEM is not one TI continuum (fit residual {:.2f} % > {:.2f} %)",
+                              100.0 * rep.dem.residual, 100.0 * am.max_residual_for_ti));
+  if (am.applicable)
+    am.note = fmt::format("homogenization applies: {:.3g} layers across, joint compliance {:.3g} x the rock's over "
+                          "one spacing, contrast E*_r/E*_j {:.3g}, fit residual {:.2f} %",
+                          h.layers_across, h.compliance_ratio, h.contrast, 100.0 * rep.dem.residual);
+  else
+    am.note = fmt::format("{}", fmt::join(why, " and "));
+}
+
+// The DEM against the FE model with the joints ("fe_joints"): the maxima of both measures, and "passed" within the
+// tolerance. Returns the gated measure's maximum, before a linear check may decide.
+double joints_comparison(ElasticReport& rep, const std::string& amadei_text) {
+  GateVerdict& g = rep.gate;
+  g.comparison = "fe_joints";
+  double platen = 0, gauge = 0;
+  for (const auto& a : rep.angles) {
+    track(g.max_deviation, g.worst_beta_deg, a.deviation_joints(g.measure), a.beta_deg);
+    platen = worse(platen, a.deviation_joints(GateMeasure::platen));
+    gauge = worse(gauge, a.deviation_joints(GateMeasure::gauge));
+  }
+  g.max_deviation_joints = gauge, g.max_deviation_joints_platen = platen;
+  g.worst_beta_joints_deg = g.worst_beta_deg;
+  const double missed = g.max_deviation;  // of the gated measure, before a linear check may decide
+  g.passed = g.max_deviation <= g.tolerance;
+  if (g.passed)
+    g.message = fmt::format("passed: DEM within {:.2f} % of the FE model with the joints as interfaces (the "
+                            "comparison that always applies; worst at beta = {:g} deg, tolerance {:.2f} %); {}",
+                            100.0 * g.max_deviation, g.worst_beta_deg, 100.0 * g.tolerance, amadei_text);
+  return missed;
+}
+
+// Why the DEM missed the FE model with the joints and what to do, with what the linear check (if run) found.
+void joints_failure(ElasticReport& rep, double missed, double end_fraction, const std::string& amadei_text) {
+  GateVerdict& g = rep.gate;
+  std::string linear_text;
+  if (rep.linear_check_run)
+    linear_text = fmt::format(
+        "; with every linear part closed and sticking the DEM is {:.2f} % off the same model ({})",
+        100.0 * g.max_deviation_linear,
+        g.max_deviation_linear > g.tolerance ? "so opening linear parts do not explain it"
+        : rep.linear_check_sliding
+            ? "but linear parts slide at the dips that miss: Coulomb sliding, not opening, softens the DEM there; "
+              "raise joint.contact_friction / rock.contact_friction if the joints should stick"
+            : "but the DEM as it runs is stiffer than its linear self where it misses, which opening cannot "
+              "explain");
+  g.reason = fmt::format(
+      "|{} / fe_joints - 1| = {:.2f} % at beta = {:g} deg exceeds the tolerance {:.2f} %: the DEM does not "
+      "reproduce the FE model with the joints as interfaces (layers of the rock measured on the same mesh; the "
+      "comparison that always applies){}. At the worst dip: sliding linear parts (sliding_linear_parts in "
+      "elastic.json) point at the friction (raise joint.contact_friction or set joint.slip_when_bonded = false "
+      "if the joints should stick); a difference growing from 45 to 75 deg points at too few blocks across a "
+      "bending layer (about 7 are needed; docs/elastic.md) or joints in the gauge's end zones (the outer {:.0f} % "
+      "of H): refine mesh.size",
+      measure_name(g.measure), 100.0 * missed, g.worst_beta_deg, 100.0 * g.tolerance, linear_text,
+      100.0 * end_fraction);
+  g.message = fmt::format("FAILED: DEM {:.2f} % off the FE model with the joints as interfaces at beta = {:g} deg "
+                          "(tolerance {:.2f} %){}; {}",
+                          100.0 * missed, g.worst_beta_deg, 100.0 * g.tolerance, linear_text, amadei_text);
+}
+
+// The message when the linear check decided (linear_check() set passed and the numbers): the DEM as it runs misses
+// only through linear parts opening in tension.
+void linear_check_message(ElasticReport& rep, const std::string& amadei_text) {
+  GateVerdict& g = rep.gate;
+  std::size_t open = 0, bonds = 0, rock_open = 0, joint_open = 0, fe_open = 0;
+  for (const auto& a : rep.angles)
+    if (a.beta_deg == g.worst_beta_joints_deg)
+      open = a.test.open_bonds, bonds = a.test.bonds, rock_open = a.rock_test.open_bonds,
+      joint_open = a.test.open_joint_bonds, fe_open = a.fe_joints_open_edges;
+  g.reason.clear();
+  g.message = fmt::format(
+      "passed: DEM with every linear part closed within {:.2f} % of the FE model with the joints as interfaces "
+      "(worst at beta = {:g} deg, tolerance {:.2f} %); the DEM as it runs is up to {:.2f} % softer (beta = {:g} "
+      "deg) because its linear parts open in tension ({} of {} bonds open there, {} in the same mesh with rock "
+      "joints): {} joint bonds, which the FE model's unilateral joints open too ({} edges), and {} rock bonds "
+      "in the bending layers, which its elastic layers cannot represent; {}",
+      100.0 * g.max_deviation, g.worst_beta_deg, 100.0 * g.tolerance, 100.0 * g.max_deviation_joints,
+      g.worst_beta_joints_deg, open, bonds, rock_open, joint_open, fe_open, open - joint_open, amadei_text);
+}
+
+// No FE model with the joints (a build without deal.II, or a rock of the layers that is not admissible): Amadei
+// decides, as the only comparison there is.
+void amadei_verdict(ElasticReport& rep) {
+  GateVerdict& g = rep.gate;
+  const AmadeiCheck& am = rep.amadei;
+  g.comparison = "amadei";
+  g.max_deviation = am.max_deviation, g.worst_beta_deg = am.worst_beta_deg;
+  g.passed = rep.dem.admissible && g.max_deviation <= g.tolerance;
+  const std::string why = rep.fe_available ? "the rock of the layers is not an admissible material, so the FE "
+                                             "model with the joints could not run"
+                                           : "this build has no deal.II, so the FE model with the joints does not "
+                                             "exist";
+  if (!rep.dem.admissible)
+    g.reason = "the DEM-measured constants are not admissible (the compliance is not positive definite): the DEM "
+               "specimen does not behave as a transversely isotropic continuum; Amadei decides because " + why;
+  else if (!g.passed)
+    g.reason = fmt::format("|{} / amadei - 1| = {:.2f} % at beta = {:g} deg exceeds the tolerance {:.2f} % "
+                           "(Amadei decides because {}; {}). When layers do not homogenize this is expected: run "
+                           "the gate in a deal.II build, where the FE model with the joints decides",
+                           measure_name(g.measure), 100.0 * g.max_deviation, g.worst_beta_deg,
+                           100.0 * g.tolerance, why, am.note);
+  g.message = fmt::format("{}: DEM {:.2f} % off Amadei with its own constants at beta = {:g} deg (the comparison "
+                          "that decides because {}; {})",
+                          g.passed ? "passed" : "FAILED", 100.0 * g.max_deviation, g.worst_beta_deg, why,
+                          am.applicable ? am.note : "Amadei is not a fair reference here: " + am.note);
+}
+
+// The verdict: the DEM against the FE model with the joints (Amadei when the build has no deal.II).
+void verdict(ElasticReport& rep, [[maybe_unused]] const std::vector<DemJob>& jobs,
+             [[maybe_unused]] const std::vector<JointInterfaces>& interfaces, [[maybe_unused]] const Scene& scene,
+             const ElasticGateOptions& options, [[maybe_unused]] int threads) {
   GateVerdict& g = rep.gate;
   for (const auto& a : rep.angles) {
     g.max_deviation_static = std::max(g.max_deviation_static, std::abs(a.deviation(GateMeasure::platen)));
@@ -527,282 +618,57 @@ ElasticReport run_elastic_gate(const Scene& scene_in, const ElasticGateOptions& 
                     : fmt::format("Amadei not applicable: {:.2f} % off because {}", 100.0 * am.max_deviation, am.note);
   bool joints_model = rep.fe_available;
   for (const auto& a : rep.angles) joints_model = joints_model && std::isfinite(a.fe_joints);
-  if (joints_model) {
-    g.comparison = "fe_joints";
-    double platen = 0, gauge = 0;
-    for (const auto& a : rep.angles) {
-      track(g.max_deviation, g.worst_beta_deg, a.deviation_joints(g.measure), a.beta_deg);
-      platen = worse(platen, a.deviation_joints(GateMeasure::platen));
-      gauge = worse(gauge, a.deviation_joints(GateMeasure::gauge));
-    }
-    g.max_deviation_joints = gauge, g.max_deviation_joints_platen = platen;
-    g.worst_beta_joints_deg = g.worst_beta_deg;
-    const double missed = g.max_deviation;  // of the gated measure, before a linear check may decide
-    g.passed = g.max_deviation <= g.tolerance;
-    if (g.passed)
-      g.message = fmt::format("passed: DEM within {:.2f} % of the FE model with the joints as interfaces (the "
-                              "comparison that always applies; worst at beta = {:g} deg, tolerance {:.2f} %); {}",
-                              100.0 * g.max_deviation, g.worst_beta_deg, 100.0 * g.tolerance, amadei_text);
-#ifdef RBDEM_HAVE_CONTINUUM
-    if (!g.passed && options.linear_check) linear_check(rep, jobs, interfaces, scene, options, threads);
-#endif
-    if (!g.passed) {
-      std::string linear_text;
-      if (rep.linear_check_run)
-        linear_text = fmt::format(
-            "; with every linear part closed and sticking the DEM is {:.2f} % off the same model ({})",
-            100.0 * g.max_deviation_linear,
-            g.max_deviation_linear > g.tolerance ? "so opening linear parts do not explain it"
-            : rep.linear_check_sliding
-                ? "but linear parts slide at the dips that miss: Coulomb sliding, not opening, softens the DEM there; "
-                  "raise joint.contact_friction / rock.contact_friction if the joints should stick"
-                : "but the DEM as it runs is stiffer than its linear self where it misses, which opening cannot "
-                  "explain");
-      g.reason = fmt::format(
-          "|{} / fe_joints - 1| = {:.2f} % at beta = {:g} deg exceeds the tolerance {:.2f} %: the DEM does not "
-          "reproduce the FE model with the joints as interfaces (layers of the rock measured on the same mesh; the "
-          "comparison that always applies){}. At the worst dip: sliding linear parts (sliding_linear_parts in "
-          "elastic.json) point at the friction (raise joint.contact_friction or set joint.slip_when_bonded = false "
-          "if the joints should stick); a difference growing from 45 to 75 deg points at too few blocks across a "
-          "bending layer (about 7 are needed; docs/elastic.md) or joints in the gauge's end zones (the outer {:.0f} % "
-          "of H): refine mesh.size",
-          measure_name(g.measure), 100.0 * missed, g.worst_beta_deg, 100.0 * g.tolerance, linear_text,
-          100.0 * options.end_fraction);
-      g.message = fmt::format("FAILED: DEM {:.2f} % off the FE model with the joints as interfaces at beta = {:g} deg "
-                              "(tolerance {:.2f} %){}; {}",
-                              100.0 * missed, g.worst_beta_deg, 100.0 * g.tolerance, linear_text, amadei_text);
-    }
-    if (g.comparison == "fe_joints_linear") {
-      // The linear check decided (linear_check() set passed and the numbers).
-      std::size_t open = 0, bonds = 0, rock_open = 0, joint_open = 0, fe_open = 0;
-      for (const auto& a : rep.angles)
-        if (a.beta_deg == g.worst_beta_joints_deg)
-          open = a.test.open_bonds, bonds = a.test.bonds, rock_open = a.rock_test.open_bonds,
-          joint_open = a.test.open_joint_bonds, fe_open = a.fe_joints_open_edges;
-      g.reason.clear();
-      g.message = fmt::format(
-          "passed: DEM with every linear part closed within {:.2f} % of the FE model with the joints as interfaces "
-          "(worst at beta = {:g} deg, tolerance {:.2f} %); the DEM as it runs is up to {:.2f} % softer (beta = {:g} "
-          "deg) because its linear parts open in tension ({} of {} bonds open there, {} in the same mesh with rock "
-          "joints): {} joint bonds, which the FE model's unilateral joints open too ({} edges), and {} rock bonds "
-          "in the bending layers, which its elastic layers cannot represent; {}",
-          100.0 * g.max_deviation, g.worst_beta_deg, 100.0 * g.tolerance, 100.0 * g.max_deviation_joints,
-          g.worst_beta_joints_deg, open, bonds, rock_open, joint_open, fe_open, open - joint_open, amadei_text);
-    }
-  } else {
-    // No FE model with the joints (a build without deal.II): Amadei decides, as the only comparison there is.
-    g.comparison = "amadei";
-    g.max_deviation = am.max_deviation, g.worst_beta_deg = am.worst_beta_deg;
-    g.passed = rep.dem.admissible && g.max_deviation <= g.tolerance;
-    const std::string why = rep.fe_available ? "the rock of the layers is not an admissible material, so the FE "
-                                               "model with the joints could not run"
-                                             : "this build has no deal.II, so the FE model with the joints does not "
-                                               "exist";
-    if (!rep.dem.admissible)
-      g.reason = "the DEM-measured constants are not admissible (the compliance is not positive definite): the DEM "
-                 "specimen does not behave as a transversely isotropic continuum; Amadei decides because " + why;
-    else if (!g.passed)
-      g.reason = fmt::format("|{} / amadei - 1| = {:.2f} % at beta = {:g} deg exceeds the tolerance {:.2f} % "
-                             "(Amadei decides because {}; {}). When layers do not homogenize this is expected: run "
-                             "the gate in a deal.II build, where the FE model with the joints decides",
-                             measure_name(g.measure), 100.0 * g.max_deviation, g.worst_beta_deg,
-                             100.0 * g.tolerance, why, am.note);
-    g.message = fmt::format("{}: DEM {:.2f} % off Amadei with its own constants at beta = {:g} deg (the comparison "
-                            "that decides because {}; {})",
-                            g.passed ? "passed" : "FAILED", 100.0 * g.max_deviation, g.worst_beta_deg, why,
-                            am.applicable ? am.note : "Amadei is not a fair reference here: " + am.note);
+  if (!joints_model) {
+    amadei_verdict(rep);
+    return;
   }
+  const double missed = joints_comparison(rep, amadei_text);
+#ifdef RBDEM_HAVE_CONTINUUM
+  if (!g.passed && options.linear_check) linear_check(rep, jobs, interfaces, scene, options, threads);
+#endif
+  if (!g.passed) joints_failure(rep, missed, options.end_fraction, amadei_text);
+  if (g.comparison == "fe_joints_linear") linear_check_message(rep, amadei_text);
+}
+
+}  // namespace
+
+const char* measure_name(GateMeasure m) { return m == GateMeasure::gauge ? "dem_gauge" : "dem_static"; }
+
+ElasticReport run_elastic_gate(const Scene& scene_in, const ElasticGateOptions& options) {
+  const auto t0 = Clock::now();
+  check_gate_inputs(scene_in, options);
+  const Scene scene = elastic_test_scene(scene_in);
+  const int threads = options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  SerialLog log(options.log);
+#ifdef RBDEM_HAVE_CONTINUUM
+  const bool with_fe = options.with_fe;
+#else
+  const bool with_fe = false;
+#endif
+  const bool same_mesh_rock = with_fe && options.layer_rock == ElasticGateOptions::LayerRock::same_mesh;
+
+  ElasticReport rep;
+  rep.plane = theory::plane_from_string(scene.specimen.model);
+  rep.mesh_size = scene.mesh.size;
+  rep.gate.tolerance = scene.elastic.tolerance;
+  rep.gate.measure = options.measure;
+
+  const auto t_dem = Clock::now();
+  const std::vector<DemJob> jobs = measure_dips(scene, options, same_mesh_rock, threads, log);
+  rep.dem_seconds = seconds_since(t_dem);
+  rep.width = jobs.back().topo.width(), rep.height = jobs.back().topo.height();
+
+  fit_constants(rep, jobs, scene, options);
+  const std::vector<JointInterfaces> interfaces = dip_interfaces(rep, jobs, scene);
+  theory_columns(rep, jobs, interfaces, scene, same_mesh_rock);
+#ifdef RBDEM_HAVE_CONTINUUM
+  if (with_fe) fe_stage(rep, jobs, interfaces, scene, options, threads, log);
+#endif
+  homogenization(rep, jobs, scene);
+  amadei_check(rep, options.measure);
+  verdict(rep, jobs, interfaces, scene, options, threads);
   rep.seconds = seconds_since(t0);
   return rep;
-}
-
-nlohmann::json elastic_json(const ElasticReport& r, const Scene& scene) {
-  nlohmann::json j;
-  j["version"] = version_text();
-  auto dem = constants_json(r.dem.constants);
-  dem["a11"] = r.dem.a.a11, dem["a22"] = r.dem.a.a22, dem["a12"] = r.dem.a.a12, dem["a66"] = r.dem.a.a66;
-  dem["fit_residual"] = r.dem.residual;
-  dem["fit_max_residual"] = r.dem.max_residual;
-  dem["fit_condition"] = number(r.dem.condition);
-  dem["fit_betas_deg"] = r.fit_betas;
-  dem["admissible"] = r.dem.admissible;
-  auto good = constants_json(r.goodman.constants);
-  good["E_r"] = r.goodman.E_r, good["nu_r"] = r.goodman.nu_r;
-  good["k_n"] = number(r.goodman.k_n), good["k_s"] = number(r.goodman.k_s);
-  good["spacing"] = r.goodman.spacing, good["d_mean"] = r.goodman.d_mean;
-  auto intact = constants_json(r.intact_constants);
-  intact["dem_static_pa"] = r.intact.platen_modulus;
-  intact["dem_gauge_pa"] = r.intact.gauge_modulus;
-  j["constants"] = {{"dem", dem}, {"goodman", good}, {"intact", intact}};
-  const InterfaceSummary& is = r.interfaces;
-  j["joint_interfaces"] = {{"k_n_mean", number(is.k_n)},  {"k_s_mean", number(is.k_s)},
-                           {"c_n", is.c_n},               {"c_s", is.c_s},
-                           {"interface_edges", is.edges}, {"glued_edges", is.glued},
-                           {"stiffened_edges", is.stiffened}, {"note", is.note}};
-  const Homogenization& h = r.homogenization;
-  j["homogenization"] = {{"layers_across", number(h.layers_across)},
-                         {"joints_held", h.joints_held},
-                         {"contrast", number(h.contrast)},
-                         {"compliance_ratio", number(h.compliance_ratio)},
-                         {"indicator", number(h.indicator)},
-                         {"max_indicator", h.max_indicator},
-                         {"measured_error", number(h.measured_error)},
-                         {"applies", h.applies},
-                         {"outside", h.outside}};
-  j["amadei"] = {{"applicable", r.amadei.applicable},
-                 {"max_deviation", number(r.amadei.max_deviation)},
-                 {"worst_beta_deg", r.amadei.worst_beta_deg},
-                 {"max_fit_residual", r.amadei.max_residual_for_ti},
-                 {"note", r.amadei.note}};
-  j["angles"] = nlohmann::json::array();
-  for (const auto& a : r.angles) {
-    nlohmann::json e = {
-        {"beta_deg", a.beta_deg},
-        {"amadei_pa", a.amadei},
-        {"dem_static_pa", a.dem_static},
-        {"fe_pa", number(a.fe)},
-        {"fe_goodman_pa", number(a.fe_goodman)},
-        {"fe_joints_pa", number(a.fe_joints)},
-        {"fe_joints_platen_pa", number(a.fe_joints_platen)},
-        {"rock_gauge_pa", number(a.rock_test.S22 != 0 ? a.rock_test.gauge_modulus : ElasticAngle::nan)},
-        {"rock_E", a.rock_constants.E},
-        {"rock_nu", a.rock_constants.nu},
-        {"rock_open_linear_parts", a.rock_test.open_bonds},
-        {"fe_joints_intact_platen_pa", number(a.fe_joints_intact_platen)},
-        {"homogenized_pa", number(a.homogenized)},
-        {"homogenization_error", number(a.homogenization_error())},
-        {"dem_linear_pa", number(a.dem_linear)},
-        {"fe_joints_linear_pa", number(a.fe_joints_linear)},
-        {"dem_gauge_pa", a.dem_gauge},
-        {"amadei_goodman_pa", a.amadei_goodman},
-        {"dem_gauge_vs_fe_joints", number(a.deviation_joints(GateMeasure::gauge))},
-        {"dem_static_vs_fe_joints_platen", number(a.deviation_joints(GateMeasure::platen))},
-        {"fe_joints_vs_amadei", number(a.fe_joints / a.amadei - 1.0)},
-        {"fe_joints_platen_vs_fe_goodman", number(a.fe_joints_platen / a.fe_goodman - 1.0)},
-        {"dem_static_vs_amadei", a.deviation(GateMeasure::platen)},
-        {"dem_gauge_vs_amadei", a.deviation(GateMeasure::gauge)},
-        {"fe_vs_amadei", number(a.fe / a.amadei - 1.0)},
-        {"fe_goodman_vs_amadei", number(a.fe_goodman / a.amadei - 1.0)},
-        {"dem_static_vs_fe_goodman", number(a.dem_static / a.fe_goodman - 1.0)},
-        {"S12", a.test.S12},
-        {"S22", a.test.S22},
-        {"S26", a.test.S26},
-        {"gauge_blocks", a.test.gauge.blocks},
-        {"gauge_misfit", a.test.gauge.misfit},
-        {"fe_joints_gauge_misfit", number(a.fe_joints_gauge.misfit)},
-        {"blocks", a.test.blocks},
-        {"bonds", a.test.bonds},
-        {"joint_bonds", a.test.joint_bonds},
-        {"interface_edges", a.interface_edges},
-        {"glued_edges", a.glued_edges},
-        {"fe_joints_dofs", a.fe_joints_dofs},
-        {"open_linear_parts", a.test.open_bonds},
-        {"open_joint_linear_parts", a.test.open_joint_bonds},
-        {"fe_joints_open_edges", a.fe_joints_open_edges},
-        {"fe_joints_state_solves", a.fe_joints_state_solves},
-        {"fe_joints_states_settled", a.fe_joints_states_settled},
-        {"sliding_linear_parts", a.test.sliding_bonds},
-        {"static_solve_seconds", a.test.solve_seconds},
-        {"fe_seconds", a.fe_seconds},
-        {"fe_joints_seconds", a.fe_joints_seconds},
-    };
-    if (std::isfinite(a.field_l2)) e["field_l2"] = a.field_l2;
-    if (std::isfinite(a.field_l2_joints)) e["field_l2_joints"] = a.field_l2_joints;
-    if (!a.fields.x.empty()) {
-      e["fields"] = {{"x", a.fields.x}, {"y", a.fields.y}, {"dem_ux", a.fields.dem_ux}, {"dem_uy", a.fields.dem_uy}};
-      if (!a.fields.fe_ux.empty()) e["fields"]["fe_ux"] = a.fields.fe_ux, e["fields"]["fe_uy"] = a.fields.fe_uy;
-      if (!a.fields.fe_joints_ux.empty())
-        e["fields"]["fe_joints_ux"] = a.fields.fe_joints_ux, e["fields"]["fe_joints_uy"] = a.fields.fe_joints_uy;
-    }
-    j["angles"].push_back(std::move(e));
-  }
-  const GateVerdict& g = r.gate;
-  j["gate"] = {{"tolerance", g.tolerance},
-               {"passed", g.passed},
-               {"comparison", g.comparison},
-               {"measure", measure_name(g.measure)},
-               {"max_deviation", number(g.max_deviation)},
-               {"worst_beta_deg", g.worst_beta_deg},
-               {"max_deviation_dem_gauge_vs_fe_joints", number(g.max_deviation_joints)},
-               {"worst_beta_fe_joints_deg", g.worst_beta_joints_deg},
-               {"max_deviation_linear", number(g.max_deviation_linear)},
-               {"linear_check_run", r.linear_check_run},
-               {"linear_check_sliding", r.linear_check_sliding},
-               {"max_deviation_dem_static_vs_fe_joints_platen", number(g.max_deviation_joints_platen)},
-               {"max_deviation_dem_static", number(g.max_deviation_static)},
-               {"max_deviation_dem_gauge", number(g.max_deviation_gauge)},
-               {"message", g.message},
-               {"reason", g.reason}};
-  j["model"] = scene.specimen.model;
-  j["platens"] = "frictionless";  // whatever loading.platen_friction says: Amadei's and the FE's condition
-  j["fe_available"] = r.fe_available;
-  j["timing"] = {{"total_seconds", r.seconds},
-                 {"dem_seconds", r.dem_seconds},
-                 {"fe_seconds", r.fe_seconds},
-                 {"fe_joints_seconds", r.fe_joints_seconds},
-                 {"linear_check_seconds", r.linear_check_seconds}};
-  j["scene"] = scene_json(scene);
-  return j;
-}
-
-std::string elastic_table(const ElasticReport& r) {
-  const GateVerdict& g = r.gate;
-  const bool lin = r.linear_check_run;
-  std::string s = fmt::format(
-      "elastic gate: DEM static moduli vs the FE model with the joints as interfaces (FEj), Amadei with the "
-      "DEM-measured constants and the homogenized FE ({}, mesh {:g} mm, frictionless platens)\n",
-      r.plane == theory::Plane::strain ? "plane strain" : "plane stress", 1e3 * r.mesh_size);
-  s += fmt::format(" beta DEM gauge      FEj  gau-FEj  DEM stat FEj plat stat-FEjp     rock |   Amadei gauge-Am FE Goodm"
-                   "  homog |{} L2 FE L2 FEj\n",
-                   lin ? "  DEM lin  FEj lin  lin-FEj |" : "");
-  s += fmt::format("  deg      GPa      GPa        %       GPa      GPa         %      GPa |      GPa        %      GPa"
-                   "      % |{}     %      %\n",
-                   lin ? "      GPa      GPa        % |" : "");
-  auto l2 = [](double v) { return std::isfinite(v) ? fmt::format("{:6.2f}", 100.0 * v) : fmt::format("{:>6}", "-"); };
-  for (const auto& a : r.angles) {
-    const double rock = a.rock_test.S22 != 0 ? a.rock_test.gauge_modulus : std::numeric_limits<double>::quiet_NaN();
-    s += fmt::format("{:5g} {} {}  {}  {} {}   {} {} | {}  {} {} {} |{}{} {}{}\n", a.beta_deg, gpa(a.dem_gauge),
-                     gpa(a.fe_joints), pct(a.deviation_joints(GateMeasure::gauge)), gpa(a.dem_static),
-                     gpa(a.fe_joints_platen), pct(a.deviation_joints(GateMeasure::platen)), gpa(rock),
-                     gpa(a.amadei), pct(a.deviation(GateMeasure::gauge)), gpa(a.fe_goodman),
-                     pct(a.homogenization_error()),
-                     lin ? fmt::format(" {} {}  {} |", gpa(a.dem_linear), gpa(a.fe_joints_linear),
-                                       pct(a.dem_linear / a.fe_joints_linear - 1.0))
-                         : "",
-                     l2(a.field_l2), l2(a.field_l2_joints),
-                     a.beta_deg == g.worst_beta_deg && !g.passed ? "  <- worst" : "");
-  }
-  s += "  (rock: the DEM gauge modulus of the same mesh with rock bonds on the joints, the layers of FEj; homog: the "
-       "FE model with the joints on the intact rock over Goodman's homogenized modulus, platens)\n";
-  const auto& c = r.dem.constants;
-  s += fmt::format("DEM constants:     E {:.2f} GPa, nu {:.3f}, E' {:.2f} GPa, nu' {:.3f}, G' {:.2f} GPa "
-                   "(virtual tests at {} deg, weighted fit residual {:.2f} %, condition {:.3g}{})\n",
-                   c.E / 1e9, c.nu, c.E_prime / 1e9, c.nu_prime, c.G_prime / 1e9, fmt::join(r.fit_betas, "/"),
-                   100.0 * r.dem.residual, r.dem.condition, r.dem.admissible ? "" : ", NOT admissible");
-  const auto& gc = r.goodman.constants;
-  s += fmt::format("Goodman constants: E {:.2f} GPa, nu {:.3f}, E' {:.2f} GPa, nu' {:.3f}, G' {:.2f} GPa "
-                   "(intact E_r {:.2f} GPa, nu_r {:.3f}; k_n {:.3g} Pa/m, k_s {:.3g} Pa/m, s {:g} m)\n",
-                   gc.E / 1e9, gc.nu, gc.E_prime / 1e9, gc.nu_prime, gc.G_prime / 1e9, r.goodman.E_r / 1e9,
-                   r.goodman.nu_r, r.goodman.k_n, r.goodman.k_s, r.goodman.spacing);
-  const InterfaceSummary& is = r.interfaces;
-  if (r.fe_available)
-    s += fmt::format("FE with joints:    {} joint edges over the dips as interfaces, {} glued; per edge k_n = 1/(d c_n), "
-                     "k_s = 1/(d c_s), c_n = {:.3g} 1/Pa, c_s = {:.3g} 1/Pa: mean k_n {:.3g} Pa/m, k_s {:.3g} Pa/m; "
-                     "{:.2f} s of FE with joints\n",
-                     is.edges, is.glued, is.c_n, is.c_s, is.k_n, is.k_s, r.fe_joints_seconds);
-  if (!is.note.empty()) s += "  " + is.note + "\n";
-  const Homogenization& h = r.homogenization;
-  s += fmt::format("homogenization:    {:.3g} layers across (W/s), {} joints held, contrast E*_r/E*_j {:.3g}, joint "
-                   "compliance {:.3g} x the rock's over one spacing: indicator {:.3g} ({} <= {:.3g}){}\n",
-                   h.layers_across, h.joints_held, h.contrast, h.compliance_ratio, h.indicator,
-                   h.applies ? "applies," : "does not apply, not", h.max_indicator,
-                   std::isfinite(h.measured_error)
-                       ? fmt::format("; measured: {:.2f} % (homog column)", 100.0 * h.measured_error)
-                       : "");
-  if (!h.outside.empty()) s += "  " + h.outside + ": the gate compares the DEM with the FE model with the joints\n";
-  s += fmt::format("gate ({} vs {}): {}\n", measure_name(g.measure), g.comparison, g.message);
-  if (!g.passed) s += "  " + g.reason + "\n";
-  return s;
 }
 
 }  // namespace rbdem::compare
