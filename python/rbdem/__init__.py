@@ -169,8 +169,9 @@ class Result:
               stress_bottom_pa [Pa], stress_pa [Pa, their mean], kinetic_j and strain_energy_j [J],
               broken_rock_tensile, broken_rock_shear, broken_joint_tensile, broken_joint_shear [count],
               lateral_strain, volumetric_strain [-]
-    cracks    dict of NumPy arrays, the cracks.csv columns: time_s [s], strain [-], x_m, y_m [m], kind ("rock" |
-              "joint"), mode ("tensile" | "shear"), bond [index], sigma_pa, tau_pa [Pa], orientation_deg [deg]
+    cracks    dict of NumPy arrays, the cracks.csv columns: time_s [s], strain [-], x_m, y_m [m], normal_x,
+              normal_y [-], length_m [m], kind ("rock" | "joint"), mode ("tensile" | "shear"), bond [index],
+              sigma_pa, tau_pa [Pa], orientation_deg [deg]
     blocks    dict of NumPy arrays of the blocks as meshed: x_m, y_m [m], area_m2 [m^2], mass_kg [kg], layer
     frames    list of Frame (block positions during the run)
     scene     the resolved scene as TOML text (scene.toml); scene_dict is the same as a dict
