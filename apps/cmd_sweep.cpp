@@ -109,7 +109,8 @@ int run_study(study::StudySpec spec, const std::filesystem::path& out, int worke
   MpiSession mpi;
   const auto t0 = std::chrono::steady_clock::now();
   const auto cases = study::expand(spec);
-  // Each case runs on one thread and gets more as others finish (study::run_cases): `workers` at once.
+  // The cases share the cores, `workers` of them (all by default); the last ones get more as others finish
+  // (study::run_cases).
   const int concurrent = workers > 0 ? workers : (mpi.size > 1 ? 1 : int(std::max(1u, std::thread::hardware_concurrency())));
   check_cases(cases, concurrent, force, quiet || mpi.rank != 0);
   // The elastic gate, once per distinct elastic scene (groups varying e.g. kn/ks differ; verdicts are cached).

@@ -23,8 +23,10 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <optional>
+#include <string>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -122,6 +124,25 @@ std::vector<std::string> files_written(const std::filesystem::path& dir, std::fi
 
 std::atomic<bool> interrupted{false};
 volatile std::sig_atomic_t last_signal = 0;
+// When other processes held the cores, how the thread team shrank (dem/team.hpp); with RBDEM_STAGE_TIMES=1, where
+// the wall time went (docs/performance.md, "Where a run's time goes").
+void print_timing(const std::string& test, const TestResult& r) {
+  const TestResult::Timing& t = r.timing;
+  if (t.team.shrinks > 0)
+    fmt::print("{}: note: other processes held some of the cores: the engine stepped on fewer threads for {:.1f} s "
+               "(down to {} of its {}; the results do not depend on it)\n",
+               test, t.team.smaller_seconds, t.team.smallest, r.threads);
+  const char* env = std::getenv("RBDEM_STAGE_TIMES");
+  if (!env || std::string(env) != "1" || t.steps.steps == 0) return;
+  const StepTimes& s = t.steps;
+  const double total = s.total(), pct = total > 0 ? 100 / total : 0;
+  fmt::print("{}: time: start {:.2f} s, steps {:.2f} s ({:.1f} us each: bonds {:.0f} %, one-thread sections {:.0f} %, "
+             "blocks {:.0f} %, events and detection {:.0f} % on {} steps, rest {:.0f} %), other {:.2f} s, {} threads\n",
+             test, t.start_seconds, total, 1e6 * total / double(s.steps), s.bonds * pct, s.serial * pct,
+             s.blocks * pct, s.events * pct, s.event_steps, s.rest * pct,
+             r.wall_seconds - t.start_seconds - total, r.threads);
+}
+
 extern "C" void on_signal(int sig) {
   last_signal = sig;
   interrupted.store(true);
@@ -216,6 +237,7 @@ int run_test_command(const TestCommandOptions& opt) {
              r.crack_counts.joint_tensile, r.crack_counts.joint_shear, r.failure_mode, r.steps, r.dt, r.wall_seconds);
   if (info.notes)
     for (const std::string& note : info.notes(r)) fmt::print("{}: note: {}\n", opt.test, note);
+  print_timing(opt.test, r);
   if (!r.quasi_static)
     fmt::print("{}: warning: the test was not quasi-static: {}\n", opt.test, r.quasi_static_reason);
   fmt::print("{}: wrote into {}: {}\n", opt.test, opt.out, fmt::join(files_written(out, started), ", "));

@@ -30,9 +30,11 @@ const rbdem::Topology<2>& topology(double mesh_size) {
 
 const rbdem::Topology<2>& default_topology() { return topology(rbdem::Scene{}.mesh.size); }
 
-// The simulation of `scene` on `topo`, with the platens of a compression test.
+// The simulation of `scene` on `topo`, with the platens of a compression test. Its team keeps the thread count
+// asked for (a run shrinks it while other processes hold the cores: dem/team.hpp), so that a row measures that count.
 std::unique_ptr<rbdem::SimulationImpl<2>> simulation(const rbdem::Scene& scene, const rbdem::Topology<2>& topo) {
-  auto sim = std::make_unique<rbdem::SimulationImpl<2>>(scene, topo);
+  auto sim = std::make_unique<rbdem::SimulationImpl<2>>(scene, topo, rbdem::SimulationOptions{},
+                                                        [](rbdem::EngineOptions& o) { o.adapt_threads = false; });
   sim->add_platens({scene.loading.platen_velocity, scene.loading.platen_friction});
   return sim;
 }

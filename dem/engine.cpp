@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <exception>
+#include <string>
 
 #include <omp.h>
 
@@ -45,6 +47,8 @@ Engine<2>::Engine(const Topology<2>& topo, const Scene& scene, const EngineOptio
   detection_.search_free_faces_only = options_.search_free_faces_only;
 
   nthreads_ = std::max(options_.threads > 0 ? options_.threads : omp_get_max_threads(), 1);
+  const char* adapt = std::getenv("RBDEM_ADAPT_THREADS");
+  team_ = TeamSize(nthreads_, options_.adapt_threads && !(adapt && std::string(adapt) == "0"));
   w.flagged.assign(std::size_t(nthreads_), {});
   refresh();
   s.dt = critical_step();
@@ -73,9 +77,15 @@ void Engine<2>::step() {
   // between the stages instead of starting a team for each. A step with bond events or a contact rebuild leaves the
   // region after the bond stage, runs those as before (each on its own team), and opens a second region for the
   // block stages. Every stage does the same work in the same order either way, so the numbers are the same.
+  // Where the step's time goes (StepTimes), read on the first thread at the stage boundaries: 0 the start,
+  // 1 the bond stage done, 2 the block stages scheduled, 3 the block shares done, 4 their sums done, 5 the
+  // region(s) left, 6 the end; `events` the second region's start on a step with events.
+  double mark[7] = {}, events = 0;
+  mark[0] = omp_get_wtime();
   const StepContext c = context(true);
   ModelState<2>& s = state_;
   Workspace<2>& w = work_;
+  const bool sample = team_.begin(mark[0], c.threads);
   stages::bond_forces_begin(model_, w, c);
   stages::rebalance(w);
   stages::rebuild_check_begin(w, c.threads);
@@ -93,11 +103,15 @@ void Engine<2>::step() {
     double busy = omp_get_wtime() - t0;
 #pragma omp barrier
 #pragma omp master
-    try {
-      stages::contact_forces_end(s, w, c);
-      for (BoundaryHooks<2>* h : hooks_) h->forces_end(model_, s, w, c);
-    } catch (...) {
-      error = std::current_exception();
+    {
+      mark[3] = omp_get_wtime();
+      try {
+        stages::contact_forces_end(s, w, c);
+        for (BoundaryHooks<2>* h : hooks_) h->forces_end(model_, s, w, c);
+      } catch (...) {
+        error = std::current_exception();
+      }
+      mark[4] = omp_get_wtime();
     }
 #pragma omp barrier
     if (error) return true;
@@ -114,6 +128,7 @@ void Engine<2>::step() {
 #pragma omp parallel num_threads(c.threads) reduction(&& : finite)
   {
     const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+    if (sample) team_.read(t);
     const double t0 = omp_get_wtime();
     stages::bond_forces_share(model_, s, w, c, t, nt);
     if (nt == part.threads) part.bond_seconds[std::size_t(t)] += omp_get_wtime() - t0;
@@ -121,8 +136,10 @@ void Engine<2>::step() {
 #pragma omp barrier
 #pragma omp master
     {
+      mark[1] = omp_get_wtime();
       serial = stages::events_pending(w) || stages::rebuild_due(model_, s, w, hooks_);
       if (!serial) begin_block_stages();
+      mark[2] = omp_get_wtime();
     }
 #pragma omp barrier
     if (!serial) finite = block_stages(t, nt);
@@ -131,14 +148,25 @@ void Engine<2>::step() {
     stages::bond_events(model_, s, w, on_crack, c.threads);
     stages::detect_contacts(model_, s, w, detection_, hooks_, c.threads);
     begin_block_stages();
+    events = omp_get_wtime();
 #pragma omp parallel num_threads(c.threads) reduction(&& : finite)
     finite = block_stages(omp_get_thread_num(), omp_get_num_threads());
   }
+  mark[5] = omp_get_wtime();
+  team_.end(mark[5]);
   if (error) std::rethrow_exception(error);
   stages::integrate_end(s, w, finite);  // throws when the run diverged
   for (BoundaryHooks<2>* h : hooks_) h->after_step(model_, s, w, s.dt);
   s.time += s.dt;
   ++s.steps;
+  mark[6] = omp_get_wtime();
+  StepTimes& T = times_;
+  T.bonds += mark[1] - mark[0];
+  T.serial += (mark[2] - mark[1]) + (mark[4] - mark[3]);
+  T.blocks += (mark[3] - (serial ? events : mark[2])) + (mark[5] - mark[4]);
+  if (serial) T.events += events - mark[2], ++T.event_steps;
+  T.rest += mark[6] - mark[5];
+  ++T.steps;
 }
 
 void Engine<2>::evaluate_forces(std::vector<double>& fx, std::vector<double>& fy, std::vector<double>& moment) {

@@ -22,6 +22,7 @@
 #include "dem/simulation.hpp"
 #include "dem/stages/stages.hpp"
 #include "dem/state.hpp"
+#include "dem/team.hpp"
 #include "dem/topology.hpp"
 
 namespace rbdem {
@@ -33,6 +34,10 @@ struct EngineOptions {
   // When set, each step uses min(*thread_budget, threads) threads (at least one): a sweep hands the cores of its
   // idle workers to the runs still going. Results do not depend on the thread count.
   const std::atomic<int>* thread_budget = nullptr;
+  // Shrink the team while other processes hold the cores, and grow it back when they leave (dem/team.hpp). Off:
+  // the team keeps its size (benchmarks of a fixed thread count). The environment variable RBDEM_ADAPT_THREADS=0
+  // switches it off for every run.
+  bool adapt_threads = true;
   bool contacts = true;          // false: no block-block contacts (diagnostics)
   bool skip_bonded_pairs = true;       // numerics.skip_bonded_pairs: no narrow phase for intact-bonded pairs
   bool search_free_faces_only = true;  // numerics.search_free_faces_only: broad phase over free-face blocks only
@@ -103,13 +108,18 @@ class Engine<2> {
   std::size_t active_contacts() const;
   const EngineOptions& options() const { return options_; }
   int max_threads() const { return nthreads_; }  // the most threads a step may use
-  // The threads of the next parallel stage. With a budget every stage reads it, so that no team is ever larger
-  // than the cores the sweep gave the run (idle extra threads make libgomp stop spinning and wake slowly). Work
-  // beside the steps (the stability limit, the static start) uses it too.
+  // The threads of the next parallel stage: the team's size (fewer while other processes hold the cores,
+  // dem/team.hpp), and with a budget no more than it, so that no team is ever larger than the cores the sweep gave
+  // the run (idle extra threads make libgomp stop spinning and wake slowly). Work beside the steps (the stability
+  // limit, the static start) uses it too.
   int threads() const {
-    return options_.thread_budget ? std::clamp(options_.thread_budget->load(std::memory_order_relaxed), 1, nthreads_)
-                                  : nthreads_;
+    const int n = team_.size();
+    return options_.thread_budget ? std::clamp(options_.thread_budget->load(std::memory_order_relaxed), 1, n) : n;
   }
+  // How the team's size followed the cores free (windows measured, shrinks, probes).
+  const TeamSize::Counts& team_counts() const { return team_.counts(); }
+  // Where the steps' time went, on the thread that calls step().
+  const StepTimes& step_times() const { return times_; }
   // How the bonds and blocks are split among the threads. The split follows the threads' measured speed and no
   // result depends on it; tests move it to check that.
   Workspace<2>::Partition& partition() { return work_.part; }
@@ -138,6 +148,8 @@ class Engine<2> {
   stages::Hooks hooks_;
   stages::DetectionOptions detection_;
   int nthreads_ = 1;  // the most threads the run may use
+  TeamSize team_{1, false};
+  StepTimes times_;
 };
 
 }  // namespace rbdem

@@ -28,6 +28,7 @@
 #include "dem/snapshot.hpp"
 #include "dem/specimen.hpp"
 #include "dem/static_result.hpp"
+#include "dem/team.hpp"
 #include "mesh/trimesh.hpp"
 
 namespace rbdem {
@@ -82,6 +83,10 @@ class Simulation {
   virtual double stability_limit(int iterations = 300, int threads = 0) const = 0;
   virtual int threads() const = 0;      // the threads the next step may use (a sweep's budget)
   virtual int max_threads() const = 0;  // the most threads a step may use (numerics.threads)
+  // How the team followed the cores free while other processes held some (dem/team.hpp).
+  virtual TeamSize::Counts team_counts() const = 0;
+  // Where the steps' wall time went so far (dem/team.hpp).
+  virtual StepTimes step_times() const = 0;
 
   // --- what the model holds ---
   virtual Energies energies() const = 0;

@@ -49,6 +49,8 @@ class SimulationImpl<2> final : public Simulation {
   }
   int threads() const override { return engine_.threads(); }
   int max_threads() const override { return engine_.max_threads(); }
+  TeamSize::Counts team_counts() const override { return engine_.team_counts(); }
+  StepTimes step_times() const override { return engine_.step_times(); }
 
   Energies energies() const override { return engine_.energies(); }
   const std::vector<Crack>& cracks() const override { return engine_.cracks(); }

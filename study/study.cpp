@@ -267,25 +267,29 @@ std::vector<CaseResult> run_cases(const std::vector<Case>& cases, const std::fil
       todo.push_back(k);
     }
   }
-  const int workers = std::max(1, std::min(int(todo.size()), options.workers > 0
-                                                                  ? options.workers
-                                                                  : int(std::thread::hardware_concurrency())));
+  // The cores of this process (--workers, else all) are shared by the cases running, as evenly as their number
+  // allows; the cases that started first hold the cores left over. While cases wait in the queue a finished case's
+  // cores go to the next; once the queue is empty they go to the cases still running, so the last and slowest cases
+  // of a sweep end on all the cores. Results do not depend on the thread count.
+  const int cores = std::max(1, options.workers > 0 ? options.workers : int(std::thread::hardware_concurrency()));
+  const int workers = std::max(1, std::min(int(todo.size()), cores));
   auto cancel_set = [&]() { return options.cancel && options.cancel->load(); };
   std::mutex lock;
   std::string first_error;
   std::size_t done = mine.size() - todo.size();
-  // Each case starts with one thread. A worker that finds the queue empty hands its thread to the running case
-  // with the fewest, so the last cases of a sweep do not leave cores idle; results do not depend on the count.
   const auto threads = std::make_unique<std::atomic<int>[]>(todo.size());
   std::vector<char> running(todo.size(), 0);
   for (std::size_t n = 0; n < todo.size(); ++n) threads[n] = 1;
-  auto hand_over = [&]() {
-    if (cancel_set()) return;  // the running cases are stopping: nothing to hand over
-    std::lock_guard<std::mutex> g(lock);
-    std::size_t to = todo.size();
-    for (std::size_t m = 0; m < todo.size(); ++m)
-      if (running[m] && (to == todo.size() || threads[m] < threads[to])) to = m;
-    if (to < todo.size()) threads[to] += 1;
+  std::size_t started = 0;
+  // Under `lock`, when a case starts or ends. While cases wait, a share is kept for each worker (one is about to
+  // take the next case).
+  auto share_cores = [&]() {
+    std::vector<std::size_t> now;
+    for (std::size_t n = 0; n < todo.size(); ++n)
+      if (running[n]) now.push_back(n);
+    const std::size_t holders = std::max<std::size_t>(1, started < todo.size() ? std::size_t(workers) : now.size());
+    for (std::size_t k = 0; k < now.size(); ++k)
+      threads[now[k]] = std::max(1, int(std::size_t(cores) / holders + (k < std::size_t(cores) % holders ? 1 : 0)));
   };
   // One case: a failed case is recorded and the others go on; a cancelled one throws Cancelled, which stops the
   // workers (parallel_map hands out no more cases) and leaves run_cases.
@@ -294,12 +298,14 @@ std::vector<CaseResult> run_cases(const std::vector<Case>& cases, const std::fil
     const std::size_t k = todo[n];
     {
       std::lock_guard<std::mutex> g(lock);
-      running[n] = 1;
+      running[n] = 1, ++started;
+      share_cores();
     }
     try {
-      CaseResult r = run_one(cases[k], out / cases[k].id, options.cancel, &threads[n], workers);
+      CaseResult r = run_one(cases[k], out / cases[k].id, options.cancel, &threads[n], cores);
       std::lock_guard<std::mutex> g(lock);
       running[n] = 0;
+      share_cores();
       results[k] = std::move(r);
       have[k] = 1;
       ++done;
@@ -318,10 +324,11 @@ std::vector<CaseResult> run_cases(const std::vector<Case>& cases, const std::fil
     } catch (const std::exception& e) {
       std::lock_guard<std::mutex> g(lock);
       running[n] = 0;
+      share_cores();
       if (first_error.empty()) first_error = fmt::format("case {}: {}", cases[k].id, e.what());
     }
   };
-  parallel_map(todo.size(), workers, run_case, hand_over);
+  parallel_map(todo.size(), workers, run_case);
   if (cancel_set()) throw Cancelled();
   if (!first_error.empty()) throw std::runtime_error(first_error);
   std::vector<CaseResult> list;

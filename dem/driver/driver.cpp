@@ -67,6 +67,7 @@ class TestRun {
       rec_.energy0 = e.kinetic + e.strain;
     }
     watchdog_.mark_sound(sim_, rec_);
+    start_seconds_ = std::chrono::duration<double>(Clock::now() - wall0_).count();
   }
 
   // Explicit steps until the protocol stops the test, a guard stops the run, or max_strain. Returns false when a
@@ -113,6 +114,7 @@ class TestRun {
     r.rock_bonds = specimen.count(BondKind::rock), r.joint_bonds = specimen.count(BondKind::joint);
     r.mass_scaling = scene_.numerics.mass_scaling;
     r.threads = sim_.max_threads();
+    r.timing = {start_seconds_, sim_.step_times(), sim_.team_counts()};
     r.steps = sim_.steps();
     r.dt = rec_.dt, r.dt_critical = rec_.dt_critical, r.dt_block_estimate = rec_.dt_block_estimate;
     r.elastic_start_strain = rec_.elastic_start_strain;
@@ -206,6 +208,7 @@ class TestRun {
   const Scene& scene_;
   const RunOptions& options_;
   Clock::time_point wall0_;
+  double start_seconds_ = 0;
   TestRecord rec_;
   std::string stop_reason_ = "max_strain";
   LoadRate rate_;

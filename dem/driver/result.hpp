@@ -11,6 +11,7 @@
 #include "dem/driver/signals.hpp"
 #include "dem/records.hpp"
 #include "dem/snapshot.hpp"
+#include "dem/team.hpp"
 
 namespace rbdem {
 
@@ -76,6 +77,13 @@ struct TestResult {
     return std::numeric_limits<double>::quiet_NaN();
   }
   int threads = 1;                  // the OpenMP threads the engine ran on (at most)
+  // Where the wall time went and how the thread team followed the cores free (the run log; not in summary.json,
+  // which holds only what identical runs share).
+  struct Timing {
+    double start_seconds = 0;  // s: before the first step (static start, stability limit, the first records)
+    StepTimes steps;           // in the explicit steps (dem/team.hpp)
+    TeamSize::Counts team;
+  } timing;
   // The watchdog (docs/reliability.md): false when the run was stopped because its state became non-finite or
   // its energy grew without work input. Then the curve, cracks and frames end at the last state that passed the
   // check and the headline numbers (peak, modulus, failure mode) are not results.
