@@ -32,18 +32,20 @@ const rbdem::Topology<2>& default_topology() { return topology(rbdem::Scene{}.me
 
 // The simulation of `scene` on `topo`, with the platens of a compression test. Its team keeps the thread count
 // asked for (a run shrinks it while other processes hold the cores: dem/team.hpp), so that a row measures that count.
-std::unique_ptr<rbdem::SimulationImpl<2>> simulation(const rbdem::Scene& scene, const rbdem::Topology<2>& topo) {
+std::unique_ptr<rbdem::SimulationImpl<2>> simulation(const rbdem::Scene& scene, const rbdem::Topology<2>& topo,
+                                                     bool adapt = false) {
   auto sim = std::make_unique<rbdem::SimulationImpl<2>>(scene, topo, rbdem::SimulationOptions{},
-                                                        [](rbdem::EngineOptions& o) { o.adapt_threads = false; });
+                                                        [adapt](rbdem::EngineOptions& o) { o.adapt_threads = adapt; });
   sim->add_platens({scene.loading.platen_velocity, scene.loading.platen_friction});
   return sim;
 }
 
 // One engine step of `scene` on the default specimen (or `topo`), at state.range(0) threads.
-void engine_steps(benchmark::State& state, rbdem::Scene scene, const rbdem::Topology<2>* topo_in = nullptr) {
+void engine_steps(benchmark::State& state, rbdem::Scene scene, const rbdem::Topology<2>* topo_in = nullptr,
+                  bool adapt = false) {
   scene.numerics.threads = int(state.range(0));
   const auto& topo = topo_in ? *topo_in : default_topology();
-  const auto impl = simulation(scene, topo);
+  const auto impl = simulation(scene, topo, adapt);
   rbdem::Simulation& sim = *impl;
   sim.set_dt(0.5 * sim.stability_limit());
   sim.run(200);  // warm-up: platen contacts formed, caches warm
@@ -58,6 +60,11 @@ void engine_steps(benchmark::State& state, rbdem::Scene scene, const rbdem::Topo
 
 void BM_EngineStep(benchmark::State& state) { engine_steps(state, rbdem::Scene{}); }
 BENCHMARK(BM_EngineStep)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+
+// The same with the team that follows the free cores, as runs have it (dem/team.hpp): on an idle machine its cost
+// is the measurement of the run delay, once per 50 ms per thread.
+void BM_EngineStepAdaptive(benchmark::State& state) { engine_steps(state, rbdem::Scene{}, nullptr, true); }
+BENCHMARK(BM_EngineStepAdaptive)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 
 // The same step on the paper specimen meshed at state.range(1) tenths of a millimetre (3, 1, 0.5 mm: about 2 000,
 // 20 000 and 78 000 bonds): how the cost per bond-step and the two-thread gain change as the arrays outgrow the

@@ -250,6 +250,14 @@ CaseResult run_one(const Case& c, const std::filesystem::path& dir, const std::a
 
 }  // namespace
 
+std::vector<int> share_cores(int cores, std::size_t holders, std::size_t running) {
+  holders = std::max<std::size_t>({holders, running, 1});
+  const std::size_t n = std::size_t(std::max(cores, 1));
+  std::vector<int> t(running);
+  for (std::size_t k = 0; k < running; ++k) t[k] = std::max(1, int(n / holders + (k < n % holders ? 1 : 0)));
+  return t;
+}
+
 std::vector<CaseResult> run_cases(const std::vector<Case>& cases, const std::filesystem::path& out,
                                   const SweepOptions& options, int mpi_rank, int mpi_size) {
   std::filesystem::create_directories(out);
@@ -283,13 +291,13 @@ std::vector<CaseResult> run_cases(const std::vector<Case>& cases, const std::fil
   std::size_t started = 0;
   // Under `lock`, when a case starts or ends. While cases wait, a share is kept for each worker (one is about to
   // take the next case).
-  auto share_cores = [&]() {
+  auto share = [&]() {
     std::vector<std::size_t> now;
     for (std::size_t n = 0; n < todo.size(); ++n)
       if (running[n]) now.push_back(n);
-    const std::size_t holders = std::max<std::size_t>(1, started < todo.size() ? std::size_t(workers) : now.size());
-    for (std::size_t k = 0; k < now.size(); ++k)
-      threads[now[k]] = std::max(1, int(std::size_t(cores) / holders + (k < std::size_t(cores) % holders ? 1 : 0)));
+    const std::vector<int> t =
+        share_cores(cores, started < todo.size() ? std::size_t(workers) : now.size(), now.size());
+    for (std::size_t k = 0; k < now.size(); ++k) threads[now[k]] = t[k];
   };
   // One case: a failed case is recorded and the others go on; a cancelled one throws Cancelled, which stops the
   // workers (parallel_map hands out no more cases) and leaves run_cases.
@@ -299,13 +307,13 @@ std::vector<CaseResult> run_cases(const std::vector<Case>& cases, const std::fil
     {
       std::lock_guard<std::mutex> g(lock);
       running[n] = 1, ++started;
-      share_cores();
+      share();
     }
     try {
       CaseResult r = run_one(cases[k], out / cases[k].id, options.cancel, &threads[n], cores);
       std::lock_guard<std::mutex> g(lock);
       running[n] = 0;
-      share_cores();
+      share();
       results[k] = std::move(r);
       have[k] = 1;
       ++done;
@@ -324,7 +332,7 @@ std::vector<CaseResult> run_cases(const std::vector<Case>& cases, const std::fil
     } catch (const std::exception& e) {
       std::lock_guard<std::mutex> g(lock);
       running[n] = 0;
-      share_cores();
+      share();
       if (first_error.empty()) first_error = fmt::format("case {}: {}", cases[k].id, e.what());
     }
   };

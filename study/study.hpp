@@ -101,6 +101,11 @@ struct SweepOptions {
 struct Cancelled : std::runtime_error {
   Cancelled() : std::runtime_error("cancelled") {}
 };
+// The threads of each running case (in the order they started) when `cores` are shared by `holders` cases (the
+// running ones, or while cases wait in the queue, one per worker): as evenly as the count allows, the cases that
+// started first holding the cores left over; at least one each.
+std::vector<int> share_cores(int cores, std::size_t holders, std::size_t running);
+
 std::vector<CaseResult> run_cases(const std::vector<Case>& cases, const std::filesystem::path& out,
                                   const SweepOptions& options, int mpi_rank = 0, int mpi_size = 1);
 

@@ -323,5 +323,24 @@ TEST(Study, CaseStoppedByTheWatchdogDoesNotCountAsDone) {
   fs::remove_all(out);
 }
 
+// A sweep shares its cores among the running cases: seven dips on 16 cores start with 3, 3, 2, 2, 2, 2 and 2
+// threads, and as the queue empties and cases end, the last ones get the cores the others leave.
+TEST(Study, CasesShareTheCoresAndTheLastOnesGetTheRest) {
+  EXPECT_EQ(share_cores(16, 7, 7), (std::vector<int>{3, 3, 2, 2, 2, 2, 2}));
+  EXPECT_EQ(share_cores(16, 7, 3), (std::vector<int>{3, 3, 2}));  // the queue still holds cases: shares are kept
+  EXPECT_EQ(share_cores(16, 2, 2), (std::vector<int>{8, 8}));
+  EXPECT_EQ(share_cores(16, 1, 1), (std::vector<int>{16}));
+  EXPECT_EQ(share_cores(2, 2, 2), (std::vector<int>{1, 1}));   // two cores: one thread per case, as before
+  EXPECT_EQ(share_cores(2, 1, 1), (std::vector<int>{2}));
+  EXPECT_EQ(share_cores(3, 5, 5), (std::vector<int>{1, 1, 1, 1, 1}));  // never fewer than one
+  for (int cores : {1, 2, 5, 16, 64})
+    for (std::size_t running = 1; running <= 9; ++running) {
+      const std::vector<int> t = share_cores(cores, running, running);
+      int sum = 0;
+      for (int k : t) sum += k;
+      EXPECT_EQ(sum, std::max(cores, int(running))) << cores << " cores, " << running << " cases";
+    }
+}
+
 }  // namespace
 }  // namespace rbdem::study
