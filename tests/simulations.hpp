@@ -2,6 +2,7 @@
 // components a test needs, and its engine for the tests of the engine itself.
 #pragma once
 
+#include <functional>
 #include <memory>
 
 #include "dem/simulation_impl.hpp"
@@ -15,8 +16,9 @@ inline std::unique_ptr<SimulationImpl<2>> with_platens(const Scene& scene) {
   sim->add_platens({scene.loading.platen_velocity, scene.loading.platen_friction});
   return sim;
 }
-inline std::unique_ptr<SimulationImpl<2>> with_platens(const Scene& scene, const Topology<2>& topo) {
-  auto sim = std::make_unique<SimulationImpl<2>>(scene, topo);
+inline std::unique_ptr<SimulationImpl<2>> with_platens(const Scene& scene, const Topology<2>& topo,
+                                                      const std::function<void(EngineOptions&)>& engine = nullptr) {
+  auto sim = std::make_unique<SimulationImpl<2>>(scene, topo, SimulationOptions{}, engine);
   sim->add_platens({scene.loading.platen_velocity, scene.loading.platen_friction});
   return sim;
 }
