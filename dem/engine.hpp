@@ -22,6 +22,7 @@
 #include "dem/simulation.hpp"
 #include "dem/stages/stages.hpp"
 #include "dem/state.hpp"
+#include "dem/state_tables.hpp"
 #include "dem/team.hpp"
 #include "dem/topology.hpp"
 
@@ -104,6 +105,10 @@ class Engine<2> {
 
   // --- diagnostics ---
   BondForces bond_forces(int bond) const;  // the forces of a bond in the current state
+  // The state as dimension-free tables (dem/state_tables.hpp; engine_tables.cpp).
+  BlockStates block_states() const;
+  BondStates bond_states() const;
+  ContactStates contact_states() const;
   Energies energies() const;
   std::size_t active_contacts() const;
   const EngineOptions& options() const { return options_; }

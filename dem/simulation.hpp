@@ -27,6 +27,7 @@
 #include "dem/scene.hpp"
 #include "dem/snapshot.hpp"
 #include "dem/specimen.hpp"
+#include "dem/state_tables.hpp"
 #include "dem/static_result.hpp"
 #include "dem/team.hpp"
 #include "mesh/trimesh.hpp"
@@ -95,6 +96,12 @@ class Simulation {
   virtual std::string non_finite() const = 0;
   // The block poses, component-major (Frame::pose: Dim<dim>::pose components).
   virtual std::vector<double> pose() const = 0;
+  // The state as tables (copies; dem/state_tables.hpp): the blocks now (their forces of the last step), the
+  // bonds' forces now (broken bonds as zero rows), and the pairs in contact now with their forces now (the contact
+  // law at the overlap, the shear force as carried): the bond and contact forces the force evaluation gives.
+  virtual BlockStates block_states() const = 0;
+  virtual BondStates bond_states() const = 0;
+  virtual ContactStates contact_states() const = 0;
   // Off: an elastic model in which no bond breaks (tests, stability checks).
   virtual void set_breakage(bool on) = 0;
   // The axial strain the crack log records with new cracks.

@@ -51,6 +51,9 @@ class SimulationImpl<2> final : public Simulation {
   int max_threads() const override { return engine_.max_threads(); }
   TeamSize::Counts team_counts() const override { return engine_.team_counts(); }
   StepTimes step_times() const override { return engine_.step_times(); }
+  BlockStates block_states() const override { return engine_.block_states(); }
+  BondStates bond_states() const override { return engine_.bond_states(); }
+  ContactStates contact_states() const override { return engine_.contact_states(); }
 
   Energies energies() const override { return engine_.energies(); }
   const std::vector<Crack>& cracks() const override { return engine_.cracks(); }

@@ -1,0 +1,95 @@
+// The engine's state as the dimension-free tables of dem/state_tables.hpp (copies, for scripts, measurements and
+// writers). See engine.hpp.
+#include <cmath>
+
+#include "dem/contact_geometry.hpp"
+#include "dem/engine.hpp"
+#include "dem/stages/bond_kernel.hpp"
+
+namespace rbdem {
+
+BlockStates Engine<2>::block_states() const {
+  const ModelState<2>& s = state_;
+  const std::size_t n = model_.num_blocks();
+  BlockStates t;
+  t.dim = 2;
+  t.position.resize(2 * n), t.velocity.resize(2 * n), t.force.resize(2 * n);
+  t.rotation = s.theta, t.angular_velocity = s.omega, t.moment = s.moment;
+  for (std::size_t b = 0; b < n; ++b) {
+    t.position[2 * b] = s.x[b], t.position[2 * b + 1] = s.y[b];
+    t.velocity[2 * b] = s.vx[b], t.velocity[2 * b + 1] = s.vy[b];
+    t.force[2 * b] = s.fx[b], t.force[2 * b + 1] = s.fy[b];
+  }
+  return t;
+}
+
+BondStates Engine<2>::bond_states() const {
+  const ModelState<2>& s = state_;
+  const std::size_t n = model_.num_bonds();
+  BondStates t;
+  t.dim = 2;
+  t.intact.resize(n), t.point.assign(2 * n, 0.0), t.normal.assign(2 * n, 0.0), t.force.assign(2 * n, 0.0);
+  t.moment.assign(n, 0.0), t.normal_force.assign(n, 0.0), t.shear_force.assign(n, 0.0);
+  t.failure_index.assign(n, 0.0), t.damage.assign(n, 1.0);
+  const BondFrames& f = model_.frame;
+#pragma omp parallel for schedule(static) num_threads(threads()) if (n > 4096)
+  for (std::size_t k = 0; k < n; ++k) {
+    t.intact[k] = s.broken[k] ? 0 : 1;
+    if (s.broken[k]) continue;
+    const int b = int(k);
+    const stages::BondEval ev = stages::eval_bond(model_, s, work_, b, 0.0, s.fs_lin[k], work_.keep[k]);
+    const double keep = work_.keep[k];
+    // The co-rotated frame of the evaluation: the bisector of the two rotated reference normals.
+    const std::size_t i = std::size_t(model_.bi[k]), j = std::size_t(model_.bj[k]);
+    const double ci = work_.cos_t[i] + work_.cos_t[j], si = work_.sin_t[i] + work_.sin_t[j];
+    double nx = ci * f.n0x[k] - si * f.n0y[k], ny = si * f.n0x[k] + ci * f.n0y[k];
+    const double len = std::hypot(nx, ny);
+    nx /= len, ny /= len;
+    const double cjx = ev.px - s.x[j], cjy = ev.py - s.y[j];
+    t.point[2 * k] = ev.px, t.point[2 * k + 1] = ev.py;
+    t.normal[2 * k] = nx, t.normal[2 * k + 1] = ny;
+    t.force[2 * k] = ev.fx, t.force[2 * k + 1] = ev.fy;
+    t.moment[k] = ev.mj - stages::cross(cjx, cjy, ev.fx, ev.fy);  // the couple about the bond point
+    t.normal_force[k] = -(keep * ev.fnb + ev.fnl);
+    t.shear_force[k] = keep * ev.fsb + ev.fsl;
+    const BondLoad q = BondLoad::of(f.tension_limit[k], f.cohesion_A[k], f.tan_phi[k], f.beta_m[k], ev.fnb, ev.fsb,
+                                    ev.mb, f.inv_L[k], model_.law[model_.material[k]].bond.moment_arm());
+    bool tensile = false;
+    t.failure_index[k] = q.index(tensile);
+    t.damage[k] = 1.0 - keep;
+  }
+  return t;
+}
+
+ContactStates Engine<2>::contact_states() const {
+  const ModelState<2>& s = state_;
+  const ContactPairs& C = s.contacts;
+  ContactStates t;
+  t.dim = 2;
+  // The listed pairs that overlap now, with the contact law at the overlap now and the shear force as carried
+  // (capped by friction): the forces the engine's force evaluation gives in this state (evaluate_forces).
+  for (std::size_t p = 0; p < C.size(); ++p) {
+    if (C.bond[p] >= 0 && !s.broken[std::size_t(C.bond[p])]) continue;  // still bonded: the bond is its contact
+    const int i = C.i[p], j = C.j[p];
+    const double ex = s.x[std::size_t(j)] - s.x[std::size_t(i)], ey = s.y[std::size_t(j)] - s.y[std::size_t(i)];
+    const double rr = model_.radius[std::size_t(i)] + model_.radius[std::size_t(j)];
+    if (ex * ex + ey * ey >= rr * rr) continue;
+    double vi[6], vj[6];
+    stages::block_vertices(model_, s, work_, i, vi);
+    stages::block_vertices(model_, s, work_, j, vj);
+    Overlap ov;
+    if (!overlap_polygons(vi, 3, vj, 3, ov)) continue;
+    const double nx = -ov.nx, ny = -ov.ny, tx = -ny, ty = nx;  // from i to j
+    const double fn = C.law[p].normal_force(ov.area, ov.chord);
+    double fs = C.fs[p];
+    C.law[p].update_shear(fn, ov.chord, 0.0, 0.0, fs);
+    t.i.push_back(i), t.j.push_back(j);
+    t.point.push_back(ov.px), t.point.push_back(ov.py);
+    t.normal.push_back(nx), t.normal.push_back(ny);
+    t.force.push_back(fn * nx + fs * tx), t.force.push_back(fn * ny + fs * ty);
+    t.normal_force.push_back(fn), t.shear_force.push_back(fs);
+  }
+  return t;
+}
+
+}  // namespace rbdem
