@@ -46,7 +46,7 @@ namespace {
 struct TestCommandOptions {
   std::string test;  // the protocol's name
   SceneOptions scene;
-  std::optional<double> confining;  // triaxial: --confining PA
+  std::vector<std::optional<double>> shorthands;  // the protocol's own options (ProtocolInfo::options), in order
   std::string out;
   bool skip_elastic_gate = false;
   bool resume = false;
@@ -154,7 +154,9 @@ int run_test_command(const TestCommandOptions& opt) {
   const auto started = fs::file_time_type::clock::now() - std::chrono::seconds(1);
   const ProtocolInfo& info = protocol_info(opt.test);
   SceneOptions so = opt.scene;
-  if (opt.confining) so.sets.insert(so.sets.begin(), fmt::format("loading.confining_pressure={:.17g}", *opt.confining));
+  for (std::size_t k = info.options.size(); k-- > 0;)
+    if (opt.shorthands[k])
+      so.sets.insert(so.sets.begin(), fmt::format("{}={:.17g}", info.options[k].key, *opt.shorthands[k]));
   for (const auto& [key, value] : info.scene_defaults) so.sets.insert(so.sets.begin(), key + "=" + value);
   const Scene scene = resolve_scene(so);
   info.check(scene);
@@ -253,9 +255,9 @@ Runner add_test_command(CLI::App& app, const ProtocolInfo& test) {
   CLI::App* cmd =
       app.add_subcommand(test.name, fmt::format("{}: summary.json, curve.csv, cracks.csv, result.h5", test.description));
   add_scene_options(*cmd, opt->scene);
-  if (test.confined)
-    cmd->add_option("--confining", opt->confining,
-                    "confining pressure sigma_3 [Pa] (loading.confining_pressure), e.g. --confining 10e6");
+  opt->shorthands.resize(test.options.size());
+  for (std::size_t k = 0; k < test.options.size(); ++k)
+    cmd->add_option(test.options[k].option, opt->shorthands[k], test.options[k].help);
   cmd->add_option("--out,-o", opt->out, "output folder")->capture_default_str();
   cmd->add_flag("--skip-elastic-gate", opt->skip_elastic_gate,
                 "run even when the elastic gate fails (DEM vs the FE model with the joints, and Amadei where the "

@@ -21,6 +21,12 @@ struct ProtocolInfo {
   // Scene keys the test sets before the user's (as --set would): the Brazilian test's disc. An explicit --set of
   // the same key comes after and is then checked by `check`.
   std::vector<std::pair<std::string, std::string>> scene_defaults;
+  // The command's own options, each a shorthand for one scene key (`rbdem triaxial --confining 10e6` sets
+  // loading.confining_pressure): the option ("--confining"), the key, and the help text.
+  struct Shorthand {
+    std::string option, key, help;
+  };
+  std::vector<Shorthand> options;
   // Refuses a scene that does not suit the test: a SceneError naming the key and the fix.
   std::function<void(const Scene&)> check;
   std::function<std::unique_ptr<LoadingProtocol>(const Scene& scene, int curve_points)> make;

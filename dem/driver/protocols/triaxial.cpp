@@ -91,6 +91,8 @@ ProtocolInfo triaxial_protocol() {
   p.name = "triaxial";
   p.description = "one confined (triaxial) compression test: --confining sets sigma_3";
   p.confined = true;
+  p.options = {{"--confining", "loading.confining_pressure",
+                "confining pressure sigma_3 [Pa] (loading.confining_pressure), e.g. --confining 10e6"}};
   p.check = [](const Scene& scene) {
     if (scene.specimen.shape == "disc")
       throw SceneError("rbdem triaxial compresses a rectangle between platens: specimen.shape = \"disc\" is for "
