@@ -34,17 +34,11 @@
 #include "io/run_case.hpp"
 #include "study/report.hpp"
 #include "study/study.hpp"
+#include "python/binding_common.hpp"
 
 namespace py = pybind11;
 
 namespace rbdem::python {
-
-namespace {
-
-// One scene key set from Python: `origin` names where it came from in messages ("scene", "overrides").
-struct Assignment {
-  std::string origin, key, value;
-};
 
 // Sets the keys in order, naming the Python argument instead of the CLI's --set in the messages.
 void apply_assignments(Scene& scene, const std::vector<Assignment>& sets) {
@@ -82,28 +76,6 @@ py::array_t<double> array_of(const std::vector<double>& v) {
   py::array_t<double> a(py::ssize_t(v.size()));
   std::copy(v.begin(), v.end(), a.mutable_data());
   return a;
-}
-
-// A table of records as a dict of NumPy arrays, one per field of its field table (dem/records.hpp), under the
-// names of the CSV columns; the enumerations as lists of their names.
-template <class Record>
-py::dict record_arrays(int dim, const std::vector<Record>& rows) {
-  py::dict d;
-  write_columns(dim, rows, [&](const Field& field, const auto& column, bool) {
-    using V = typename std::decay_t<decltype(column)>::value_type;
-    if constexpr (std::is_enum_v<V>) {
-      std::vector<std::string> names;
-      for (const V v : column) names.push_back(name_of(v));
-      d[field.name] = names;
-    } else if constexpr (std::is_same_v<V, std::string>) {
-      d[field.name] = column;
-    } else {
-      py::array_t<V> a(py::ssize_t(column.size()));
-      std::copy(column.begin(), column.end(), a.mutable_data());
-      d[field.name] = a;
-    }
-  });
-  return d;
 }
 
 // The curve's table, plus the mean platen stress (stress_pa) for convenience.
@@ -146,6 +118,8 @@ py::dict block_arrays(const Specimen& sp) {
   return d;
 }
 
+namespace {
+
 const char* status_name(compare::GateCheck::Status s) {
   switch (s) {
     case compare::GateCheck::Status::passed: return "passed";
@@ -153,17 +127,6 @@ const char* status_name(compare::GateCheck::Status s) {
     default: return "not_applicable";
   }
 }
-
-// Exceptions the Python layer maps to its own classes (python/rbdem/__init__.py).
-struct GateFailed : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
-// The Python exception a progress hook caught (KeyboardInterrupt from PyErr_CheckSignals, or the callback's own),
-// raised again once the run has unwound.
-struct PendingError {
-  std::optional<py::error_already_set> error;
-};
 
 // Runs one test as `rbdem ucs|triaxial|brazilian --out OUT` does (apps/cmd_test.cpp), without the resume,
 // checkpoint and printing of the command line. Returns the raw pieces; rbdem.Result wraps them.
@@ -431,20 +394,6 @@ py::list sweep(const std::string& study_file, const std::vector<Assignment>& ove
 
 }  // namespace rbdem::python
 
-namespace pybind11::detail {
-// A scene key from Python: (origin, key, value) with the value already as text (python/rbdem/__init__.py).
-template <>
-struct type_caster<rbdem::python::Assignment> {
-  PYBIND11_TYPE_CASTER(rbdem::python::Assignment, const_name("tuple[str, str, str]"));
-  bool load(handle src, bool convert) {
-    make_caster<std::tuple<std::string, std::string, std::string>> t;
-    if (!t.load(src, convert)) return false;
-    auto [origin, key, v] = cast_op<std::tuple<std::string, std::string, std::string>>(std::move(t));
-    value = {origin, key, v};
-    return true;
-  }
-};
-}  // namespace pybind11::detail
 
 PYBIND11_MODULE(_rbdem, m) {
   using namespace rbdem::python;
@@ -463,6 +412,7 @@ PYBIND11_MODULE(_rbdem, m) {
   m.def("verify_cases", &verify_cases);
   m.def("sweep", &sweep, py::arg("study_file"), py::arg("overrides"), py::arg("out"), py::arg("workers"),
         py::arg("skip_gate"), py::arg("force"));
+  bind_simulation(m);
   m.def("scene_keys", []() {
     std::vector<std::tuple<std::string, std::string, std::string>> keys;
     for (const auto& p : rbdem::scene_parameters()) keys.emplace_back(p.key, p.unit, p.doc);

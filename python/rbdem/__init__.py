@@ -43,7 +43,7 @@ def _numpy():
 __all__ = [
     "ucs", "triaxial", "brazilian", "resolve_scene", "elastic_gate", "verify", "verify_cases", "sweep",
     "scene_keys", "version", "__version__", "Result", "Frame", "GateReport", "SceneError", "ElasticGateError",
-    "RunFailed",
+    "RunFailed", "InstabilityError", "Simulation", "Protocol", "Platens", "Jacket", "Group",
 ]
 
 #: Bad input: an unknown key, a value out of range or of the wrong type, a scene unfit for the test, an output
@@ -53,6 +53,10 @@ SceneError = _rbdem.SceneError
 #: The elastic gate refused the scene (the command line's exit status 3). A RuntimeError whose message holds the
 #: gate's table and what to do; skip_elastic_gate=True runs anyway.
 ElasticGateError = _rbdem.ElasticGateFailed
+
+
+#: Simulation.step() found a position or velocity no longer finite: the time step is too large for the scene.
+InstabilityError = _rbdem.InstabilityError
 
 
 class RunFailed(RuntimeError):
@@ -343,3 +347,7 @@ def sweep(study: Union[str, "os.PathLike[str]"], *, out: Union[str, "os.PathLike
 def scene_keys() -> list:
     """Every scene key as (key, unit, description), in file order (`rbdem --help-scene`)."""
     return [tuple(k) for k in _rbdem.scene_keys()]
+
+
+# rbdem.Simulation and rbdem.Protocol (python/rbdem/simulation.py): last, since they use the helpers above.
+from .simulation import Group, Jacket, Platens, Protocol, Simulation  # noqa: E402

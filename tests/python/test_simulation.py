@@ -1,0 +1,174 @@
+"""rbdem.Simulation and rbdem.Protocol (docs/python.md, "Scripting a simulation"): the model's state as arrays, its
+boundaries from Python, explicit steps, snapshots, built-in tests equal to the command line's bit for bit, a test
+written in Python through the same driver, checkpoint and resume.
+
+CTest runs this within Python.Module (PYTHONPATH=build/python, RBDEM_EXE the rbdem binary of the same build).
+"""
+import json
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import rbdem
+
+# 10 x 20 mm, joints every 6 mm, 2 mm mesh, one thread: about 130 blocks.
+SMALL = {"specimen.width": 0.01, "specimen.height": 0.02, "joint_set.spacing": 0.006, "mesh.size": 0.002,
+         "numerics.threads": 1}
+
+
+def without_timing(summary):
+    return {k: v for k, v in summary.items() if k != "wall_seconds"}
+
+
+def test_state_tables_have_the_documented_shapes_and_are_copies():
+    sim = rbdem.Simulation(beta=30, overrides=SMALL)
+    n, nb = sim.specimen["blocks"], sim.specimen["bonds"]
+    b, d, c = sim.blocks, sim.bonds, sim.contacts
+    assert b["position"].shape == (n, 2) and b["rotation"].shape == (n,) and b["velocity"].shape == (n, 2)
+    assert b["mass"].shape == (n,) and b["layer"].dtype.kind == "i"
+    assert d["force"].shape == (nb, 2) and d["intact"].dtype == bool and d["intact"].all()
+    assert set(d["kind"]) == {"rock", "joint"}
+    assert c["i"].shape == c["j"].shape and c["force"].shape == (len(c["i"]), 2)
+    np.testing.assert_array_equal(b["position"], b["reference_position"])  # at rest, as meshed
+    b["position"][:] = 0.0  # a copy: the model does not move
+    assert np.all(sim.blocks["position"] == sim.blocks["reference_position"])
+
+
+def test_platens_step_and_read_forces_in_compression():
+    sim = rbdem.Simulation(beta=90, overrides=SMALL)
+    platens = sim.add_platens(velocity=0.2)
+    sim.step(1500)
+    assert sim.steps == 1500 and sim.time == pytest.approx(1500 * sim.dt)
+    assert platens.closure == pytest.approx(0.2 * sim.time, rel=1e-9)
+    assert platens.stress > 0
+    bonds = sim.bonds
+    vertical = np.abs(bonds["normal"][:, 1]) > 0.95
+    assert np.mean(bonds["normal_force"][vertical]) < 0  # tension positive: the column is compressed
+    e = sim.energies()
+    assert e["work_j"] > 0 and e["strain_j"] > 0
+    assert platens.readings()["top_force_n"] == pytest.approx(platens.top_force)
+
+
+def test_groups_by_layer_box_and_index_and_a_fixed_group_holds():
+    sim = rbdem.Simulation(beta=0, overrides=SMALL)
+    names = sim.specimen["layer_names"]
+    by_layer = sim.add_group("first", layer=names[0])
+    assert set(sim.blocks["layer"][by_layer.blocks]) == {0}
+    h = sim.specimen["hi"][1]
+    top = sim.add_group("top", box=((-1, h - 0.002), (1, 1)), mode="velocity", value=[0.0, -0.05, 0.0])
+    assert len(top.blocks) > 0
+    sim.step(200)
+    moved = sim.blocks["position"][top.blocks] - sim.blocks["reference_position"][top.blocks]
+    np.testing.assert_allclose(moved[:, 1], -0.05 * sim.time, rtol=1e-9)
+    held = sim.blocks["position"][by_layer.blocks] - sim.blocks["reference_position"][by_layer.blocks]
+    assert np.all(held == 0.0)
+    top.set_value([0.0, 0.0, 0.0])
+    assert sim.controls[-1][2:] == ("top", "velocity", (0.0, 0.0, 0.0))
+    with pytest.raises(rbdem.SceneError, match="layer 'nope'"):
+        sim.add_group("bad", layer="nope")
+    with pytest.raises(rbdem.SceneError, match="selects none"):
+        sim.add_group("empty", box=((5, 5), (6, 6)))
+
+
+def test_snapshot_restores_the_state_bit_for_bit():
+    sim = rbdem.Simulation(beta=45, overrides=SMALL)
+    sim.add_platens(velocity=0.2)
+    sim.step(300)
+    snap = sim.snapshot()
+    sim.step(300)
+    after = sim.blocks["position"]
+    sim.restore(snap)
+    assert sim.steps == 300
+    sim.step(300)
+    np.testing.assert_array_equal(sim.blocks["position"], after)
+
+
+def test_builtin_test_equals_the_command_line_bit_for_bit(tmp_path):
+    exe = os.environ.get("RBDEM_EXE")
+    if not exe:
+        pytest.skip("RBDEM_EXE (the rbdem binary) is not set; CTest sets it")
+    r = rbdem.Simulation(beta=60, overrides=SMALL).run("ucs", out=tmp_path / "py")
+    sets = sum((["--set", f"{k}={v}"] for k, v in SMALL.items()), [])
+    subprocess.run([exe, "ucs", "--beta", "60", *sets, "--skip-elastic-gate", "-q", "--out", str(tmp_path / "cli")],
+                   check=True, capture_output=True)
+    cli = json.loads((tmp_path / "cli" / "summary.json").read_text())
+    assert without_timing(r.summary) == without_timing(cli)
+    assert (tmp_path / "py" / "curve.csv").read_bytes() == (tmp_path / "cli" / "curve.csv").read_bytes()
+    assert (tmp_path / "py" / "cracks.csv").read_bytes() == (tmp_path / "cli" / "cracks.csv").read_bytes()
+
+
+def test_interrupted_and_resumed_from_python_equals_the_uninterrupted_run(tmp_path):
+    whole = rbdem.Simulation(beta=60, overrides=SMALL).run("ucs")
+    half = whole.summary["steps"] // 2
+    assert half > 10
+    with pytest.raises(RuntimeError, match="interrupted at step"):
+        rbdem.Simulation(beta=60, overrides=SMALL).run("ucs", out=tmp_path, _interrupt_at_step=half)
+    assert (tmp_path / "checkpoint.h5").exists()
+    resumed = rbdem.Simulation(beta=60, overrides=SMALL).run("ucs", out=tmp_path, resume=True)
+    assert without_timing(resumed.summary) == without_timing(whole.summary)
+    assert not (tmp_path / "checkpoint.h5").exists()
+
+
+class Hold(rbdem.Protocol):
+    """Loads to 2 MPa, then holds the platen stress there with the servo."""
+    name = "hold_test"
+    every = 5
+    max_steps = 20000
+
+    def prepare(self, sim):
+        self.platens = sim.add_platens(velocity=0.2)
+
+    def step(self, sim):
+        if not self.platens.servo_active and self.platens.stress >= 2e6:
+            self.platens.set_servo(2e6, gain=2e-8, max_velocity=0.2)
+
+    def done(self, sim):
+        return self.platens.servo_active and sim.steps >= 6000
+
+    def results(self, sim):
+        return {"held_stress_pa": self.platens.stress}
+
+
+def test_a_protocol_written_in_python_runs_through_the_shared_driver(tmp_path):
+    sim = rbdem.Simulation(beta=60, overrides=SMALL)
+    r = sim.run(Hold(), out=tmp_path)
+    s = r.summary
+    assert s["test"] == "hold_test" and s["stop_reason"] == "protocol" and s["steps"] == 6000
+    assert s["held_stress_pa"] == pytest.approx(2e6, rel=0.01)
+    assert len(r.curve["stress_pa"]) > 10
+    for name in ("summary.json", "curve.csv", "cracks.csv", "result.h5", "scene.toml"):
+        assert (tmp_path / name).exists()
+    assert [c[2:4] for c in sim.controls] == [("platens", "servo")]
+    with pytest.raises(rbdem.SceneError, match="fresh Simulation"):
+        sim.run("ucs")
+
+
+def test_an_exception_in_a_hook_stops_the_run_and_is_raised():
+    class Broken(Hold):
+        def step(self, sim):
+            if sim.steps > 50:
+                raise ValueError("my protocol's own error")
+
+    with pytest.raises(ValueError, match="my protocol's own error"):
+        rbdem.Simulation(beta=60, overrides=SMALL).run(Broken())
+
+    class Steps(Hold):
+        def step(self, sim):
+            sim.step(1)
+
+    with pytest.raises(RuntimeError, match="inside a run"):
+        rbdem.Simulation(beta=60, overrides=SMALL).run(Steps())
+
+
+def test_bad_protocol_attributes_are_refused():
+    class NoLimit(rbdem.Protocol):
+        pass
+
+    with pytest.raises(rbdem.SceneError, match="max_steps"):
+        rbdem.Simulation(overrides=SMALL).run(NoLimit())
+    with pytest.raises(rbdem.SceneError, match="give a test's name"):
+        rbdem.Simulation(overrides=SMALL).run(42)
+    with pytest.raises(rbdem.SceneError, match="unknown test"):
+        rbdem.Simulation(overrides=SMALL).run("nope")
