@@ -111,6 +111,18 @@ def test_interrupted_and_resumed_from_python_equals_the_uninterrupted_run(tmp_pa
     assert not (tmp_path / "checkpoint.h5").exists()
 
 
+def test_a_checkpoint_written_from_python_is_resumed_by_the_command_line(tmp_path):
+    """The checkpoint is the command line's: `rbdem ucs --resume` continues it to the uninterrupted run's result."""
+    whole = rbdem.Simulation(beta=60, overrides=SMALL).run("ucs")
+    with pytest.raises(RuntimeError, match="interrupted at step"):
+        rbdem.Simulation(beta=60, overrides=SMALL).run("ucs", out=tmp_path, _interrupt_at_step=whole.summary["steps"] // 3)
+    sets = [a for k, v in SMALL.items() for a in ("--set", f"{k}={v}")]
+    subprocess.run([os.environ["RBDEM_EXE"], "ucs", "--beta", "60", *sets, "--out", str(tmp_path), "--resume", "-q"],
+                   check=True, capture_output=True)
+    cli = json.loads((tmp_path / "summary.json").read_text())
+    assert without_timing(cli) == without_timing(whole.summary)
+
+
 class Hold(rbdem.Protocol):
     """Loads to 2 MPa, then holds the platen stress there with the servo."""
     name = "hold_test"
