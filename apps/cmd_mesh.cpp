@@ -10,6 +10,7 @@
 
 #include "apps/cli_common.hpp"
 #include "apps/commands.hpp"
+#include "dem/driver/summary.hpp"
 #include "dem/materials.hpp"
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
@@ -34,8 +35,19 @@ void print_statistics(const Scene& scene, const TriMesh& mesh, const Topology<2>
                  ? fmt::format("dip {:.4g} deg, spacing {:.4g} m, offset {:.4g} m", scene.joint_set.dip_deg,
                                scene.joint_set.spacing, scene.joint_set.offset)
                  : std::string(scene.mesh.file.empty() ? "none" : "from " + scene.mesh.file));
-  fmt::print("mesh         {} nodes, {} triangles, {} layers, target size {:.4g} m, meshed in {:.3f} s\n",
-             mesh.num_nodes(), mesh.num_triangles(), mesh.num_layers(), scene.mesh.size, seconds);
+  if (scene.mesh.file.empty()) {
+    fmt::print("mesh         {} nodes, {} triangles, {} layers, target size {:.4g} m, meshed in {:.3f} s\n",
+               mesh.num_nodes(), mesh.num_triangles(), mesh.num_layers(), scene.mesh.size, seconds);
+  } else {  // a user mesh: its own edge lengths (shared edges), not the scene's mesh.size
+    double lmax = 0, lsum = 0;
+    for (double l : topo.bonds.length) lmax = std::max(lmax, l), lsum += l;
+    fmt::print("mesh         {} nodes, {} triangles, {} layers, inner edges {:.3g} .. {:.3g} m (mean {:.3g} m), read "
+               "in {:.3f} s\n",
+               mesh.num_nodes(), mesh.num_triangles(), mesh.num_layers(), lmin, lmax,
+               topo.bonds.size() ? lsum / double(topo.bonds.size()) : 0.0, seconds);
+    const std::string warning = mesh_scale_warning(scene.mesh.file, std::max(topo.width(), topo.height()));
+    if (!warning.empty()) fmt::print("warning      {}\n", warning);
+  }
   fmt::print("blocks       {} (area {:.3g} .. {:.3g} m^2)\n", topo.blocks.size(), amin, amax);
   fmt::print("bonds        {} ({} rock, {} joint); joint length {:.6g} m; shortest edge {:.3g} m\n",
              topo.bonds.size(), topo.count(BondKind::rock), topo.count(BondKind::joint),

@@ -35,6 +35,7 @@
 #include "apps/commands.hpp"
 #include "compare/gate/gate_cache.hpp"
 #include "dem/driver/registry.hpp"
+#include "dem/driver/summary.hpp"
 #include "io/checkpoint.hpp"
 #include "io/results.hpp"
 #include "io/run_case.hpp"
@@ -185,11 +186,20 @@ int run_test_command(const TestCommandOptions& opt) {
   co.out = out;
   co.ready = [&](const Simulation& sim, bool mesh_cached) {
     const Specimen& sp = sim.specimen();
-    fmt::print("{}: {} blocks, {} bonds ({} joint), beta = {} deg{}{}\n", opt.test, sp.num_blocks(), sp.num_bonds(),
-               sp.count(BondKind::joint), scene.joint_set.dip_deg,
+    const bool user_mesh = !scene.mesh.file.empty();
+    const std::string beta =
+        user_mesh && sp.count(BondKind::joint) > 0
+            ? fmt::format("{:.4g} deg (measured from the mesh's joint edges)", joint_dip_deg(sp, 0.0))
+            : fmt::format("{} deg", scene.joint_set.dip_deg);
+    fmt::print("{}: {} blocks, {} bonds ({} joint), beta = {}{}{}\n", opt.test, sp.num_blocks(), sp.num_bonds(),
+               sp.count(BondKind::joint), beta,
                info.confined ? fmt::format(", sigma_3 = {:.4g} MPa", scene.loading.confining_pressure / 1e6)
                              : std::string(),
                mesh_cached ? ", mesh from the cache" : "");
+    if (user_mesh) {
+      const std::string warning = mesh_scale_warning(scene.mesh.file, std::max(sp.width(), sp.height()));
+      if (!warning.empty()) fmt::print("{}: warning: {}\n", opt.test, warning);
+    }
     std::fflush(stdout);
   };
   RunOptions& uo = co.run;

@@ -387,7 +387,32 @@ void validate(const Scene& scene) {
                                  scene.mesh.seed, scene.mesh.file));
 }
 
+// Every stress of a scene is in Pa. A value in MPa or GPa written as a bare number lands a million or a billion
+// times too small: below 1 MPa for a modulus (soft rocks start near 1 GPa) or below 1 kPa for a strength, pressure
+// or stress (rock bonds and lab pressures start near 0.1 MPa). Generic over the key table, so a new Pa key is
+// checked without a line here.
+static void check_stress_units(const Scene& scene) {
+  Scene copy = scene;
+  for (const auto& e : registry()) {
+    if (e.info.unit != "Pa") continue;
+    ValueRef ref = e.ref(copy);
+    const auto* v = std::get_if<double*>(&ref);
+    if (!v) continue;
+    const double value = **v;
+    const bool modulus = e.info.key.ends_with("modulus");
+    const double least = modulus ? 1e6 : 1e3;
+    if (value <= 0.0 || value >= least) continue;
+    const std::string fix = modulus ? fmt::format("{0}e6 if it is in MPa, {0}e9 if in GPa", fmt_real(value))
+                                    : fmt::format("{0}e6 if it is in MPa", fmt_real(value));
+    throw SceneError(fmt::format(
+        "{0} = {1} Pa is below {2} Pa, far below any rock's {3}: every stress in a scene is in Pa, so this is almost "
+        "surely a unit mistake (write {4}); pass --force to run it anyway",
+        e.info.key, fmt_real(value), fmt_real(least), modulus ? "modulus" : "strength or lab pressure", fix));
+  }
+}
+
 void check_plausible(const Scene& scene) {
+  check_stress_units(scene);
   // A bond strength at or above its modulus means a failure strain sigma/E* >= 1: rock fails at strains of 1e-4 to
   // 1e-2, so this is almost surely a unit mistake (a modulus in GPa or MPa, a strength in Pa).
   auto check = [](const std::string& section, const MaterialParams& m) {

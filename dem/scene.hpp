@@ -153,8 +153,9 @@ void apply_override(Scene& scene, std::string_view assignment);
 void set_parameter(Scene& scene, std::string_view key, std::string_view value);
 // Checks every value against its range and the cross-key rules; throws SceneError on the first problem.
 void validate(const Scene& scene);
-// Refuses values that pass every range but are almost surely a unit mistake (a bond strength at or above its
-// modulus). Separate from validate() so that the command line can skip it with --force.
+// Refuses values that pass every range but are almost surely a unit mistake: a stress key (unit Pa) written in MPa
+// or GPa (a modulus below 1 MPa, a strength, pressure or stress below 1 kPa but above 0), a bond strength at or above
+// its modulus. Separate from validate() so that the command line can skip it with --force.
 void check_plausible(const Scene& scene);
 
 // The second joint set's dip from the horizontal in [0, 180) when the first set dips `first_dip_deg`

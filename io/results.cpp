@@ -72,7 +72,10 @@ nlohmann::json run_summary(const Scene& scene, const TestResult& r) {
   j["version"] = version_text();
   j["test"] = r.test;
   j["dimension"] = r.dimension;
-  j["beta_deg"] = scene.joint_set.dip_deg;
+  // A user mesh's joints dip as drawn: beta_deg is measured from them, and beta_source says so.
+  const bool measured = !scene.mesh.file.empty() && std::isfinite(r.joint_dip_deg);
+  j["beta_deg"] = measured ? r.joint_dip_deg : scene.joint_set.dip_deg;
+  j["beta_source"] = measured ? "mesh" : "scene";
   j["spacing_m"] = scene.joint_set.spacing;
   j["peak_stress_pa"] = r.peak_stress;
   j["strain_at_peak"] = r.strain_at_peak;

@@ -152,6 +152,32 @@ TEST(Scene, StrengthAtOrAboveTheModulusIsALikelyUnitMistake) {
   EXPECT_THROW(check_plausible(s), SceneError);
 }
 
+// A scene written in MPa: every key is within its range and every strength is below its modulus, but each stress is
+// a million times too small. Each is refused alone, naming its key and the fix.
+TEST(Scene, StressesWrittenInMegapascalsAreLikelyUnitMistakes) {
+  const std::vector<std::pair<std::string, std::string>> mistakes = {
+      {"rock.effective_modulus", "20000"}, {"rock.tensile_strength", "6"}, {"joint.cohesion", "3.36"},
+      {"loading.confining_pressure", "10"}, {"joint2.effective_modulus", "50000"}};
+  for (const auto& [key, value] : mistakes) {
+    Scene s;
+    apply_override(s, key + "=" + value);
+    EXPECT_NO_THROW(validate(s)) << key;
+    try {
+      check_plausible(s);
+      ADD_FAILURE() << key << " = " << value << " passed";
+    } catch (const SceneError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find(key), std::string::npos) << m;
+      EXPECT_NE(m.find(value + "e6"), std::string::npos) << m;
+      EXPECT_NE(m.find("--force"), std::string::npos) << m;
+    }
+  }
+  Scene s;  // the bounds are not the check: a soft rock of 1 GPa and a lab pressure of 0.1 MPa pass
+  apply_override(s, "rock.effective_modulus=1e9");
+  apply_override(s, "loading.confining_pressure=1e5");
+  EXPECT_NO_THROW(check_plausible(s));
+}
+
 TEST(Scene, FolderGivenAsSceneFileIsRefused) {
   EXPECT_THROW(load_scene_file(std::filesystem::temp_directory_path()), SceneError);
 }

@@ -95,3 +95,17 @@ if mount -t tmpfs -o size=64k tmpfs "$work/tiny" 2>/dev/null; then
 else
   echo "note: cannot mount a tmpfs here; the full-disk case is covered by Files.FullDiskIsReportedNotTruncated"
 fi
+
+# 6. A user mesh's joints set the dip: horizontal layers in a scene that says 30 deg report the measured 0 deg.
+"$rbdem" mesh -q --set joint_set.dip_deg=0 --set specimen.width=0.01 --set specimen.height=0.02 \
+  --set joint_set.spacing=0.006 --set mesh.size=0.002 --out "$work/flat.msh" > /dev/null
+printf '[joint_set]\ndip_deg = 30\n[mesh]\nfile = "%s"\n[numerics]\nthreads = 1\n' "$work/flat.msh" > "$work/flat.toml"
+"$rbdem" ucs "$work/flat.toml" -q --skip-elastic-gate --out "$work/flat" > "$work/flat.log"
+grep -q "beta = 0 deg (measured from the mesh's joint edges)" "$work/flat.log" \
+  || { echo "FAIL: the header does not give the measured dip"; cat "$work/flat.log"; exit 1; }
+python3 - "$work/flat/summary.json" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert abs(j["beta_deg"]) < 1e-6 and j["beta_source"] == "mesh", (j["beta_deg"], j["beta_source"])
+PY
+echo "OK: a user mesh with horizontal layers reports beta_deg 0 (beta_source mesh), not the scene's 30"

@@ -52,6 +52,9 @@ struct TestResult {
   double crack_band_angle_deg = 0;  // principal direction of the crack positions, from the horizontal
   double tensile_fraction = 0;      // tensile share of the crack length
   std::string failure_mode;
+  // deg: the joints' dip the run had: the scene's joint_set.dip_deg, or for a user mesh the dip measured from its
+  // joint edges (joint_dip_deg); NaN before the summary
+  double joint_dip_deg = std::numeric_limits<double>::quiet_NaN();
   std::string stop_reason;      // "post_peak" (stress dropped) | "post_peak_strain" | "max_strain" | "watchdog"
   long steps = 0;
   double dt = 0, dt_critical = 0;   // s: the step used, the exact stability limit of the bonded lattice

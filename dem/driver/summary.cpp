@@ -59,6 +59,15 @@ double joint_dip_deg(const Specimen& specimen, double fallback) {
   return std::abs(0.5 * std::atan2(s, c) * 180.0 / std::numbers::pi);  // from (-90, 90]
 }
 
+std::string mesh_scale_warning(const std::string& file, double span) {
+  if (span >= 1e-3 && span <= 1.0) return {};
+  return fmt::format("the mesh {} spans {:.4g} m: its coordinates are read in metres and a lab specimen spans 1 mm to "
+                     "1 m, so it is likely {}: scale it by {:g} (gmsh: Mesh.ScalingFactor when saving); the run goes "
+                     "on at {:.4g} m",
+                     file, span, span > 1.0 ? "drawn in millimetres" : "drawn in kilometres or scaled twice",
+                     span > 1.0 ? 1e-3 : 1e3, span);
+}
+
 bool non_persistent(const Scene& scene) {
   return (scene.joint_set.enabled && scene.joint_set.persistence < 1.0) ||
          (scene.joint_set2.enabled && scene.joint_set2.persistence < 1.0);
@@ -194,6 +203,7 @@ void summarize(const Scene& scene, const Specimen& specimen, const LoadingProtoc
   // A user mesh's layers have the dip its joint edges have, not the scene's joint_set.dip_deg.
   const double dip =
       scene.mesh.file.empty() ? scene.joint_set.dip_deg : joint_dip_deg(specimen, scene.joint_set.dip_deg);
+  r.joint_dip_deg = dip;
   r.failure_mode = classify_failure(r.cracks, specimen, dip, second_set_dip_deg(scene, scene.joint_set.dip_deg),
                                     non_persistent(scene));
   r.crack_band_angle_deg = crack_band_angle_deg(r.cracks);

@@ -32,6 +32,9 @@ std::string classify_failure(const std::vector<Crack>& cracks, const Specimen& s
 // The dip (0..90 deg from the horizontal) of a mesh's joints: the length-weighted axial mean direction of its joint
 // edges; `fallback` when it has none. The failure classification of a user mesh uses it.
 double joint_dip_deg(const Specimen& specimen, double fallback);
+// A warning when a user mesh spans more than 1 m or less than 1 mm (`span`: its larger side, m): coordinates are
+// read in metres, so a mesh drawn in millimetres becomes a specimen a thousand times too large. Empty otherwise.
+std::string mesh_scale_warning(const std::string& file, double span);
 // Whether an enabled joint set of the scene has rock bridges (persistence < 1).
 bool non_persistent(const Scene& scene);
 
