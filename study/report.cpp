@@ -268,10 +268,15 @@ std::string brazilian_section(const std::vector<CaseResult>& results, const std:
 std::string compression_section(const std::vector<CaseResult>& results, const std::vector<GroupSummary>& groups,
                                 const ReportExtras& extras) {
   std::string md;
+  // A value or "n/a" (Jaeger without an intact strength: no 0 or 90 deg case in the group).
+  auto or_na = [](double v, double scale, const char* f) {
+    return std::isfinite(v) ? fmt::format(fmt::runtime(f), v / scale) : std::string("n/a");
+  };
   md += "## Peak strength versus joint dip\n\n";
   md += "Jaeger: sliding on a joint whose envelope is the bonded interface's (docs/model.md: in compression the "
         "linear part shares the traction with the parallel bond, so a sticking interface has twice the bond's "
-        "cohesion), capped by the group's measured strength at beta = 90 deg (docs/theory.md, section 4). table.csv also gives "
+        "cohesion), capped by the group's intact strength: its measured strength at beta = 90 deg, or at 0 deg without a "
+        "90 deg case, n/a with neither (docs/theory.md, section 4). table.csv also gives "
         "Jaeger with the bonds' own cohesion and friction (jaeger_bond_pa).\n\n";
   md += realizations_text(extras.points);
   md += fmt::format("| case | beta (deg) | {} | Jaeger (MPa) | strain at peak | E50 (GPa) | failure mode | cracks "
@@ -284,20 +289,22 @@ std::string compression_section(const std::vector<CaseResult>& results, const st
     const auto& r = results[k];
     const auto& s = r.summary;
     const auto& c = s["cracks"];
-    md += fmt::format("| {} | {:g} | {:.2f}{} | {:.2f} | {:.3e} | {:.1f} | {} | {}/{} | {}/{} | {} | {:.1f} |\n",
+    md += fmt::format("| {} | {:g} | {:.2f}{} | {} | {:.3e} | {:.1f} | {} | {}/{} | {}/{} | {} | {:.1f} |\n",
                       r.c.group.empty() ? "-" : r.c.group, r.c.beta, s["peak_stress_pa"].get<double>() / 1e6,
-                      spread_text(extras.points, k, false), jaeger_for(r.c.scene, r.c.beta, s90[r.c.group]) / 1e6,
+                      spread_text(extras.points, k, false),
+                      or_na(jaeger_for(r.c.scene, r.c.beta, s90[r.c.group]), 1e6, "{:.2f}"),
                       s["strain_at_peak"].get<double>(), s["youngs_modulus_pa"].get<double>() / 1e9,
                       s["failure_mode"].get<std::string>(), count(c["rock_tensile"]), count(c["rock_shear"]),
                       count(c["joint_tensile"]), count(c["joint_shear"]), count(s["steps"]),
                       s.value("wall_seconds", 0.0));
   }
-  md += "\n| group | min (MPa) at beta | Jaeger min (MPa) at beta | strength at 90 (MPa) | anisotropy ratio |\n"
-        "|---|---:|---:|---:|---:|\n";
+  md += "\n| group | min (MPa) at beta | Jaeger min (MPa) at beta | intact strength (MPa) | anisotropy ratio "
+        "(intact / min) |\n|---|---:|---:|---:|---:|\n";
   for (const auto& g : groups)
-    md += fmt::format("| {} | {:.2f} at {:g} | {:.2f} at {:.0f} | {:.2f} | {:.2f} |\n", g.group.empty() ? "-" : g.group,
-                      g.min_strength_pa / 1e6, g.min_beta_deg, g.jaeger_min_pa / 1e6, g.jaeger_min_beta_deg,
-                      g.strength_90_pa / 1e6, g.anisotropy_ratio);
+    md += fmt::format("| {} | {:.2f} at {:g} | {} at {:.0f} | {} | {} |\n", g.group.empty() ? "-" : g.group,
+                      g.min_strength_pa / 1e6, g.min_beta_deg, or_na(g.jaeger_min_pa, 1e6, "{:.2f}"),
+                      g.jaeger_min_beta_deg, or_na(g.strength_90_pa, 1e6, "{:.2f}"),
+                      or_na(g.anisotropy_ratio, 1.0, "{:.2f}"));
   md += signals_table(results);
   if (extras.paper_check && !groups.empty()) {
     const auto& g = groups.front();

@@ -525,17 +525,21 @@ std::vector<GroupSummary> write_tables(const std::vector<CaseResult>& all, const
     if (!groups.count(r.c.group)) order.push_back(r.c.group);
     groups[r.c.group].push_back(&r);
   }
+  // Jaeger's intact strength per group: measured where no joint can slide, at beta = 90 deg (load along the layers),
+  // else at 0 deg (across them). With two joint sets the second may slide at either: the larger of the two. A group
+  // with neither case has none (NaN: "n/a" in the report), never its own largest peak, which would make Jaeger
+  // agree with the run at that dip by construction.
   std::map<std::string, double> s90;
   for (const auto& [g, list] : groups) {
-    double at90 = -1, best = 0;
+    double at90 = -1, at0 = -1;
     for (const auto* r : list) {
       const double p = r->summary["peak_stress_pa"].get<double>();
-      best = std::max(best, p);
       if (r->c.beta == 90.0) at90 = p;
+      if (r->c.beta == 0.0) at0 = p;
     }
-    // With two joint sets the second may govern at 90 deg too: the intact strength is then the group's largest.
     const bool two_sets = !list.empty() && list.front()->c.scene.joint_set2.enabled;
-    s90[g] = at90 > 0 && !two_sets ? at90 : best;
+    const double anchor = two_sets ? std::max(at90, at0) : (at90 > 0 ? at90 : at0);
+    s90[g] = anchor > 0 ? anchor : std::nan("");
   }
 
   std::vector<std::string> axis_names;
@@ -587,7 +591,7 @@ std::vector<GroupSummary> write_tables(const std::vector<CaseResult>& all, const
       scene = &r->c.scene;
     }
     gs.strength_90_pa = s90[name];
-    gs.anisotropy_ratio = gs.min_strength_pa > 0 ? gs.strength_90_pa / gs.min_strength_pa : 0.0;
+    gs.anisotropy_ratio = gs.min_strength_pa > 0 ? gs.strength_90_pa / gs.min_strength_pa : std::nan("");
     if (scene && scene->joint_set.enabled) {
       const MaterialParams& j = scene->joint;
       const MohrCoulomb env = interface_envelope(j.cohesion, std::tan(j.friction_deg * 3.14159265358979323846 / 180.0),
@@ -597,7 +601,7 @@ std::vector<GroupSummary> write_tables(const std::vector<CaseResult>& all, const
       // At the angle of the minimum, sliding under the group's confinement (uniaxially 2 c cos phi / (1 - sin phi)).
       const double sliding = theory::jaeger_sliding_strength(
           {env.cohesion, phi, gs.strength_90_pa, scene->loading.confining_pressure}, gs.jaeger_min_beta_deg);
-      gs.jaeger_min_pa = std::min(sliding, gs.strength_90_pa);
+      gs.jaeger_min_pa = std::isfinite(gs.strength_90_pa) ? std::min(sliding, gs.strength_90_pa) : std::nan("");
     }
     g += fmt::format("{},{:g},{:.9g},{:g},{:.9g},{:.9g},{:.4g}\n", name, gs.min_beta_deg, gs.min_strength_pa,
                      gs.jaeger_min_beta_deg, gs.jaeger_min_pa, gs.strength_90_pa, gs.anisotropy_ratio);

@@ -149,7 +149,9 @@ struct GroupSummary {
   std::string group;
   double min_strength_pa = 0, min_beta_deg = 0;          // measured
   double jaeger_min_pa = 0, jaeger_min_beta_deg = 0;     // Jaeger (intact strength = measured beta = 90)
-  double strength_90_pa = 0, anisotropy_ratio = 0;       // sigma(90) / sigma_min
+  // Jaeger's intact strength (the group's beta = 90 deg case, else its 0 deg case; NaN without either) and the
+  // anisotropy ratio it gives: intact over the least strength (NaN without an intact strength).
+  double strength_90_pa = 0, anisotropy_ratio = 0;
 };
 
 // Writes table.csv (deterministic: no timings) and groups.csv, returns the group summaries. With realizations

@@ -112,6 +112,39 @@ TEST(Study, TableHasJaegerBesideTheMeasuredStrength) {
   std::filesystem::remove_all(dir);
 }
 
+// Jaeger's intact strength is measured where no joint slides: at 90 deg, else at 0 deg; a group with neither has
+// none ("n/a"), never its own largest peak (which would make Jaeger equal the run at that dip by construction).
+TEST(Study, JaegerIsAnchoredAt90Or0DegreesOrNotAtAll) {
+  auto groups_of = [](std::vector<double> dips) {
+    StudySpec spec = dip_study(Scene{}, "synthetic");
+    spec.dips = dips;
+    std::vector<CaseResult> results;
+    for (const auto& c : expand(spec)) {
+      CaseResult r;
+      r.c = c;
+      const double peak = c.beta == 0 ? 52e6 : c.beta == 90 ? 50e6 : 100e6 - c.beta * 1e6;
+      r.summary = {{"peak_stress_pa", peak}, {"strain_at_peak", 1e-4}, {"youngs_modulus_pa", 2e11},
+                   {"failure_mode", "x"}, {"steps", 10}, {"scene", scene_json(c.scene)},
+                   {"cracks", {{"rock_tensile", 0}, {"rock_shear", 0}, {"joint_tensile", 0}, {"joint_shear", 0}}}};
+      results.push_back(r);
+    }
+    const auto dir = std::filesystem::temp_directory_path() / "rbdem_test_anchor";
+    std::filesystem::create_directories(dir);
+    auto groups = write_tables(results, dir);
+    std::filesystem::remove_all(dir);
+    return groups;
+  };
+  EXPECT_DOUBLE_EQ(groups_of({0, 30, 60, 90})[0].strength_90_pa, 50e6);
+  const auto at0 = groups_of({0, 30, 60});
+  EXPECT_DOUBLE_EQ(at0[0].strength_90_pa, 52e6);
+  EXPECT_DOUBLE_EQ(at0[0].anisotropy_ratio, 52e6 / 40e6);
+  const auto none = groups_of({30, 45, 60});  // the largest peak, 70 MPa at 30 deg, is not an intact strength
+  EXPECT_TRUE(std::isnan(none[0].strength_90_pa));
+  EXPECT_TRUE(std::isnan(none[0].anisotropy_ratio));
+  EXPECT_TRUE(std::isnan(none[0].jaeger_min_pa));
+  EXPECT_TRUE(std::isnan(jaeger_for(Scene{}, 30.0, none[0].strength_90_pa)));
+}
+
 // Jaeger with two planes of weakness: the weaker plane governs. A second set at 90 deg to the first, as weak as
 // the first, makes the first set's trough at 60 deg appear again at 30 deg (the second set then dips 120 deg, 60
 // deg from sigma_3); a second set whose joints are far stronger leaves the one-set curve.
