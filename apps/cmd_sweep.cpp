@@ -119,7 +119,9 @@ int run_study(study::StudySpec spec, const std::filesystem::path& out, int worke
     std::set<std::string> seen;
     for (const auto& c : cases) {
       if (c.realization > 0) continue;  // the first mesh of a case stands for its realizations
-      if (!seen.insert(to_toml(gate_scene(c.scene))).second) continue;  // once per elastic scene (not per sigma_3)
+      // Once per elastic behaviour: the gate's own key leaves out what it does not depend on (the dip, which it
+      // sweeps itself, the strengths, sigma_3), so a dip study checks once, not once per dip.
+      if (!seen.insert(compare::elastic_gate_key(gate_scene(c.scene))).second) continue;
       const compare::GateCheck g = compare::check_elastic_gate(gate_scene(c.scene));
       if (g.status == compare::GateCheck::Status::failed) {
         if (mpi.rank == 0)
@@ -208,7 +210,7 @@ int run_study(study::StudySpec spec, const std::filesystem::path& out, int worke
                "failure mode");
     for (const auto& r : rows) {
       const auto& s = r.summary;
-      fmt::print("{:<34} {:>6g} {:>12g} {:>12.3f} {:>12.2f}  {}\n", r.c.group.empty() ? "-" : r.c.group, r.c.beta,
+      fmt::print("{:<34} {:>6g} {:>12g} {:>12.3f} {:>12.2f}  {}\n", r.c.id, r.c.beta,
                  s.value("layer_angle_deg", 0.0), s.value("tensile_strength_pa", 0.0) / 1e6,
                  s.value("peak_load_n", 0.0) / 1e3, s["failure_mode"].get<std::string>());
     }
@@ -220,17 +222,22 @@ int run_study(study::StudySpec spec, const std::filesystem::path& out, int worke
     for (const auto& p : points) {
       const auto& r = p.mean;
       const auto& s = r.summary;
-      fmt::print("{:<34} {:>6g} {:>10.2f}{} {:>10.2f} {:>10.1f}  {}\n", r.c.group.empty() ? "-" : r.c.group, r.c.beta,
+      const double jaeger = study::jaeger_for(r.c.scene, r.c.beta, s90[r.c.group]);
+      fmt::print("{:<34} {:>6g} {:>10.2f}{} {:>10} {:>10.1f}  {}\n", spread ? r.c.point : r.c.id, r.c.beta,
                  s["peak_stress_pa"].get<double>() / 1e6,
                  spread ? fmt::format(" {:>8.2f} {:>10.2f}", p.peak.sd / 1e6, p.peak.ci95 / 1e6) : "",
-                 study::jaeger_for(r.c.scene, r.c.beta, s90[r.c.group]) / 1e6,
+                 std::isfinite(jaeger) ? fmt::format("{:.2f}", jaeger / 1e6) : "n/a",
                  s["youngs_modulus_pa"].get<double>() / 1e9, s["failure_mode"].get<std::string>());
     }
     for (const auto& g : groups)
-      fmt::print("group {}: minimum {:.2f} MPa at {:g} deg (Jaeger {:.2f} MPa at {:.0f} deg), anisotropy ratio "
-                 "{:.2f}\n",
-                 g.group.empty() ? "-" : g.group, g.min_strength_pa / 1e6, g.min_beta_deg, g.jaeger_min_pa / 1e6,
-                 g.jaeger_min_beta_deg, g.anisotropy_ratio);
+      fmt::print("{}minimum {:.2f} MPa at {:g} deg ({}), {}\n", g.group.empty() ? "" : "group " + g.group + ": ",
+                 g.min_strength_pa / 1e6, g.min_beta_deg,
+                 std::isfinite(g.jaeger_min_pa)
+                     ? fmt::format("Jaeger {:.2f} MPa at {:.0f} deg", g.jaeger_min_pa / 1e6, g.jaeger_min_beta_deg)
+                     : std::string("Jaeger n/a: no 0 or 90 deg case for the intact strength"),
+                 std::isfinite(g.anisotropy_ratio)
+                     ? fmt::format("anisotropy ratio {:.2f} (intact / minimum)", g.anisotropy_ratio)
+                     : std::string("anisotropy ratio n/a"));
     for (const auto& e : extras.envelopes)
       fmt::print("envelope at {:g} deg: sigma_1 = {:.2f} MPa + {:.3f} sigma_3 (phi {:.1f} deg, c {:.2f} MPa){}\n",
                  e.beta_deg, e.intercept_pa / 1e6, e.slope, e.friction_deg, e.cohesion_pa / 1e6,

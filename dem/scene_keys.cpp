@@ -47,7 +47,8 @@ Entry text(std::string key, std::string doc, std::function<std::string&(Scene&)>
 
 void declare_elastic(Keys& k) {
   k.add(positive("elastic.tolerance", "-", 1.0,
-                 "elastic gate: largest relative difference of DEM and Amadei moduli accepted",
+                 "elastic gate: largest relative difference accepted between the DEM's apparent modulus and the FE twin's "
+                 "(the FE model with the joints as interfaces, on the same mesh) at any dip",
                  [](Scene& s) -> double& { return s.elastic.tolerance; }));
 }
 

@@ -340,7 +340,7 @@ py::list sweep(const std::string& study_file, const std::vector<Assignment>& ove
     std::set<std::string> seen;
     for (const auto& c : cases) {
       const Scene g = compare::gate_scene(c.scene);
-      if (!seen.insert(to_toml(g)).second) continue;
+      if (!seen.insert(compare::elastic_gate_key(g)).second) continue;  // once per elastic behaviour, not per dip
       compare::GateCheck check;
       {
         py::gil_scoped_release release;

@@ -215,12 +215,15 @@ std::filesystem::path write_report(const StudySpec& spec, const std::vector<Case
                     spec.name, spec.description, date, extras.workers, results.size(), extras.wall_seconds);
   const Scene& b = spec.base;
   md += "## Scene\n\n";
-  md += fmt::format("Specimen {:g} x {:g} mm, joint spacing {:g} mm, mesh {:g} mm. Rock bonds: E* {:g} GPa, "
+  md += b.specimen.shape == "disc" ? fmt::format("Disc of diameter {:g} mm, ", b.specimen.diameter * 1e3)
+                                    : fmt::format("Specimen {:g} x {:g} mm, ", b.specimen.width * 1e3,
+                                                  b.specimen.height * 1e3);
+  md += fmt::format("joint spacing {:g} mm, mesh {:g} mm. Rock bonds: E* {:g} GPa, "
                     "kn/ks {:g}, tensile {:g} MPa, cohesion {:g} MPa, friction {:g} deg, contact friction {:g}. "
                     "Joint bonds: E* {:g} GPa, kn/ks {:g}, tensile {:g} MPa, cohesion {:g} MPa, friction {:g} deg, "
                     "contact friction {:g}. Platen speed {:g} m/s, local damping {:g}. The full scene of every case "
                     "is in its folder (scene.toml, summary.json).\n\n",
-                    b.specimen.width * 1e3, b.specimen.height * 1e3, b.joint_set.spacing * 1e3, b.mesh.size * 1e3,
+                    b.joint_set.spacing * 1e3, b.mesh.size * 1e3,
                     b.rock.effective_modulus / 1e9, b.rock.stiffness_ratio, b.rock.tensile_strength / 1e6,
                     b.rock.cohesion / 1e6, b.rock.friction_deg, b.rock.contact_friction,
                     b.joint.effective_modulus / 1e9, b.joint.stiffness_ratio, b.joint.tensile_strength / 1e6,
