@@ -92,4 +92,11 @@ ContactStates Engine<2>::contact_states() const {
   return t;
 }
 
+BoundaryLoads Engine<2>::boundary_loads() const {
+  BoundaryLoads t;
+  t.dim = 2;
+  for (std::size_t k = 0; k < hooks_.size(); ++k) hooks_[k]->loads(model_, state_, work_, int(k), t);
+  return t;
+}
+
 }  // namespace rbdem
