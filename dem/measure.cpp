@@ -208,6 +208,25 @@ BlockStresses block_stresses(const Simulation& sim, const StressSources& sources
   return out;
 }
 
+ForceNetwork force_network(const Simulation& sim) {
+  const Specimen& sp = sim.specimen();
+  const std::size_t d = std::size_t(sp.dim);
+  const BondStates bonds = sim.bond_states();
+  const ContactStates contacts = sim.contact_states();
+  ForceNetwork net;
+  const auto link = [&](int i, int j, std::uint8_t kind, const double* force, double normal) {
+    net.i.push_back(i), net.j.push_back(j), net.kind.push_back(kind);
+    for (std::size_t a = 0; a < d; ++a) net.force.push_back(float(force[a]));
+    net.normal_force.push_back(float(normal));
+  };
+  for (std::size_t k = 0; k < bonds.size(); ++k)
+    if (bonds.intact[k]) link(sp.bonds.i[k], sp.bonds.j[k], 0, &bonds.force[d * k], bonds.normal_force[k]);
+  // The contact table's normal force is compression positive; the network's is tension positive, as the bonds'.
+  for (std::size_t k = 0; k < contacts.size(); ++k)
+    link(contacts.i[k], contacts.j[k], 1, &contacts.force[d * k], -contacts.normal_force[k]);
+  return net;
+}
+
 std::vector<double> diametral_load(const Engine<2>& engine, const TriMesh& mesh, double force) {
   const Model<2>& m = engine.model();
   const Topology<2>& topo = engine.topology();

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "dem/engine.hpp"
+#include "dem/records.hpp"
 #include "dem/simulation.hpp"
 
 namespace rbdem {
@@ -84,6 +85,10 @@ struct BlockStresses {
   std::size_t size() const { return volume.size(); }
 };
 BlockStresses block_stresses(const Simulation& sim, const StressSources& sources = {});
+
+// The force network now (dem/records.hpp): the intact bonds' forces, then the contacts', each between its two
+// blocks (what result.h5 stores with each frame).
+ForceNetwork force_network(const Simulation& sim);
 
 // The generalized load (3 entries per block) of two opposite point forces P (N) along the vertical diameter of a
 // disc: -P at its top point and +P at its bottom point (each shared among the blocks that hold that node), for the
