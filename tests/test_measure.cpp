@@ -3,11 +3,13 @@
 // are refused with a message naming them.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
 #include "dem/measure.hpp"
+#include "dem/specimen_mesh.hpp"
 #include "tests/simulations.hpp"
 
 namespace rbdem {
@@ -53,6 +55,28 @@ TEST(Measure, WholeSpecimenStressIsThePlatenStress) {
     const StressTensor inner = average_stress(*sim, Region::whole(), {true, true, false});
     EXPECT_GT(inner.yy() / -p, 0.9) << "dip " << dip;
     EXPECT_LT(inner.yy() / -p, 0.995) << "dip " << dip;
+  }
+}
+
+// In an explicit run the platens' loads are their contact forces at the state now: carried on from the static
+// elastic start with the platen closing at the scene's speed (a quasi-static run, breakage off), the whole
+// specimen's sigma_yy follows the platens' mean stress of the last step.
+TEST(Measure, WholeSpecimenStressFollowsThePlatensInAnExplicitRun) {
+  for (const double dip : {0.0, 45.0, 90.0}) {
+    Scene scene = small_scene(dip);
+    auto sim = std::make_unique<SimulationImpl<2>>(scene, make_mesh(scene));
+    Platens& platens = sim->add_platens({scene.loading.platen_velocity, 0.0});
+    sim->set_breakage(false);
+    sim->set_dt(0.5 * sim->stability_limit());
+    StaticOptions closure;
+    closure.platen_displacement = 1e-6 * scene.specimen.height;
+    sim->apply_static({}, sim->solve_static(closure), 1.0, scene.loading.platen_velocity);
+    sim->run(2000);
+    const double p = platens.stress();
+    const StressTensor s = average_stress(*sim);
+    std::printf("explicit, dip %4.0f: %ld steps, platens %.6g Pa, Love-Weber yy %.6g Pa, yy/-p - 1 = %.3e\n", dip,
+                sim->steps(), p, s.yy(), s.yy() / -p - 1);
+    EXPECT_NEAR(s.yy() / -p, 1.0, 0.01) << "dip " << dip;
   }
 }
 
@@ -126,6 +150,55 @@ TEST(Measure, InteriorRegionFromBondsAndContacts) {
   EXPECT_EQ(listed.yy(), s.yy());
   EXPECT_EQ(listed.blocks, s.blocks);
   std::printf("interior circle (%zu blocks): yy/-p - 1 = %.3e, xx/p = %.3e\n", s.blocks, s.yy() / -p - 1, s.xx() / p);
+}
+
+// Groups: a force group presses the top row of blocks down with F in all, a fixed group holds the bottom row. The
+// fixed group's loads are its reactions now (a static state applied without a step has no last step): they sum to
+// F, and the whole specimen's sigma_yy is -F over the area times the lever between the two rows over the height,
+// which lies between the rows' extreme centroid heights.
+TEST(Measure, GroupsReportTheirForceAndTheirReactionNow) {
+  const Scene scene = small_scene(30);
+  auto sim = std::make_unique<SimulationImpl<2>>(scene, make_mesh(scene));
+  const Specimen& sp = sim->specimen();
+  const double row = 0.6 * scene.mesh.size;
+  std::vector<int> top, bottom;
+  for (std::size_t b = 0; b < sp.num_blocks(); ++b) {
+    const double y = sp.blocks.centroid[2 * b + 1];
+    if (y > sp.hi[1] - row) top.push_back(int(b));
+    if (y < sp.lo[1] + row) bottom.push_back(int(b));
+  }
+  ASSERT_GT(top.size(), 5u);
+  const double F = 1e5;  // N
+  GroupSettings press;
+  press.name = "press", press.blocks = top, press.mode = GroupSettings::Mode::force;
+  press.value = {0.0, -F / double(top.size()), 0.0};
+  GroupSettings hold;
+  hold.name = "hold", hold.blocks = bottom, hold.mode = GroupSettings::Mode::fixed;
+  sim->add_group(press), sim->add_group(hold);
+  StaticOptions o;
+  o.platens = false;
+  sim->apply_static({}, sim->solve_static(o), 1.0, 0.0);
+
+  const BoundaryLoads loads = sim->boundary_loads();
+  double reaction = 0, pressed = 0;
+  for (std::size_t k = 0; k < loads.size(); ++k) (loads.component[k] == 1 ? reaction : pressed) += loads.force[2 * k + 1];
+  EXPECT_NEAR(pressed, -F, 1e-9 * F);
+  EXPECT_NEAR(reaction / F, 1.0, 1e-6);
+
+  const auto heights = [&](const std::vector<int>& blocks) {
+    double lo = 1e300, hi = -1e300;
+    for (int b : blocks) lo = std::min(lo, sp.blocks.centroid[2 * std::size_t(b) + 1]),
+                         hi = std::max(hi, sp.blocks.centroid[2 * std::size_t(b) + 1]);
+    return std::pair{lo, hi};
+  };
+  const auto [top_lo, top_hi] = heights(top);
+  const auto [bottom_lo, bottom_hi] = heights(bottom);
+  const double H = scene.specimen.height, p = F / (scene.specimen.width * scene.specimen.thickness);
+  const StressTensor s = average_stress(*sim);
+  std::printf("groups: sigma_yy / (-F / A) = %.5f, lever bounds [%.5f, %.5f]\n", s.yy() / -p,
+              (top_lo - bottom_hi) / H, (top_hi - bottom_lo) / H);
+  EXPECT_GT(s.yy() / -p, (top_lo - bottom_hi) / H * (1 - 1e-6));
+  EXPECT_LT(s.yy() / -p, (top_hi - bottom_lo) / H * (1 + 1e-6));
 }
 
 void expect_refused(const Simulation& sim, const Region& r, const std::string& words) {

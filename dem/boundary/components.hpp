@@ -61,7 +61,7 @@ class PlatensImpl<2> : public Platens, public BoundaryHooks<2> {
   void forces_end(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c) override;
   void after_step(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, double dt) override;
   void loads(const Model<2>& m, const ModelState<2>& s, const Workspace<2>& w, int component,
-             BoundaryLoads& out) const override;
+             const std::vector<double>& others, BoundaryLoads& out) const override;
   void add_stiffness(const Model<2>& m, std::vector<double>& kt, std::vector<double>& kr) const override;
   void static_supports(const Model<2>& m, StaticSupports2& supports) const override;
   void apply_static(const Model<2>& m, const ModelState<2>& s, const StaticResult& st, double factor) override;
@@ -114,7 +114,7 @@ class JacketImpl<2> : public Jacket, public BoundaryHooks<2> {
 
   void forces_end(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c) override;
   void loads(const Model<2>& m, const ModelState<2>& s, const Workspace<2>& w, int component,
-             BoundaryLoads& out) const override;
+             const std::vector<double>& others, BoundaryLoads& out) const override;
   double work_done() const override { return work_; }
   void save(Snapshot& s) const override;
   void load(const Snapshot& s, const Model<2>& m) override;
@@ -156,7 +156,8 @@ class BlockGroupImpl<2> : public BlockGroup, public BoundaryHooks<2> {
   void forces_end(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c) override;
   void after_step(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, double dt) override;
   void loads(const Model<2>& m, const ModelState<2>& s, const Workspace<2>& w, int component,
-             BoundaryLoads& out) const override;
+             const std::vector<double>& others, BoundaryLoads& out) const override;
+  bool holds_blocks() const override { return settings_.mode != GroupSettings::Mode::force; }
   void static_supports(const Model<2>& m, StaticSupports2& supports) const override;
   double work_done() const override { return work_; }
   void save(Snapshot& s) const override;

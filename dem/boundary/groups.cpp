@@ -87,16 +87,15 @@ void BlockGroupImpl<2>::after_step(const Model<2>&, ModelState<2>& s, Workspace<
 }
 
 // A force group: its force at each block's centroid and its moment as a couple. A fixed or driven group: the
-// reaction that holds each block, the opposite of the resultant of the other forces on it in the last step, at its
-// centroid.
+// reaction that holds each block now, the opposite of the resultant of every other force on it, at its centroid.
 void BlockGroupImpl<2>::loads(const Model<2>&, const ModelState<2>& s, const Workspace<2>&, int component,
-                              BoundaryLoads& out) const {
+                              const std::vector<double>& others, BoundaryLoads& out) const {
   const bool force = settings_.mode == GroupSettings::Mode::force;
   const double* f = settings_.value.data();
   for (int b : settings_.blocks) {
     const std::size_t k = std::size_t(b);
     if (force) append_load(out, b, component, s.x[k], s.y[k], f[0], f[1], f[2]);
-    else append_load(out, b, component, s.x[k], s.y[k], -s.fx[k], -s.fy[k], -s.moment[k]);
+    else append_load(out, b, component, s.x[k], s.y[k], -others[3 * k], -others[3 * k + 1], -others[3 * k + 2]);
   }
 }
 

@@ -70,8 +70,12 @@ class BoundaryHooks<2> {
   // The forces it puts on the blocks in the state `s` now, each at its point, appended to `out` with `component`
   // as their component (its index among those installed): what its stage adds to each block, for measurements
   // (the Love-Weber stress, dem/measure.hpp). Advances nothing; `w` is the engine's workspace of that state.
+  // A component that holds its blocks (holds_blocks()) puts the reaction that keeps them on their prescribed path:
+  // `others` gives, 3 per block, the resultant force and moment (about the centroid) of every other force on it
+  // now (bonds, contacts, the other components); it is empty for the others.
   virtual void loads(const Model<2>& m, const ModelState<2>& s, const Workspace<2>& w, int component,
-                     BoundaryLoads& out) const = 0;
+                     const std::vector<double>& others, BoundaryLoads& out) const = 0;
+  virtual bool holds_blocks() const { return false; }
 
   // --- the stability estimate and the static solve ---
   // The stiffness it adds to each block, translational (N/m) and rotational (N m), for the block-wise estimate.

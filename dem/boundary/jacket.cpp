@@ -82,7 +82,7 @@ bool JacketImpl<2>::loaded(const Model<2>& m, const ModelState<2>& s, std::size_
 // Each loaded face's force at its midpoint now; whether a block without an intact bond is loaded follows the
 // contacts of the last step, as in that step.
 void JacketImpl<2>::loads(const Model<2>& m, const ModelState<2>& s, const Workspace<2>& w, int component,
-                          BoundaryLoads& out) const {
+                          const std::vector<double>&, BoundaryLoads& out) const {
   if (!(pressure_ > 0.0)) return;
   for (std::size_t e = 0; e < block_.size(); ++e) {
     if (!loaded(m, s, e)) continue;

@@ -167,7 +167,7 @@ void PlatensImpl<2>::after_step(const Model<2>&, ModelState<2>&, Workspace<2>&, 
 // first step): the contact law at the overlap and the shear force as carried (capped by friction), at the overlap's
 // centroid, the top platen's rows first.
 void PlatensImpl<2>::loads(const Model<2>& m, const ModelState<2>& s, const Workspace<2>& w, int component,
-                           BoundaryLoads& out) const {
+                           const std::vector<double>&, BoundaryLoads& out) const {
   for (const bool top : {true, false}) {
     const double wy = top ? top_y_ : m.ymin;
     const double my = top ? 1.0 : -1.0;  // into the platen
