@@ -1,7 +1,8 @@
 // The model's state as dimension-free tables: what scripts (the Python module's sim.blocks, sim.bonds,
-// sim.contacts), measurements (dem/measure.hpp) and writers read. Each table is a copy made on request (Simulation::block_states()
-// and its siblings), so reading it never disturbs a run. Vectors of `dim` components per item are stored item by
-// item (position[dim * b + k]); rotations and moments have rotation_dof(dim) components (1 in 2D, 3 in 3D).
+// sim.contacts), measurements (dem/measure.hpp) and writers read. Each table is a copy made on request
+// (Simulation::block_states() and its siblings), so reading it never disturbs a run. Vectors of `dim` components
+// per item are stored item by item (position[dim * b + k]); rotations and moments have rotation_dof(dim)
+// components (1 in 2D, 3 in 3D).
 #pragma once
 
 #include <cstddef>
@@ -51,11 +52,12 @@ struct ContactStates {
   std::size_t size() const { return i.size(); }
 };
 
-// The forces the boundary components put on the blocks now, each at its point: one row per platen contact, per
-// jacket face and per block of a group (dem/boundary/boundary.hpp says what each component puts where). With the
-// bond and contact rows they are every force on a block. The whole specimen's Love-Weber stress needs them
-// (dem/measure.hpp): without the loads on its outside, an average over every block would miss the stress they
-// carry in.
+// The forces the boundary components put on the blocks now, each at its point: one row per block touching a platen
+// (the contact force at the overlap's centroid), per loaded jacket face (the pressure's force at the face's
+// midpoint) and per block of a group (its force, or for a fixed or driven group the reaction that holds the block,
+// at the centroid, with the moment as a couple). With the bond and contact rows they are every force on a block.
+// The whole specimen's Love-Weber stress needs them (dem/measure.hpp): without the loads on its outside, an average
+// over every block would miss the stress they carry in.
 struct BoundaryLoads {
   int dim = 2;
   std::vector<int> block;      // the block loaded

@@ -100,7 +100,8 @@ CaseResult disc_hondros(const Context&) {
                        {"sxx_ref_pa", ref.xx}, {"syy_pa", d.mean.yy()}, {"syy_ref_pa", ref.yy}, {"sxy_pa", d.mean.xy()},
                        {"error_xx", exx}, {"error_yy", eyy},
                        {"pulled_sxx_pa", -pulled.mean.xx()}, {"pulled_syy_pa", -pulled.mean.yy()},
-                       {"pulled_error_xx", -pulled.mean.xx() / ref.xx - 1}, {"pulled_error_yy", -pulled.mean.yy() / ref.yy - 1}});
+                       {"pulled_error_xx", -pulled.mean.xx() / ref.xx - 1},
+                       {"pulled_error_yy", -pulled.mean.yy() / ref.yy - 1}});
     r.measured = d.mean.xx() / 1e6, r.reference_value = ref.xx / 1e6;  // the finest mesh's sigma_xx
   }
   r.error = worst;
