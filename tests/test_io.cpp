@@ -292,7 +292,9 @@ std::map<std::string, int> checked_data_items(const std::string& xdmf, const fs:
     for (std::uint64_t d; in >> d;) dims.push_back(d);
     const auto shape = io::h5_dataset_shape(dir / file, dataset);
     EXPECT_TRUE(shape.has_value()) << dataset << " is not in " << file;
-    if (shape) EXPECT_EQ(*shape, dims) << dataset;
+    if (shape) {
+      EXPECT_EQ(*shape, dims) << dataset;
+    }
     names[dataset.substr(dataset.rfind('/') + 1)]++;
   }
   return names;
