@@ -1,5 +1,5 @@
 // The stress inside a DEM specimen, as the continuum reads it: the Love-Weber average stress tensor of a set of
-// blocks (docs/theory.md, "The stress inside the specimen"), of the whole specimen, of a region (a box, a circle,
+// blocks (docs/theory.md, section 10.6), of the whole specimen, of a region (a box, a circle,
 // layers, a list of blocks) and of each block; and the point forces a diametral load puts on a disc's blocks.
 //
 // Love-Weber: a block b of measure V_b (2D: its area times the thickness) carries the average stress
@@ -12,9 +12,14 @@
 // sigma_yy = -p. The couples of the bonds and of a group's moment balance the antisymmetric part of the sum and do not
 // enter sigma.
 //
-// In static equilibrium the forces between blocks cancel in pairs over a region, and the whole specimen's stress
-// is the boundary loads' alone, 1/V sum sym(x_c (x) f_c): between frictionless platens exactly the platen stress.
-// Regions inside the specimen need only the bonds and the contacts (no block of theirs is loaded from outside).
+// Summed over the whole specimen, sum_b sum_c (x_c - x_b) (x) f_c = sum over the boundary loads of x_c (x) f_c
+// - sum_b x_b (x) F_b (a force between two blocks acts at one point on both, with opposite signs; F_b is block b's
+// resultant): in static equilibrium the whole specimen's stress is the boundary loads' moment alone, between
+// frictionless platens exactly the platen stress. Regions inside the specimen need only the bonds and the contacts
+// (no block of theirs is loaded from outside).
+//
+// Also here: the force network of the state (the bonds' and contacts' forces between their blocks), which each
+// frame of result.h5 stores.
 //
 // Everything is read from the simulation's tables (dem/state_tables.hpp), so it serves a model of any dimension.
 // Bad input (a region of another dimension, an empty region, a block or layer not in the specimen) throws
