@@ -6,7 +6,7 @@
 //   rbdem ucs my.toml --set mesh.size=0.002 --out runs/x --resume   # continue after Ctrl-C, a kill or a crash
 //   rbdem triaxial --beta 60 --confining 10e6 --out runs/t60        # confined at sigma_3 = 10 MPa
 //   rbdem brazilian --beta 30 --out runs/bz30           # a 50 mm disc (specimen.shape = "disc" is implied)
-// Writes summary.json, curve.csv, cracks.csv, scene.toml, result.h5 and result.xdmf into --out, each atomically,
+// Writes summary.json, curve.csv, cracks.csv, scene.toml, result.h5 and the .xdmf files into --out, each atomically,
 // and lists what it wrote. Before meshing it estimates the run's cost (cli_common.hpp: printed when large, refused
 // when the memory exceeds what the machine has available). Progress: on a terminal one line updated in place;
 // otherwise (a log file, a pipe, a batch job) a plain line every 10 s with the time left.

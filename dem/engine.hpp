@@ -109,6 +109,7 @@ class Engine<2> {
   BlockStates block_states() const;
   BondStates bond_states() const;
   ContactStates contact_states() const;
+  BoundaryLoads boundary_loads() const;  // the attached components' loads, in their order
   Energies energies() const;
   std::size_t active_contacts() const;
   const EngineOptions& options() const { return options_; }

@@ -1,5 +1,6 @@
 // The engine's state as the dimension-free tables of dem/state_tables.hpp (copies, for scripts, measurements and
 // writers). See engine.hpp.
+#include <algorithm>
 #include <cmath>
 
 #include "dem/contact_geometry.hpp"
@@ -89,6 +90,51 @@ ContactStates Engine<2>::contact_states() const {
     t.force.push_back(fn * nx + fs * tx), t.force.push_back(fn * ny + fs * ty);
     t.normal_force.push_back(fn), t.shear_force.push_back(fs);
   }
+  return t;
+}
+
+namespace {
+
+// The resultant force and moment about the centroid (3 per block) of the bond and contact rows and the loads so far.
+std::vector<double> resultants(const Model<2>& m, const ModelState<2>& s, const BondStates& bonds,
+                               const ContactStates& contacts, const BoundaryLoads& loads) {
+  std::vector<double> r(3 * s.x.size(), 0.0);
+  const auto add = [&](int b, const double* p, double fx, double fy, double couple) {
+    const std::size_t k = std::size_t(b);
+    r[3 * k] += fx, r[3 * k + 1] += fy;
+    r[3 * k + 2] += stages::cross(p[0] - s.x[k], p[1] - s.y[k], fx, fy) + couple;
+  };
+  for (std::size_t k = 0; k < bonds.size(); ++k) {
+    const double* p = &bonds.point[2 * k];
+    const double fx = bonds.force[2 * k], fy = bonds.force[2 * k + 1];
+    add(m.bj[k], p, fx, fy, bonds.moment[k]);
+    add(m.bi[k], p, -fx, -fy, -bonds.moment[k]);
+  }
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    const double* p = &contacts.point[2 * k];
+    add(contacts.j[k], p, contacts.force[2 * k], contacts.force[2 * k + 1], 0.0);
+    add(contacts.i[k], p, -contacts.force[2 * k], -contacts.force[2 * k + 1], 0.0);
+  }
+  for (std::size_t k = 0; k < loads.size(); ++k)
+    add(loads.block[k], &loads.point[2 * k], loads.force[2 * k], loads.force[2 * k + 1], loads.moment[k]);
+  return r;
+}
+
+}  // namespace
+
+// The components that load blocks first; those that hold blocks (fixed and driven groups) last, with the resultant
+// of everything else on each block, whose opposite is their reaction now.
+BoundaryLoads Engine<2>::boundary_loads() const {
+  BoundaryLoads t;
+  t.dim = 2;
+  const std::vector<double> none;
+  for (std::size_t k = 0; k < hooks_.size(); ++k)
+    if (!hooks_[k]->holds_blocks()) hooks_[k]->loads(model_, state_, work_, int(k), none, t);
+  const bool holding = std::any_of(hooks_.begin(), hooks_.end(), [](const auto* h) { return h->holds_blocks(); });
+  if (!holding) return t;
+  const std::vector<double> others = resultants(model_, state_, bond_states(), contact_states(), t);
+  for (std::size_t k = 0; k < hooks_.size(); ++k)
+    if (hooks_[k]->holds_blocks()) hooks_[k]->loads(model_, state_, work_, int(k), others, t);
   return t;
 }
 

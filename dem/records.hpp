@@ -126,7 +126,18 @@ struct CurvePoint {
   }
 };
 
-// The block poses at one instant (crack maps on the deformed specimen, ParaView animations).
+// The force network at one instant: one link per intact bond (in bond order), then one per contact, between the
+// centroids of its two blocks (force chains in ParaView, the fabric of the forces). Single precision: it is for
+// display and statistics; the exact state is the pose.
+struct ForceNetwork {
+  std::vector<std::int32_t> i, j;   // the two blocks; the force acts on j, its opposite on i
+  std::vector<std::uint8_t> kind;   // 0 bond, 1 contact
+  std::vector<float> force;         // N, dim per link: the force on block j
+  std::vector<float> normal_force;  // N, along the normal from i to j, tension positive (contacts: <= 0)
+  std::size_t size() const { return i.size(); }
+};
+
+// The block poses at one instant (crack maps on the deformed specimen, ParaView animations) and the force network.
 struct Frame {
   long step = 0;
   double time = 0, strain = 0, stress = 0;
@@ -134,6 +145,7 @@ struct Frame {
   std::size_t cracks = 0;   // cracks logged by then (a prefix of the crack log)
   int dim = 2;
   std::vector<double> pose;  // component-major: component c of block b at pose[c * blocks + b] (Dim<dim>::pose)
+  ForceNetwork network;      // the bonds' and contacts' forces
   std::size_t blocks() const { return pose.empty() ? 0 : pose.size() / std::size_t(pose_size(dim)); }
   // Component c of every block (c < pose_size(dim)).
   const double* component(int c) const { return pose.data() + std::size_t(c) * blocks(); }

@@ -102,6 +102,10 @@ class Simulation {
   virtual BlockStates block_states() const = 0;
   virtual BondStates bond_states() const = 0;
   virtual ContactStates contact_states() const = 0;
+  // The forces the boundary components put on the blocks now, each at its point (a platen's contact law at the
+  // overlap now, a jacket's pressure on the faces as they are now, a group's force or reaction): with the bond and
+  // contact rows, every force on each block.
+  virtual BoundaryLoads boundary_loads() const = 0;
   // Off: an elastic model in which no bond breaks (tests, stability checks).
   virtual void set_breakage(bool on) = 0;
   // The axial strain the crack log records with new cracks.

@@ -54,6 +54,7 @@ class SimulationImpl<2> final : public Simulation {
   BlockStates block_states() const override { return engine_.block_states(); }
   BondStates bond_states() const override { return engine_.bond_states(); }
   ContactStates contact_states() const override { return engine_.contact_states(); }
+  BoundaryLoads boundary_loads() const override { return engine_.boundary_loads(); }
 
   Energies energies() const override { return engine_.energies(); }
   const std::vector<Crack>& cracks() const override { return engine_.cracks(); }

@@ -1,7 +1,8 @@
 // The model's state as dimension-free tables: what scripts (the Python module's sim.blocks, sim.bonds,
-// sim.contacts), measurements and writers read. Each table is a copy made on request (Simulation::block_states()
-// and its siblings), so reading it never disturbs a run. Vectors of `dim` components per item are stored item by
-// item (position[dim * b + k]); rotations and moments have rotation_dof(dim) components (1 in 2D, 3 in 3D).
+// sim.contacts), measurements (dem/measure.hpp) and writers read. Each table is a copy made on request
+// (Simulation::block_states() and its siblings), so reading it never disturbs a run. Vectors of `dim` components
+// per item are stored item by item (position[dim * b + k]); rotations and moments have rotation_dof(dim)
+// components (1 in 2D, 3 in 3D).
 #pragma once
 
 #include <cstddef>
@@ -49,6 +50,22 @@ struct ContactStates {
   std::vector<double> normal_force;  // N, compression positive
   std::vector<double> shear_force;   // N, signed along the tangent (2D: the normal turned 90 deg anticlockwise)
   std::size_t size() const { return i.size(); }
+};
+
+// The forces the boundary components put on the blocks now, each at its point: one row per block touching a platen
+// (the contact force at the overlap's centroid), per loaded jacket face (the pressure's force at the face's
+// midpoint) and per block of a group (its force, or for a fixed or driven group the reaction that holds the block,
+// at the centroid, with the moment as a couple). With the bond and contact rows they are every force on a block.
+// The whole specimen's Love-Weber stress needs them (dem/measure.hpp): without the loads on its outside, an average
+// over every block would miss the stress they carry in.
+struct BoundaryLoads {
+  int dim = 2;
+  std::vector<int> block;      // the block loaded
+  std::vector<int> component;  // which component: its index in Simulation::boundaries()
+  std::vector<double> point;   // m, dim per load: where the force acts
+  std::vector<double> force;   // N, dim per load: the force on the block
+  std::vector<double> moment;  // N m, rotation_dof per load: a couple on the block besides (about the point)
+  std::size_t size() const { return block.size(); }
 };
 
 }  // namespace rbdem

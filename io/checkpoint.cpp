@@ -20,7 +20,8 @@ using namespace h5;
 
 namespace {
 
-constexpr int checkpoint_version = 5;  // 5: the snapshot of a Simulation (boundary components' own fields)
+constexpr int checkpoint_version = 6;  // 5: the snapshot of a Simulation (boundary components' own fields);
+                                        // 6: the frames' force networks
 
 std::string frame_name(std::size_t k) { return fmt::format("{:05d}", k); }
 
@@ -122,6 +123,9 @@ void write_frame(const Writer& w, hid_t loc, const std::string& name, const Fram
   write_attributes(w, g, f.dim, f);
   w.attribute(g, "dim", std::int32_t(f.dim));
   w.dataset(g, "pose", f.pose);
+  const Id n = w.group(g, "network");
+  w.dataset(n, "i", f.network.i), w.dataset(n, "j", f.network.j), w.dataset(n, "kind", f.network.kind);
+  w.dataset(n, "force", f.network.force), w.dataset(n, "normal_force", f.network.normal_force);
 }
 
 Frame read_frame(const Reader& rd, hid_t loc, const std::string& name) {
@@ -130,6 +134,10 @@ Frame read_frame(const Reader& rd, hid_t loc, const std::string& name) {
   f.dim = rd.attribute<std::int32_t>(g, "dim");
   read_attributes(rd, g, f.dim, f);
   f.pose = rd.dataset<double>(g, "pose");
+  const Id n = rd.group(g, "network");
+  f.network.i = rd.dataset<std::int32_t>(n, "i"), f.network.j = rd.dataset<std::int32_t>(n, "j");
+  f.network.kind = rd.dataset<std::uint8_t>(n, "kind");
+  f.network.force = rd.dataset<float>(n, "force"), f.network.normal_force = rd.dataset<float>(n, "normal_force");
   return f;
 }
 

@@ -100,6 +100,11 @@ struct H5Type<std::int32_t> {
 };
 static_assert(std::is_same_v<int, std::int32_t>, "mesh and bond indices (int) are stored as int32");
 template <>
+struct H5Type<std::uint8_t> {
+  static hid_t file() { return H5T_STD_U8LE; }
+  static hid_t mem() { return H5T_NATIVE_UINT8; }
+};
+template <>
 struct H5Type<std::int64_t> {
   static hid_t file() { return H5T_STD_I64LE; }
   static hid_t mem() { return H5T_NATIVE_INT64; }

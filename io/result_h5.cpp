@@ -56,6 +56,16 @@ void check_consistent(const Specimen& sp, const TestResult& r) {
       throw std::invalid_argument(fmt::format("write_result_h5: frame at step {} has {} blocks and {} cracks, the "
                                               "specimen {} blocks and the log {} cracks",
                                               f.step, f.blocks(), f.cracks, nb, r.cracks.size()));
+  for (const auto& f : r.frames) {
+    const ForceNetwork& n = f.network;
+    const bool sized = n.j.size() == n.size() && n.kind.size() == n.size() && n.normal_force.size() == n.size() &&
+                       n.force.size() == std::size_t(sp.dim) * n.size();
+    const auto outside = [nb](std::int32_t b) { return b < 0 || std::size_t(b) >= nb; };
+    if (!sized || std::any_of(n.i.begin(), n.i.end(), outside) || std::any_of(n.j.begin(), n.j.end(), outside))
+      throw std::invalid_argument(fmt::format("write_result_h5: the force network of the frame at step {} does not "
+                                              "belong to the specimen of {} blocks",
+                                              f.step, nb));
+  }
   for (const auto& c : r.cracks)
     if (c.bond < 0 || std::size_t(c.bond) >= sp.num_bonds())
       throw std::invalid_argument(fmt::format("write_result_h5: crack on bond {} but the specimen has {} bonds",
@@ -101,6 +111,42 @@ void write_bonds(const Writer& w, hid_t file, const Specimen& sp, const std::vec
   w.dataset(g, "break_time", t_break), w.dataset(g, "break_strain", e_break), w.dataset(g, "break_mode", mode);
 }
 
+// /frames/NNNNN/network: the force network of the frame as lines between the block centroids (forces.xdmf draws
+// them): the centroids (T x 3, float, z = 0 in 2D), the two blocks of each link (L x 2), its kind (0 bond,
+// 1 contact, uint8), its force on the second block (L x 3, float) and its normal force (L, float, tension positive).
+void write_network(const Writer& w, hid_t frame, const Specimen& sp, const Frame& f) {
+  const ForceNetwork& n = f.network;
+  const std::size_t nb = sp.num_blocks(), d = std::size_t(sp.dim), links = n.size();
+  std::vector<float> centroid(3 * nb, 0.0f), force(3 * links, 0.0f);
+  for (std::size_t a = 0; a < d; ++a)
+    for (std::size_t b = 0; b < nb; ++b) centroid[3 * b + a] = float(f.component(int(a))[b]);
+  std::vector<std::int32_t> blocks(2 * links);
+  for (std::size_t k = 0; k < links; ++k) {
+    blocks[2 * k] = n.i[k], blocks[2 * k + 1] = n.j[k];
+    for (std::size_t a = 0; a < d; ++a) force[3 * k + a] = n.force[d * k + a];
+  }
+  const Id g = w.group(frame, "network");
+  w.dataset(g, "centroid", centroid, 3);
+  w.dataset(g, "blocks", blocks, 2);
+  w.dataset(g, "kind", n.kind);
+  w.dataset(g, "force", force, 3);
+  w.dataset(g, "normal_force", n.normal_force);
+}
+
+ForceNetwork read_network(const Reader& rd, hid_t frame, int dim) {
+  const Id g = rd.group(frame, "network");
+  ForceNetwork n;
+  const auto blocks = rd.dataset<std::int32_t>(g, "blocks");
+  const auto force = rd.dataset<float>(g, "force");
+  n.kind = rd.dataset<std::uint8_t>(g, "kind");
+  n.normal_force = rd.dataset<float>(g, "normal_force");
+  for (std::size_t k = 0; k < n.kind.size(); ++k) {
+    n.i.push_back(blocks[2 * k]), n.j.push_back(blocks[2 * k + 1]);
+    for (int a = 0; a < dim; ++a) n.force.push_back(force[3 * k + std::size_t(a)]);
+  }
+  return n;
+}
+
 // /frames/NNNNN: the poses by component (in double: the exact state), the cells' vertices for display, the
 // damage count per block, and the frame's scalars.
 void write_frames(const Writer& w, hid_t file, const Specimen& sp, const TestResult& r) {
@@ -134,6 +180,7 @@ void write_frames(const Writer& w, hid_t file, const Specimen& sp, const TestRes
       w.dataset(fg, pose_name(sp.dim, c), std::vector<double>(f.component(c), f.component(c) + nb));
     w.dataset(fg, "vertices", vertices, 3);
     w.dataset(fg, "damage", damage);
+    write_network(w, fg, sp, f);
     write_attributes(w, fg, sp.dim, f);
   }
 }
@@ -175,14 +222,22 @@ void write_result_h5(const std::filesystem::path& path, const Scene& scene, cons
   std::filesystem::rename(tmp, path);
 }
 
-void write_result_xdmf(const std::filesystem::path& xdmf_path, const std::filesystem::path& h5_path,
-                       const Specimen& specimen, const std::string& test, const std::vector<Frame>& frames) {
+namespace {
+
+// The h5 file relative to the XDMF file (escaped for XML), so the run folder can be moved as a whole.
+std::string h5_reference(const std::filesystem::path& xdmf_path, const std::filesystem::path& h5_path) {
   namespace fs = std::filesystem;
-  // Reference the h5 file relative to the XDMF file, so the run folder can be moved as a whole.
   const fs::path dir = fs::absolute(xdmf_path).parent_path();
   fs::path h5 = fs::absolute(h5_path).lexically_normal().lexically_relative(dir.lexically_normal());
   if (h5.empty()) h5 = fs::absolute(h5_path);
-  const std::string ref = xml_escape(h5.generic_string());
+  return xml_escape(h5.generic_string());
+}
+
+}  // namespace
+
+void write_result_xdmf(const std::filesystem::path& xdmf_path, const std::filesystem::path& h5_path,
+                       const Specimen& specimen, const std::string& test, const std::vector<Frame>& frames) {
+  const std::string ref = h5_reference(xdmf_path, h5_path);
   const std::size_t T = specimen.num_blocks(), verts = std::size_t(block_vertices(specimen.dim));
   const char* cell = cell_type(specimen.dim);
 
@@ -229,6 +284,52 @@ void write_result_xdmf(const std::filesystem::path& xdmf_path, const std::filesy
   write_text_atomic(xdmf_path, s);
 }
 
+void write_network_xdmf(const std::filesystem::path& xdmf_path, const std::filesystem::path& h5_path,
+                        const Specimen& specimen, const std::string& test, const std::vector<Frame>& frames) {
+  const std::string ref = h5_reference(xdmf_path, h5_path);
+  const std::size_t T = specimen.num_blocks();
+  std::string s = fmt::format(
+      "<?xml version=\"1.0\" ?>\n"
+      "<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
+      "<!-- rbdem {} run: the force network, one line per intact bond and per contact between the centroids of its\n"
+      "     two blocks. Open this file in ParaView (Xdmf3 reader); the time is the run's time in s. -->\n"
+      "<Xdmf Version=\"3.0\">\n"
+      "  <Domain>\n"
+      "    <Grid Name=\"{}_forces\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
+      xml_escape(test), xml_escape(test));
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const Frame& f = frames[k];
+    const std::string fr = "/frames/" + frame_name(k) + "/network";
+    const std::size_t L = f.network.size();
+    s += fmt::format("      <Grid Name=\"forces_{}\" GridType=\"Uniform\">\n", frame_name(k));
+    s += fmt::format("        <Time Value=\"{:.17g}\"/>\n", f.time);
+    s += fmt::format("        <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"{}\">\n", L);
+    s += fmt::format("          <DataItem Dimensions=\"{} 2\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">"
+                     "{}:{}/blocks</DataItem>\n",
+                     L, ref, fr);
+    s += "        </Topology>\n";
+    s += "        <Geometry GeometryType=\"XYZ\">\n";
+    s += fmt::format("          <DataItem Dimensions=\"{} 3\" NumberType=\"Float\" Precision=\"4\" Format=\"HDF\">"
+                     "{}:{}/centroid</DataItem>\n",
+                     T, ref, fr);
+    s += "        </Geometry>\n";
+    auto attribute = [&](const char* name, const char* type, const char* number, int precision,
+                         const std::string& dims) {
+      s += fmt::format("        <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Cell\">\n", name, type);
+      s += fmt::format("          <DataItem Dimensions=\"{}\" NumberType=\"{}\" Precision=\"{}\" Format=\"HDF\">"
+                       "{}:{}/{}</DataItem>\n",
+                       dims, number, precision, ref, fr, name);
+      s += "        </Attribute>\n";
+    };
+    attribute("normal_force", "Scalar", "Float", 4, std::to_string(L));
+    attribute("force", "Vector", "Float", 4, fmt::format("{} 3", L));
+    attribute("kind", "Scalar", "UChar", 1, std::to_string(L));
+    s += "      </Grid>\n";
+  }
+  s += "    </Grid>\n  </Domain>\n</Xdmf>\n";
+  write_text_atomic(xdmf_path, s);
+}
+
 StoredRun read_result_h5(const std::filesystem::path& path, bool with_positions) {
   const std::lock_guard<std::mutex> lock(h5::lock());
   const Reader rd(path.string());
@@ -265,6 +366,7 @@ StoredRun read_result_h5(const std::filesystem::path& path, bool with_positions)
         const auto v = rd.dataset<double>(fg, pose_name(out.dim, c));
         f.pose.insert(f.pose.end(), v.begin(), v.end());
       }
+      f.network = read_network(rd, fg, out.dim);
     }
   }
   return out;

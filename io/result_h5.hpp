@@ -15,6 +15,9 @@
 //   /frames/NNNNN  the pose components (2D: x, y, theta; T each, double), vertices (v T x 3, float, m), damage
 //              (T, broken bonds of the block by then); attributes: Frame's table (step, time, strain, stress,
 //              label, cracks)
+//   /frames/NNNNN/network  the force network (L links: intact bonds, then contacts): centroid (T x 3, float, m),
+//              blocks (L x 2), kind (L, uint8: 0 bond, 1 contact), force (L x 3, float, N, on the second block),
+//              normal_force (L, float, N, tension positive)
 //   /summary   attribute json (the summary.json text)
 //
 // HDF5 library: the OpenMPI build, the one deal.II links (io/CMakeLists.txt says why). The file is written under
@@ -46,11 +49,17 @@ void write_result_h5(const std::filesystem::path& path, const Scene& scene, cons
 void write_result_xdmf(const std::filesystem::path& xdmf_path, const std::filesystem::path& h5_path,
                        const Specimen& specimen, const std::string& test, const std::vector<Frame>& frames);
 
+// Writes forces.xdmf: the force network of each frame of `h5_path` as a time series of line cells between the
+// block centroids (one per intact bond, then one per contact), with cell attributes normal_force (N, tension
+// positive), force (the vector on the second block, N) and kind (0 bond, 1 contact). Keep it beside the h5 file.
+void write_network_xdmf(const std::filesystem::path& xdmf_path, const std::filesystem::path& h5_path,
+                        const Specimen& specimen, const std::string& test, const std::vector<Frame>& frames);
+
 // What read_result_h5 gives back.
 struct StoredRun {
   std::vector<CurvePoint> curve;
   std::vector<Crack> cracks;
-  std::vector<Frame> frames;  // the scalars always; the poses when read with positions
+  std::vector<Frame> frames;  // the scalars always; the poses and force networks when read with positions
   int dim = 2;
   std::vector<double> nodes;  // the mesh: nodes (dim per node), cells, layer per cell, layer names when stored
   std::vector<int> cells, layer;

@@ -242,6 +242,7 @@ void write_run(const std::filesystem::path& dir, const Scene& scene, const Speci
   write_crack_rate_csv(dir / "crack_rate.csv", r.crack_rate);
   write_result_h5(dir / "result.h5", scene, specimen, r, threads);
   write_result_xdmf(dir / "result.xdmf", dir / "result.h5", specimen, r.test, r.frames);
+  write_network_xdmf(dir / "forces.xdmf", dir / "result.h5", specimen, r.test, r.frames);
   write_text_atomic(dir / "summary.json", run_summary(scene, r).dump(2) + "\n");
 }
 

@@ -16,8 +16,8 @@ namespace rbdem::io {
 // (TestResult::own) and the resolved scene.
 nlohmann::json run_summary(const Scene& scene, const TestResult& r);
 
-// Writes scene.toml, curve.csv, cracks.csv, fragments.csv, crack_rate.csv, result.h5, result.xdmf and summary.json
-// into `dir` (created if needed), each atomically. summary.json is written last, so a folder with a summary.json
+// Writes scene.toml, curve.csv, cracks.csv, fragments.csv, crack_rate.csv, result.h5, result.xdmf, forces.xdmf and
+// summary.json into `dir` (created if needed), each atomically. summary.json is written last, so a folder with a summary.json
 // holds a complete result. `specimen` is the one of the simulation that ran.
 // `threads`: how many threads compress result.h5 (the cores the run may still use; 1 beside other runs).
 void write_run(const std::filesystem::path& dir, const Scene& scene, const Specimen& specimen, const TestResult& r,

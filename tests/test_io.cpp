@@ -278,6 +278,85 @@ TEST(Io, XdmfReferencesExistingDatasets) {
     EXPECT_NE(xdmf.find(a), std::string::npos) << a;
 }
 
+// Every HDF DataItem of `xdmf` names a dataset of a file beside it whose shape is its Dimensions; returns how
+// often each dataset name (the last part of its path) is referenced.
+std::map<std::string, int> checked_data_items(const std::string& xdmf, const fs::path& dir) {
+  const std::regex item_re(
+      R"re(<DataItem Dimensions="([0-9 ]+)"[^>]*Format="HDF">([^<:]+):([^<]+)</DataItem>)re");
+  std::map<std::string, int> names;
+  for (auto it = std::sregex_iterator(xdmf.begin(), xdmf.end(), item_re); it != std::sregex_iterator(); ++it) {
+    const std::string file = (*it)[2], dataset = (*it)[3];
+    EXPECT_EQ(file, "result.h5");
+    std::vector<std::uint64_t> dims;
+    std::istringstream in((*it)[1].str());
+    for (std::uint64_t d; in >> d;) dims.push_back(d);
+    const auto shape = io::h5_dataset_shape(dir / file, dataset);
+    EXPECT_TRUE(shape.has_value()) << dataset << " is not in " << file;
+    if (shape) {
+      EXPECT_EQ(*shape, dims) << dataset;
+    }
+    names[dataset.substr(dataset.rfind('/') + 1)]++;
+  }
+  return names;
+}
+
+// The force network of every frame of `rbdem ucs` is in result.h5 as the run recorded it: one link per intact bond
+// (the bonds less the cracks by then), then the contacts. In the static elastic start the forces across a horizontal
+// section through the middle carry the platen force: their vertical components on the blocks above it sum to the
+// frame's stress times the loaded area (equilibrium of the upper half; the platen stress of the static solution).
+TEST(Io, ForceNetworkIsStoredWithEachFrame) {
+  const SmallRun run = small_run();
+  const RemoveWhenPassed cleanup{run.dir};
+  const TestResult& r = run.result;
+  const io::StoredRun s = io::read_result_h5(run.dir / "result.h5");
+  ASSERT_EQ(s.frames.size(), r.frames.size());
+  const std::size_t bonds = run.specimen.num_bonds();
+  int elastic = -1;
+  for (std::size_t k = 0; k < r.frames.size(); ++k) {
+    SCOPED_TRACE(testing::Message() << "frame " << k);
+    const ForceNetwork &a = r.frames[k].network, &b = s.frames[k].network;
+    EXPECT_EQ(b.i, a.i);
+    EXPECT_EQ(b.j, a.j);
+    EXPECT_EQ(b.kind, a.kind);
+    EXPECT_EQ(b.force, a.force);
+    EXPECT_EQ(b.normal_force, a.normal_force);
+    EXPECT_EQ(std::size_t(std::count(a.kind.begin(), a.kind.end(), 0)), bonds - r.frames[k].cracks);
+    if (r.frames[k].label == "elastic_start") elastic = int(k);
+  }
+  EXPECT_GT(std::count(r.frames.back().network.kind.begin(), r.frames.back().network.kind.end(), 1), 0)
+      << "the final frame of a failed specimen should have contacts";
+
+  ASSERT_GE(elastic, 0);
+  const Frame& f = r.frames[std::size_t(elastic)];
+  const double* y = f.component(1);
+  const double mid = 0.5 * (run.specimen.lo[1] + run.specimen.hi[1]);
+  double carried = 0;  // the vertical force on the blocks above the section from those below
+  int crossing = 0;
+  for (std::size_t k = 0; k < f.network.size(); ++k) {
+    const double yi = y[f.network.i[k]], yj = y[f.network.j[k]];
+    if ((yi < mid) == (yj < mid)) continue;
+    const double fy = f.network.force[2 * k + 1];  // on j
+    carried += yj >= mid ? fy : -fy, ++crossing;
+  }
+  const double area = run.scene.specimen.width * run.scene.specimen.thickness;
+  ASSERT_GT(crossing, 10);
+  ASSERT_GT(f.stress, 0.0);
+  EXPECT_NEAR(carried / area / f.stress, 1.0, 0.01) << carried / area << " Pa against " << f.stress << " Pa";
+  std::printf("section at mid-height: %d links carry %.6g Pa, the frame's stress %.6g Pa\n", crossing, carried / area,
+              f.stress);
+
+  // forces.xdmf: well formed, one line grid per frame on the network's datasets.
+  const std::string xdmf = read_text(run.dir / "forces.xdmf");
+  EXPECT_EQ(xml_problem(xdmf), "");
+  const std::map<std::string, int> names = checked_data_items(xdmf, run.dir);
+  const int F = int(r.frames.size());
+  for (const char* n : {"blocks", "centroid", "normal_force", "force", "kind"}) EXPECT_EQ(names.at(n), F) << n;
+  EXPECT_EQ(names.size(), 5u);
+  for (const char* a : {"TopologyType=\"Polyline\"", "NodesPerElement=\"2\"", "CollectionType=\"Temporal\"",
+                        "AttributeType=\"Vector\""})
+    EXPECT_NE(xdmf.find(a), std::string::npos) << a;
+}
+
 // cracks.csv has one column per field of the crack table, the orientation derived from the normal; fragments.csv
 // lists the fragments in the order given.
 TEST(Io, SignalFilesHaveOneRowPerEntry) {

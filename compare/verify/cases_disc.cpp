@@ -66,7 +66,7 @@ DemDisc dem_disc(const Scene& s, const TriMesh& mesh, double P, double radius_fr
   so.load = diametral_load(sim.engine(), mesh, P);
   const StaticResult st = sim.solve_static(so);
   sim.apply_static({}, st, 1.0, 0.0);
-  d.mean = average_stress(sim.engine(), d.cx, d.cy, radius_fraction * d.R);
+  d.mean = average_stress(sim, Region::circle({d.cx, d.cy}, radius_fraction * d.R));
   d.blocks = topo.blocks.size(), d.bonds = topo.bonds.size(), d.open = st.open_bonds;
   return d;
 }
@@ -93,15 +93,16 @@ CaseResult disc_hondros(const Context&) {
     const DemDisc pulled = dem_disc(s, mesh, -P, frac);  // the same forces reversed: a linear model flips sign
     const theory::DiscStress ref =
         theory::hondros_mean_stress(P, s.specimen.diameter, s.specimen.thickness, frac * d.R);
-    const double exx = d.mean.xx / ref.xx - 1, eyy = d.mean.yy / ref.yy - 1;
+    const double exx = d.mean.xx() / ref.xx - 1, eyy = d.mean.yy() / ref.yy - 1;
     worst = std::max({worst, std::abs(exx), std::abs(eyy)});
     blocks = d.blocks;
-    r.table.push_back({{"mesh_size_m", h}, {"blocks_averaged", d.mean.blocks}, {"sxx_pa", d.mean.xx},
-                       {"sxx_ref_pa", ref.xx}, {"syy_pa", d.mean.yy}, {"syy_ref_pa", ref.yy}, {"sxy_pa", d.mean.xy},
+    r.table.push_back({{"mesh_size_m", h}, {"blocks_averaged", int(d.mean.blocks)}, {"sxx_pa", d.mean.xx()},
+                       {"sxx_ref_pa", ref.xx}, {"syy_pa", d.mean.yy()}, {"syy_ref_pa", ref.yy}, {"sxy_pa", d.mean.xy()},
                        {"error_xx", exx}, {"error_yy", eyy},
-                       {"pulled_sxx_pa", -pulled.mean.xx}, {"pulled_syy_pa", -pulled.mean.yy},
-                       {"pulled_error_xx", -pulled.mean.xx / ref.xx - 1}, {"pulled_error_yy", -pulled.mean.yy / ref.yy - 1}});
-    r.measured = d.mean.xx / 1e6, r.reference_value = ref.xx / 1e6;  // the finest mesh's sigma_xx
+                       {"pulled_sxx_pa", -pulled.mean.xx()}, {"pulled_syy_pa", -pulled.mean.yy()},
+                       {"pulled_error_xx", -pulled.mean.xx() / ref.xx - 1},
+                       {"pulled_error_yy", -pulled.mean.yy() / ref.yy - 1}});
+    r.measured = d.mean.xx() / 1e6, r.reference_value = ref.xx / 1e6;  // the finest mesh's sigma_xx
   }
   r.error = worst;
   r.tolerance = 0.05;
@@ -162,8 +163,8 @@ CaseResult layered_disc(const Context&, bool soft) {
     continuum::DiscOptions fo;
     fo.average_radius = frac * d.R;
     const continuum::DiscResult fe = continuum::solve_disc(mesh, c, dip, plane, P, s.specimen.thickness, fo);
-    const double dem_mean = theory::principal_tension({d.mean.xx, d.mean.yy, d.mean.xy});
-    const double pulled_mean = theory::principal_tension({-pulled.mean.xx, -pulled.mean.yy, -pulled.mean.xy});
+    const double dem_mean = theory::principal_tension({d.mean.xx(), d.mean.yy(), d.mean.xy()});
+    const double pulled_mean = theory::principal_tension({-pulled.mean.xx(), -pulled.mean.yy(), -pulled.mean.xy()});
     const double fe_mean = theory::principal_tension(fe.centre_mean);
     const double fe_centre = theory::principal_tension(fe.centre_fit);
     const double cb = theory::claesson_bohloli_centre_tension(c, plane, dip, P, s.specimen.diameter,

@@ -60,6 +60,8 @@ class PlatensImpl<2> : public Platens, public BoundaryHooks<2> {
                     int nt) override;
   void forces_end(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c) override;
   void after_step(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, double dt) override;
+  void loads(const Model<2>& m, const ModelState<2>& s, const Workspace<2>& w, int component,
+             const std::vector<double>& others, BoundaryLoads& out) const override;
   void add_stiffness(const Model<2>& m, std::vector<double>& kt, std::vector<double>& kr) const override;
   void static_supports(const Model<2>& m, StaticSupports2& supports) const override;
   void apply_static(const Model<2>& m, const ModelState<2>& s, const StaticResult& st, double factor) override;
@@ -111,11 +113,21 @@ class JacketImpl<2> : public Jacket, public BoundaryHooks<2> {
   std::vector<double> reference_load(const Model<2>& m, double p) const;
 
   void forces_end(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c) override;
+  void loads(const Model<2>& m, const ModelState<2>& s, const Workspace<2>& w, int component,
+             const std::vector<double>& others, BoundaryLoads& out) const override;
   double work_done() const override { return work_; }
   void save(Snapshot& s) const override;
   void load(const Snapshot& s, const Model<2>& m) override;
 
  private:
+  // The pressure's force on outer edge e of a block rotated by (co, si): L n p t at the edge's midpoint (rx, ry
+  // from the centroid).
+  struct FaceForce {
+    double fx, fy, rx, ry;
+  };
+  FaceForce face_force(std::size_t e, double co, double si) const;
+  // Whether edge e's block takes the pressure: it still has an intact bond or a contact that carried force.
+  bool loaded(const Model<2>& m, const ModelState<2>& s, std::size_t e) const;
   // The outer edges a pressure acts on (every boundary edge not on a platen), with their end points in the block's
   // reference frame (relative to the reference centroid), outside to the right of a -> b.
   std::vector<int> block_;
@@ -143,6 +155,9 @@ class BlockGroupImpl<2> : public BlockGroup, public BoundaryHooks<2> {
 
   void forces_end(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c) override;
   void after_step(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, double dt) override;
+  void loads(const Model<2>& m, const ModelState<2>& s, const Workspace<2>& w, int component,
+             const std::vector<double>& others, BoundaryLoads& out) const override;
+  bool holds_blocks() const override { return settings_.mode != GroupSettings::Mode::force; }
   void static_supports(const Model<2>& m, StaticSupports2& supports) const override;
   double work_done() const override { return work_; }
   void save(Snapshot& s) const override;

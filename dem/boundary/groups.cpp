@@ -86,6 +86,19 @@ void BlockGroupImpl<2>::after_step(const Model<2>&, ModelState<2>& s, Workspace<
   stages::update_rotations_of(s, w, settings_.blocks);
 }
 
+// A force group: its force at each block's centroid and its moment as a couple. A fixed or driven group: the
+// reaction that holds each block now, the opposite of the resultant of every other force on it, at its centroid.
+void BlockGroupImpl<2>::loads(const Model<2>&, const ModelState<2>& s, const Workspace<2>&, int component,
+                              const std::vector<double>& others, BoundaryLoads& out) const {
+  const bool force = settings_.mode == GroupSettings::Mode::force;
+  const double* f = settings_.value.data();
+  for (int b : settings_.blocks) {
+    const std::size_t k = std::size_t(b);
+    if (force) append_load(out, b, component, s.x[k], s.y[k], f[0], f[1], f[2]);
+    else append_load(out, b, component, s.x[k], s.y[k], -others[3 * k], -others[3 * k + 1], -others[3 * k + 2]);
+  }
+}
+
 void BlockGroupImpl<2>::static_supports(const Model<2>&, StaticSupports2& supports) const {
   if (settings_.mode == GroupSettings::Mode::force) {
     if (supports.load.empty()) supports.load.assign(3 * engine_.model().num_blocks(), 0.0);

@@ -12,6 +12,7 @@
 #include "dem/static_result.hpp"
 #include "dem/stages/stages.hpp"
 #include "dem/state.hpp"
+#include "dem/state_tables.hpp"
 
 namespace rbdem {
 
@@ -30,6 +31,15 @@ struct StaticSupports2 {
   std::vector<int> fixed;       // blocks whose three dofs are held at zero
   std::vector<double> load;     // constant loads (3 per block; empty: none), added to StaticOptions::load
 };
+
+// One row of a 2D component's loads: the force (fx, fy) on `block` at (px, py) and a couple besides.
+inline void append_load(BoundaryLoads& out, int block, int component, double px, double py, double fx, double fy,
+                        double couple = 0.0) {
+  out.block.push_back(block), out.component.push_back(component);
+  out.point.insert(out.point.end(), {px, py});
+  out.force.insert(out.force.end(), {fx, fy});
+  out.moment.push_back(couple);
+}
 
 template <int dim>
 class BoundaryHooks;
@@ -57,6 +67,15 @@ class BoundaryHooks<2> {
   virtual void forces_end(const Model<2>&, ModelState<2>&, Workspace<2>&, const StepContext&) {}
   // After the integrator, serially: the component's own motion (the top platen), prescribed blocks.
   virtual void after_step(const Model<2>&, ModelState<2>&, Workspace<2>&, double dt) { (void)dt; }
+  // The forces it puts on the blocks in the state `s` now, each at its point, appended to `out` with `component`
+  // as their component (its index among those installed): what its stage adds to each block, for measurements
+  // (the Love-Weber stress, dem/measure.hpp). Advances nothing; `w` is the engine's workspace of that state.
+  // A component that holds its blocks (holds_blocks()) puts the reaction that keeps them on their prescribed path:
+  // `others` gives, 3 per block, the resultant force and moment (about the centroid) of every other force on it
+  // now (bonds, contacts, the other components); it is empty for the others.
+  virtual void loads(const Model<2>& m, const ModelState<2>& s, const Workspace<2>& w, int component,
+                     const std::vector<double>& others, BoundaryLoads& out) const = 0;
+  virtual bool holds_blocks() const { return false; }
 
   // --- the stability estimate and the static solve ---
   // The stiffness it adds to each block, translational (N/m) and rotational (N m), for the block-wise estimate.

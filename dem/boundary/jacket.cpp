@@ -48,22 +48,15 @@ void JacketImpl<2>::forces_end(const Model<2>& m, ModelState<2>& s, Workspace<2>
       const Workspace<2>::PairForce& f = w.pair_force[std::size_t(p)];
       if (f.fx != 0.0 || f.fy != 0.0) touching_[std::size_t(s.contacts.i[p])] = touching_[std::size_t(s.contacts.j[p])] = 1;
     }
-  const double pt = pressure_ * thickness_;
   int lost = 0;
   double work = 0.0;
   for (std::size_t e = 0; e < block_.size(); ++e) {
-    const int b = block_[e];
-    const std::size_t k = std::size_t(b);
-    if (!touching_[k] && !m.has_intact_bond(b, s.broken)) {
+    const std::size_t k = std::size_t(block_[e]);
+    if (!loaded(m, s, e)) {
       ++lost;
       continue;
     }
-    const double co = w.cos_t[k], si = w.sin_t[k];
-    const double ax = co * ax_[e] - si * ay_[e], ay = si * ax_[e] + co * ay_[e];
-    const double bx = co * bx_[e] - si * by_[e], by = si * bx_[e] + co * by_[e];
-    // L n = (dy, -dx) for the edge a -> b: the outside is to its right.
-    const double fx = -pt * (by - ay), fy = pt * (bx - ax);
-    const double rx = 0.5 * (ax + bx), ry = 0.5 * (ay + by);  // midpoint relative to the centroid
+    const auto [fx, fy, rx, ry] = face_force(e, w.cos_t[k], w.sin_t[k]);
     w.cfx[k] += fx, w.cfy[k] += fy, w.cm[k] += stages::cross(rx, ry, fx, fy);
     work += fx * (s.vx[k] - s.omega[k] * ry) + fy * (s.vy[k] + s.omega[k] * rx);
   }
@@ -71,6 +64,33 @@ void JacketImpl<2>::forces_end(const Model<2>& m, ModelState<2>& s, Workspace<2>
   lost_ = lost;
   lost_max_ = std::max(lost_max_, lost);
   work_ += work * c.dt;
+}
+
+JacketImpl<2>::FaceForce JacketImpl<2>::face_force(std::size_t e, double co, double si) const {
+  const double pt = pressure_ * thickness_;
+  const double ax = co * ax_[e] - si * ay_[e], ay = si * ax_[e] + co * ay_[e];
+  const double bx = co * bx_[e] - si * by_[e], by = si * bx_[e] + co * by_[e];
+  // L n = (dy, -dx) for the edge a -> b: the outside is to its right.
+  return {-pt * (by - ay), pt * (bx - ax), 0.5 * (ax + bx), 0.5 * (ay + by)};
+}
+
+bool JacketImpl<2>::loaded(const Model<2>& m, const ModelState<2>& s, std::size_t e) const {
+  const int b = block_[e];
+  return (std::size_t(b) < touching_.size() && touching_[std::size_t(b)]) || m.has_intact_bond(b, s.broken);
+}
+
+// Each loaded face's force at its midpoint now; whether a block without an intact bond is loaded follows the
+// contacts of the last step, as in that step.
+void JacketImpl<2>::loads(const Model<2>& m, const ModelState<2>& s, const Workspace<2>& w, int component,
+                          const std::vector<double>&, BoundaryLoads& out) const {
+  if (!(pressure_ > 0.0)) return;
+  for (std::size_t e = 0; e < block_.size(); ++e) {
+    if (!loaded(m, s, e)) continue;
+    const int b = block_[e];
+    const std::size_t k = std::size_t(b);
+    const auto [fx, fy, rx, ry] = face_force(e, w.cos_t[k], w.sin_t[k]);
+    append_load(out, b, component, s.x[k] + rx, s.y[k] + ry, fx, fy);
+  }
 }
 
 std::vector<double> JacketImpl<2>::reference_load(const Model<2>& m, double pressure) const {

@@ -163,6 +163,31 @@ void PlatensImpl<2>::forces_end(const Model<2>& m, ModelState<2>& s, Workspace<2
 
 void PlatensImpl<2>::after_step(const Model<2>&, ModelState<2>&, Workspace<2>&, double dt) { top_y_ -= velocity_ * dt; }
 
+// Every block that overlaps a platen now, not only the candidates (a state set by apply_static has none before its
+// first step): the contact law at the overlap and the shear force as carried (capped by friction), at the overlap's
+// centroid, the top platen's rows first.
+void PlatensImpl<2>::loads(const Model<2>& m, const ModelState<2>& s, const Workspace<2>& w, int component,
+                           const std::vector<double>&, BoundaryLoads& out) const {
+  for (const bool top : {true, false}) {
+    const double wy = top ? top_y_ : m.ymin;
+    const double my = top ? 1.0 : -1.0;  // into the platen
+    const std::vector<double>& history = top ? top_fs_ : bottom_fs_;
+    for (std::size_t b = 0; b < m.num_blocks(); ++b) {
+      if (top ? s.y[b] + m.radius[b] < wy : s.y[b] - m.radius[b] > wy) continue;
+      double v[6];
+      stages::block_vertices(m, s, w, int(b), v);
+      Overlap ov;
+      if (!overlap_halfplane(v, 3, 0.0, wy, 0.0, my, ov)) continue;
+      const LinearContact contact_law = law(m, int(b));
+      const double fn = contact_law.normal_force(ov.area, ov.chord);
+      double fs = history[b];
+      contact_law.update_shear(fn, ov.chord, 0.0, 0.0, fs);
+      const double tx = -ov.ny, ty = ov.nx;
+      append_load(out, int(b), component, ov.px, ov.py, -fn * ov.nx + fs * tx, -fn * ov.ny + fs * ty);
+    }
+  }
+}
+
 // --- the stability estimate and the static solve ------------------------------------------------------------------
 
 void PlatensImpl<2>::add_stiffness(const Model<2>& m, std::vector<double>& kt, std::vector<double>& kr) const {

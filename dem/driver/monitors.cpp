@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "dem/driver/summary.hpp"
+#include "dem/measure.hpp"
 
 namespace rbdem {
 
@@ -48,6 +49,7 @@ Frame make_frame(const Simulation& sim, const Reading& reading, const char* labe
   f.label = label;
   f.dim = sim.dimension();
   f.pose = sim.pose();
+  f.network = force_network(sim);
   f.cracks = sim.cracks().size();
   return f;
 }
