@@ -26,15 +26,16 @@ Scene shear_scene(double normal_stress) {
   return s;
 }
 
-// The model's closed forms for its joint: the envelope of a bonded interface (c_j, phi_j) and mu sigma_n.
-double envelope_peak(const Scene& s, double sigma_n) {
-  const MohrCoulomb env = interface_envelope(s.joint.cohesion, std::tan(s.joint.friction_deg * std::numbers::pi / 180),
-                                             s.joint.contact_friction, s.joint.slip_when_bonded);
-  return env.cohesion + sigma_n * env.tan_phi;
+// The model's closed form for its joint: the envelope of a bonded interface (c_j, phi_j).
+MohrCoulomb envelope(const Scene& s) {
+  return interface_envelope(s.joint.cohesion, std::tan(s.joint.friction_deg * std::numbers::pi / 180),
+                            s.joint.contact_friction, s.joint.slip_when_bonded);
 }
 
-// Under a constant normal load of 2 and 10 MPa: the peak within 5 % of c_j + sigma_n tan(phi_j), the residual within
-// 5 % of mu sigma_n, the normal stress held.
+// Under a constant normal load of 2 and 10 MPa: the boxes slip every joint bond by the same amount, so the peak is
+// where the stiffest bond reaches its strength, (k_mean / k_max) c_j + sigma_n tan(phi_j) (to 2 %); on this mesh the
+// joint's bonds are within a few % of one stiffness and the peak is within 5 % of the envelope c_j + sigma_n
+// tan(phi_j) itself. The residual is within 5 % of mu sigma_n, the normal stress held.
 TEST(Shear, PeakFollowsTheJointEnvelopeAndResidualTheContactFriction) {
   for (double sn : {2e6, 10e6}) {
     const Scene s = shear_scene(sn);
@@ -43,7 +44,12 @@ TEST(Shear, PeakFollowsTheJointEnvelopeAndResidualTheContactFriction) {
     ASSERT_TRUE(r.completed);
     EXPECT_EQ(r.test, "shear");
     EXPECT_EQ(r.stop_reason, "max_shear_displacement");
-    EXPECT_NEAR(r.own_value("peak_shear_stress_pa") / envelope_peak(s, sn), 1.0, 0.05);
+    EXPECT_TRUE(r.quasi_static) << r.quasi_static_reason;
+    const double uniformity = r.own_value("joint_stiffness_uniformity");
+    ASSERT_GT(uniformity, 0.95);
+    const MohrCoulomb env = envelope(s);
+    EXPECT_NEAR(r.own_value("peak_shear_stress_pa") / (uniformity * env.cohesion + sn * env.tan_phi), 1.0, 0.02);
+    EXPECT_NEAR(r.own_value("peak_shear_stress_pa") / (env.cohesion + sn * env.tan_phi), 1.0, 0.05);
     EXPECT_NEAR(r.own_value("residual_shear_stress_pa") / (s.joint.contact_friction * sn), 1.0, 0.05);
     EXPECT_NEAR(r.own_value("final_normal_stress_pa") / sn, 1.0, 0.01);
     EXPECT_GE(r.own_value("final_shear_displacement_m"), s.loading.max_shear_displacement);

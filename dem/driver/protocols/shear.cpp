@@ -67,6 +67,24 @@ ShearBoxes shear_boxes(const Specimen& s) {
   return b;
 }
 
+// The uniformity of the joint's bonds, k_mean / k_max with k = E* / d the stiffness per area of a bond whose blocks'
+// centroids are d apart across it (k_mean weighted by the bonds' areas). The boxes slip every bond by the same
+// amount, so a bond carries k / k_mean of the mean stress, normal and shear alike, and the stiffest one reaches its
+// strength first, when the mean shear stress is (k_mean / k_max) c_j + sigma_n tan(phi_j): the joint's envelope
+// with its cohesion scaled by this ratio (1 for bonds of one stiffness).
+double joint_stiffness_uniformity(const Specimen& s) {
+  double sum = 0, area = 0, k_max = 0;
+  for (std::size_t e = 0; e < s.num_bonds(); ++e) {
+    if (s.bonds.kind[e] != BondKind::joint) continue;
+    const std::size_t i = std::size_t(s.bonds.i[e]), j = std::size_t(s.bonds.j[e]);
+    double d = 0;
+    for (int c = 0; c < s.dim; ++c) d += (s.centroid(j, c) - s.centroid(i, c)) * s.normal(e, c);
+    const double k = 1.0 / std::abs(d);
+    sum += k * s.bonds.size[e], area += s.bonds.size[e], k_max = std::max(k_max, k);
+  }
+  return k_max > 0 ? sum / area / k_max : 1.0;
+}
+
 const BlockGroup& box(const Simulation& sim, const char* name) {
   for (const Boundary* b : sim.boundaries())
     if (const auto* g = dynamic_cast<const BlockGroup*>(b); g && g->name() == name) return *g;
@@ -90,6 +108,7 @@ class ShearProtocol final : public LoadingProtocol {
             std::string& reason) const override;
   bool lateral_signals() const override { return false; }
   void results(const Simulation& sim, const TestRecord& record, TestResult& result) const override;
+  void finish(const Simulation& sim, const TestRecord& record, TestResult& result) const override;
 
  private:
   double area(const Simulation& sim) const { return sim.specimen().width() * sim.specimen().thickness; }
@@ -199,6 +218,7 @@ double residual_shear_stress(const std::vector<CurvePoint>& curve, double peak_d
 void ShearProtocol::results(const Simulation& sim, const TestRecord& record, TestResult& result) const {
   const Reading end = read(sim);
   const MohrCoulomb env = envelope();
+  const double uniformity = joint_stiffness_uniformity(sim.specimen());
   const double residual = residual_shear_stress(record.curve, record.at_peak.shear_displacement);
   result.own = {{"normal_stress_pa", sigma0(), false},
                 {"normal_stiffness_pa_per_m", scene_.loading.normal_stiffness, false},
@@ -211,7 +231,21 @@ void ShearProtocol::results(const Simulation& sim, const TestRecord& record, Tes
                 {"final_normal_stress_pa", end.normal_stress, true},
                 {"final_shear_displacement_m", end.shear_displacement, true},
                 {"joint_envelope_peak_pa", env.cohesion + sigma0() * env.tan_phi, false},
+                {"joint_stiffness_uniformity", uniformity, false},
+                {"first_break_peak_pa", uniformity * env.cohesion + sigma0() * env.tan_phi, false},
                 {"joint_residual_pa", sigma0() * scene_.joint.contact_friction, false}};
+}
+
+// No block moves on its own, so the kinetic energy is the upper box's rigid motion, not a dynamic response: the
+// test is quasi-static when the two boxes' forces along the joint agree (within 5 %, as the compression tests'
+// platens must).
+void ShearProtocol::finish(const Simulation&, const TestRecord&, TestResult& result) const {
+  result.quasi_static = result.platen_force_mismatch <= 0.05 && result.peak_stress > 0;
+  result.quasi_static_reason =
+      result.quasi_static ? std::string()
+                          : fmt::format("the boxes' forces along the joint differ by {:.1f} % while loading (limit "
+                                        "5 %): lower loading.shear_velocity",
+                                        100.0 * result.platen_force_mismatch);
 }
 
 // How many of the joint_set's planes cross a rectangle of height H (the mesher's rows: offset + k spacing from the
