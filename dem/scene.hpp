@@ -84,7 +84,7 @@ struct LoadingParams {
   double normal_stress = 5e6;            // Pa, the normal stress on the joint at the start of the shear
   double normal_stiffness = 0.0;         // Pa/m, the normal stiffness of a CNS test; 0 = constant normal load
   double shear_velocity = 0.01;          // m/s, the upper box's speed along the joint
-  double max_shear_displacement = 2e-5;  // m, the shear displacement at which the test ends
+  double max_shear_displacement = 5e-6;  // m, the shear displacement at which the test ends
 };
 
 struct NumericsParams {

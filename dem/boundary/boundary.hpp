@@ -86,17 +86,21 @@ struct GroupServo {
 
 struct GroupSettings {
   // What a group does along a degree of freedom: held fixed, moved at a prescribed velocity, loaded by a constant
-  // force on each of its blocks (which then move freely), or moved rigidly by a servo (GroupServo).
-  enum class Mode { fixed, velocity, force, servo };
+  // force on each of its blocks (which then move freely), moved rigidly by a servo (GroupServo), or moved rigidly
+  // as one body under the rest of the model's force on it plus its value (a load on the whole group; 0: free).
+  enum class Mode { fixed, velocity, force, servo, free };
   std::string name = "group";
   std::vector<int> blocks;        // the blocks of the group (ascending, each once)
   Mode mode = Mode::fixed;        // the mode of every degree of freedom, unless `modes` gives one for each
   std::vector<double> value;      // velocity mode: the blocks' velocity (m/s, and rad/s for the rotations);
-                                  // force mode: the force on each block (N, and N m); servo mode: the load on the
-                                  // whole group (N, N m); dof(dim) entries
+                                  // force mode: the force on each block (N, and N m); servo and free modes: the
+                                  // load on the whole group (N, N m); dof(dim) entries
   // One mode per degree of freedom (dof(dim) entries; empty: `mode` along each), for a group that does different
   // things along its dofs, as a shear box moved along the joint, under a servo across it and held from turning:
-  // {velocity, servo, fixed}. Fixed, velocity and servo dofs mix (the blocks move with the group); force does not.
+  // {velocity, servo, fixed}. Fixed, velocity, servo and free dofs mix (the blocks move with the group); force (each
+  // block on its own) does not. A free dof follows the central difference of the group as one body (its blocks'
+  // mass; for the rotation each block turns about its own centroid, as a prescribed rotation turns it) with the
+  // engine's local damping.
   std::vector<Mode> modes;
   GroupServo servo;               // the servo of the servo dofs
 };
@@ -114,6 +118,10 @@ class BlockGroup : public Boundary {
   virtual std::vector<double> displacement() const = 0;
   // The servo of the servo dofs from the next step on (its gain, rate limit, spring and origin).
   virtual void set_servo(const GroupServo& servo) = 0;
+  // The mode of each degree of freedom from the next step on (dof(dim) entries), among fixed, velocity, servo and
+  // free (a group's blocks cannot change between moving with the group and moving on their own: force mode stays
+  // as it was set); values as set_value gives them. A dof keeps its last velocity when it turns free.
+  virtual void set_modes(const std::vector<GroupSettings::Mode>& modes) = 0;
   // The mode along degree of freedom d (GroupSettings::modes, else GroupSettings::mode).
   GroupSettings::Mode mode(int d) const {
     const GroupSettings& s = settings();

@@ -139,6 +139,7 @@ class BlockGroupImpl<2> : public BlockGroup, public BoundaryHooks<2> {
   std::vector<double> force() const override { return force_; }
   std::vector<double> displacement() const override;
   void set_servo(const GroupServo& servo) override;
+  void set_modes(const std::vector<GroupSettings::Mode>& modes) override;
   std::vector<double> velocity() const override;
   std::vector<double> attachment_stiffness() const override;
   double work() const override { return work_; }
@@ -152,7 +153,7 @@ class BlockGroupImpl<2> : public BlockGroup, public BoundaryHooks<2> {
   void load(const Snapshot& s, const Model<2>& m) override;
 
  private:
-  double dof_velocity(int d, const std::vector<double>& displacement) const;
+  double dof_velocity(int d, const std::vector<double>& displacement, double dt) const;
 
   const Engine<2>& engine_;
   GroupSettings settings_;

@@ -21,7 +21,8 @@ namespace {
 using Mode = GroupSettings::Mode;
 
 const char* mode_name(Mode m) {
-  return m == Mode::fixed ? "fixed" : m == Mode::velocity ? "velocity" : m == Mode::force ? "force" : "servo";
+  return m == Mode::fixed ? "fixed" : m == Mode::velocity ? "velocity" : m == Mode::force ? "force"
+         : m == Mode::servo ? "servo" : "free";
 }
 
 // Refuses settings a group cannot follow: per-dof modes of the wrong count or mixing force with the others, values
@@ -36,8 +37,9 @@ void check_settings(const GroupSettings& g) {
   const bool all_fixed = g.modes.empty() ? g.mode == Mode::fixed
                                          : std::count(g.modes.begin(), g.modes.end(), Mode::fixed) == 3;
   if (!g.modes.empty() && uses(Mode::force) && std::count(g.modes.begin(), g.modes.end(), Mode::force) != 3)
-    throw std::invalid_argument(fmt::format("block group '{}': a force dof does not mix with fixed, velocity or servo "
-                                            "ones (its blocks move freely); use two groups",
+    throw std::invalid_argument(fmt::format("block group '{}': a force dof (each block on its own) does not mix with "
+                                            "fixed, velocity, servo or free ones (the group as one body); use free for "
+                                            "a load on the whole group",
                                             g.name));
   if (!all_fixed && g.value.size() != 3)
     throw std::invalid_argument(fmt::format("block group '{}': give 3 values (x, y and the rotation) for its {}", g.name,
@@ -75,6 +77,18 @@ void BlockGroupImpl<2>::set_value(const std::vector<double>& value) {
 std::vector<double> BlockGroupImpl<2>::velocity() const {
   if (settings_.modes.empty() && settings_.mode == Mode::velocity) return settings_.value;
   return velocity_;
+}
+
+void BlockGroupImpl<2>::set_modes(const std::vector<Mode>& modes) {
+  GroupSettings g = settings_;
+  g.modes = modes;
+  check_settings(g);
+  const bool was_force = mode(0) == Mode::force, is_force = modes.size() == 3 && modes[0] == Mode::force;
+  if (was_force || is_force)
+    throw std::invalid_argument(fmt::format("block group '{}': its blocks cannot change between moving on their own "
+                                            "(force) and moving with the group; use another group",
+                                            settings_.name));
+  settings_.modes = modes;
 }
 
 void BlockGroupImpl<2>::set_servo(const GroupServo& servo) {
@@ -141,10 +155,21 @@ void BlockGroupImpl<2>::forces_end(const Model<2>&, ModelState<2>& s, Workspace<
   if (c.advance) work_ += power * c.dt;
 }
 
-// The speed along dof d for the next step: the prescribed one, the servo's from the reaction F just summed, or 0.
-double BlockGroupImpl<2>::dof_velocity(int d, const std::vector<double>& displacement) const {
+// The speed along dof d for the next step: the prescribed one, the servo's from the reaction F just summed, a free
+// dof's from its central difference, or 0.
+double BlockGroupImpl<2>::dof_velocity(int d, const std::vector<double>& displacement, double dt) const {
   const Mode md = mode(d);
   if (md == Mode::velocity) return settings_.value[std::size_t(d)];
+  if (md == Mode::free) {
+    // The group as one body: its blocks' mass (the sum of their inertias for the rotation), Cundall's local damping
+    // on the net force as each block gets it (dem/stages/integrator.cpp).
+    const Model<2>& m = engine_.model();
+    double mass = 0;
+    for (int b : settings_.blocks) mass += d < 2 ? m.mass[std::size_t(b)] : m.inertia[std::size_t(b)];
+    const double v = velocity_[std::size_t(d)], f = force_[std::size_t(d)] + settings_.value[std::size_t(d)];
+    const double damped = f - engine_.options().damping * std::abs(f) * (v > 0 ? 1.0 : v < 0 ? -1.0 : 0.0);
+    return v + dt * damped / mass;
+  }
   if (md != Mode::servo) return 0.0;
   const GroupServo& sv = settings_.servo;
   double u = d < 2 ? displacement[std::size_t(d)] : 0.0;
@@ -171,7 +196,7 @@ void BlockGroupImpl<2>::after_step(const Model<2>&, ModelState<2>& s, Workspace<
     vel = {settings_.value[0], settings_.value[1], settings_.value[2]};
   } else {
     const std::vector<double> u = displacement();
-    for (int d = 0; d < 3; ++d) vel[std::size_t(d)] = dof_velocity(d, u);
+    for (int d = 0; d < 3; ++d) vel[std::size_t(d)] = dof_velocity(d, u, dt);
   }
   velocity_ = {vel[0], vel[1], vel[2]};
   // The group pushes the rest of the model with the opposite of the force on its blocks: its work is -F . v dt.
@@ -209,6 +234,9 @@ void BlockGroupImpl<2>::save(Snapshot& s) const {
     const GroupServo& sv = settings_.servo;
     s.add(p + "servo", Extent::free, std::vector<double>{sv.gain, sv.max_velocity, sv.stiffness, sv.origin});
     s.add(p + "velocity", Extent::free, velocity_);
+    std::vector<int> modes;
+    for (Mode m : settings_.modes) modes.push_back(int(m));
+    s.add(p + "modes", Extent::free, modes);
   }
 }
 
@@ -219,7 +247,9 @@ void BlockGroupImpl<2>::load(const Snapshot& s, const Model<2>&) {
   work_ = s.get<double>(p + "work");
   force_ = s.get<std::vector<double>>(p + "force");
   settings_.value = s.get<std::vector<double>>(p + "value");
-  if (!settings_.modes.empty() || settings_.mode == Mode::servo) {
+  if (s.has(p + "servo")) {  // per-dof modes (set_modes may have changed them) and the servo
+    settings_.modes.clear();
+    for (int m : s.get<std::vector<int>>(p + "modes")) settings_.modes.push_back(Mode(m));
     const std::vector<double>& sv = s.get<std::vector<double>>(p + "servo");
     if (sv.size() != 4)
       throw std::invalid_argument(fmt::format("the snapshot's block group '{}' has no servo of 4 values", settings_.name));
