@@ -45,6 +45,7 @@ TEST(Shear, PeakFollowsTheJointEnvelopeAndResidualTheContactFriction) {
     EXPECT_EQ(r.test, "shear");
     EXPECT_EQ(r.stop_reason, "max_shear_displacement");
     EXPECT_TRUE(r.quasi_static) << r.quasi_static_reason;
+    EXPECT_EQ(r.failure_mode, "shear_slip_along_joints");
     const double uniformity = r.own_value("joint_stiffness_uniformity");
     ASSERT_GT(uniformity, 0.95);
     const MohrCoulomb env = envelope(s);

@@ -236,10 +236,19 @@ void ShearProtocol::results(const Simulation& sim, const TestRecord& record, Tes
                 {"joint_residual_pa", sigma0() * scene_.joint.contact_friction, false}};
 }
 
-// No block moves on its own, so the kinetic energy is the upper box's rigid motion, not a dynamic response: the
-// test is quasi-static when the two boxes' forces along the joint agree (within 5 %, as the compression tests'
-// platens must).
-void ShearProtocol::finish(const Simulation&, const TestRecord&, TestResult& result) const {
+// The failure: the joint slid once at least half of its length broke (classify_failure's shear slip asks for a dip
+// of 15 to 75 deg, where an axial load resolves shear on a joint; here the boxes shear it directly). No block moves
+// on its own, so the kinetic energy is the upper box's rigid motion, not a dynamic response: the test is
+// quasi-static when the two boxes' forces along the joint agree (within 5 %, as the compression tests' platens
+// must).
+void ShearProtocol::finish(const Simulation& sim, const TestRecord&, TestResult& result) const {
+  const Specimen& sp = sim.specimen();
+  double joint = 0, broken = 0;
+  for (std::size_t e = 0; e < sp.num_bonds(); ++e)
+    if (sp.bonds.kind[e] == BondKind::joint) joint += sp.bonds.size[e];
+  for (const Crack& c : result.cracks)
+    if (c.kind == BondKind::joint) broken += c.size;
+  if (broken >= 0.5 * joint) result.failure_mode = "shear_slip_along_joints";
   result.quasi_static = result.platen_force_mismatch <= 0.05 && result.peak_stress > 0;
   result.quasi_static_reason =
       result.quasi_static ? std::string()
