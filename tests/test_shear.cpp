@@ -3,13 +3,17 @@
 // constant normal stiffness test against sigma_n0 + k x dilation, and the scenes it refuses.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 
 #include "dem/driver/driver.hpp"
 #include "dem/driver/registry.hpp"
 #include "dem/laws/parallel_bond.hpp"
 #include "dem/specimen_mesh.hpp"
+#include "io/checkpoint.hpp"
 
 namespace rbdem {
 namespace {
@@ -21,7 +25,7 @@ Scene shear_scene(double normal_stress) {
   s.mesh.size = 0.002;
   s.joint_set.dip_deg = 0, s.joint_set.spacing = 1.0, s.joint_set.offset = 0;
   s.loading.normal_stress = normal_stress;
-  s.loading.max_shear_displacement = 1e-5;
+  s.loading.max_shear_displacement = 2e-6;  // the joint has slid into its residual by 0.3 um
   s.numerics.threads = 1;
   return s;
 }
@@ -83,6 +87,42 @@ TEST(Shear, ConstantNormalStiffnessChangesTheNormalStressByKTimesTheDilation) {
   EXPECT_GT(checked, 100);
   EXPECT_NEAR((r.own_value("final_normal_stress_pa") - 5e6) / (1e13 * r.own_value("dilation_m")), 1.0, 0.02);
   EXPECT_NEAR(r.own_value("residual_shear_stress_pa") / (0.5 * r.own_value("final_normal_stress_pa")), 1.0, 0.05);
+}
+
+// The stage (the normal load coming on, then the shear), the servo with its CNS spring and origin are in the boxes'
+// snapshot: a run interrupted while the load comes on, before the peak and after it, and resumed from its
+// checkpoint file, ends bit for bit as the uninterrupted one.
+TEST(Shear, ResumedRunEndsBitIdenticalToUninterrupted) {
+  Scene s = shear_scene(5e6);
+  s.loading.normal_stiffness = 1e13, s.loading.max_shear_displacement = 1e-6;
+  const TriMesh mesh = make_mesh(s);
+  const TestResult full = run_test("shear", s, mesh);
+  ASSERT_TRUE(full.completed);
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / ("rbdem_shear_checkpoint_" + std::to_string(::getpid()) + ".h5");
+  for (const long at : {10L, 150L, 1000L}) {
+    RunOptions cut;
+    cut.interrupt_at_step = at;
+    cut.checkpoint = [&file](const TestCheckpoint& c) { io::write_checkpoint(file, c); };
+    EXPECT_THROW(run_test("shear", s, mesh, cut), RunCancelled);
+    const TestCheckpoint ck = io::read_checkpoint(file);
+    RunOptions go;
+    go.resume = &ck;
+    const TestResult r = run_test("shear", s, mesh, go);
+    SCOPED_TRACE(testing::Message() << "resumed at step " << at);
+    EXPECT_EQ(r.steps, full.steps);
+    EXPECT_EQ(r.own_value("peak_shear_stress_pa"), full.own_value("peak_shear_stress_pa"));
+    EXPECT_EQ(r.own_value("dilation_m"), full.own_value("dilation_m"));
+    EXPECT_EQ(r.own_value("final_normal_stress_pa"), full.own_value("final_normal_stress_pa"));
+    ASSERT_EQ(r.curve.size(), full.curve.size());
+    for (std::size_t k = 0; k < r.curve.size(); ++k) {
+      EXPECT_EQ(r.curve[k].stress_top, full.curve[k].stress_top);
+      EXPECT_EQ(r.curve[k].normal_stress, full.curve[k].normal_stress);
+    }
+    ASSERT_EQ(r.cracks.size(), full.cracks.size());
+    EXPECT_EQ(r.frames.back().pose, full.frames.back().pose);
+  }
+  std::filesystem::remove(file);
 }
 
 // Scenes that do not suit a direct shear test are refused with the key to change.
