@@ -36,10 +36,10 @@ MohrCoulomb envelope(const Scene& s) {
                             s.joint.contact_friction, s.joint.slip_when_bonded);
 }
 
-// Under a constant normal load of 2 and 10 MPa: the boxes slip every joint bond by the same amount, so the peak is
-// where the stiffest bond reaches its strength, (k_mean / k_max) c_j + sigma_n tan(phi_j) (to 2 %); on this mesh the
-// joint's bonds are within a few % of one stiffness and the peak is within 5 % of the envelope c_j + sigma_n
-// tan(phi_j) itself. The residual is within 5 % of mu sigma_n, the normal stress held.
+// Under a constant normal load of 2 and 10 MPa: the boxes slip every joint bond by the same amount, so the stiffest
+// bond reaches its strength first, at (k_mean / k_max) c_j + sigma_n tan(phi_j), and the peak lies between that and
+// the envelope c_j + sigma_n tan(phi_j); on this mesh the joint's bonds are within a few % of one stiffness and the
+// peak is within 2 % of the first break and 5 % of the envelope. The residual is within 5 % of mu sigma_n, the normal stress held.
 TEST(Shear, PeakFollowsTheJointEnvelopeAndResidualTheContactFriction) {
   for (double sn : {2e6, 10e6}) {
     const Scene s = shear_scene(sn);
@@ -53,7 +53,10 @@ TEST(Shear, PeakFollowsTheJointEnvelopeAndResidualTheContactFriction) {
     const double uniformity = r.own_value("joint_stiffness_uniformity");
     ASSERT_GT(uniformity, 0.95);
     const MohrCoulomb env = envelope(s);
-    EXPECT_NEAR(r.own_value("peak_shear_stress_pa") / (uniformity * env.cohesion + sn * env.tan_phi), 1.0, 0.02);
+    const double peak = r.own_value("peak_shear_stress_pa"), first = uniformity * env.cohesion + sn * env.tan_phi;
+    EXPECT_GE(peak, 0.999 * first);  // the bounds of any mesh: first break <= peak <= envelope
+    EXPECT_LE(peak, 1.001 * (env.cohesion + sn * env.tan_phi));
+    EXPECT_NEAR(peak / first, 1.0, 0.02);
     EXPECT_NEAR(r.own_value("peak_shear_stress_pa") / (env.cohesion + sn * env.tan_phi), 1.0, 0.05);
     EXPECT_NEAR(r.own_value("residual_shear_stress_pa") / (s.joint.contact_friction * sn), 1.0, 0.05);
     EXPECT_NEAR(r.own_value("final_normal_stress_pa") / sn, 1.0, 0.01);

@@ -6,6 +6,7 @@
 //   prepare() the static solves of the start, which only read the simulation: the driver runs them while another
 //             thread computes the stability limit
 //   start()   before the explicit run: boundary set-up and a static start where it is exact
+//   max_time_step()  a bound on the time step where no block's dynamics sets one (every block in a box)
 //   read()    after each step: the axial strain and the stresses that the curve, the peak and the stop criterion use
 //   control() after each step: what the boundaries do next
 //   stop()    whether the test is over, and why
