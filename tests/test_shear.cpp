@@ -39,7 +39,8 @@ MohrCoulomb envelope(const Scene& s) {
 // Under a constant normal load of 2 and 10 MPa: the boxes slip every joint bond by the same amount, so the stiffest
 // bond reaches its strength first, at (k_mean / k_max) c_j + sigma_n tan(phi_j), and the peak lies between that and
 // the envelope c_j + sigma_n tan(phi_j); on this mesh the joint's bonds are within a few % of one stiffness and the
-// peak is within 2 % of the first break and 5 % of the envelope. The residual is within 5 % of mu sigma_n, the normal stress held.
+// peak is within 2 % of the first break and 5 % of the envelope. The residual is within 5 % of mu sigma_n, the
+// normal stress held.
 TEST(Shear, PeakFollowsTheJointEnvelopeAndResidualTheContactFriction) {
   for (double sn : {2e6, 10e6}) {
     const Scene s = shear_scene(sn);

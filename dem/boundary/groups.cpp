@@ -42,8 +42,8 @@ void check_settings(const GroupSettings& g) {
                                             "a load on the whole group",
                                             g.name));
   if (!all_fixed && g.value.size() != 3)
-    throw std::invalid_argument(fmt::format("block group '{}': give 3 values (x, y and the rotation) for its {}", g.name,
-                                            g.modes.empty() ? mode_name(g.mode) : "modes"));
+    throw std::invalid_argument(fmt::format("block group '{}': give 3 values (x, y and the rotation) for its {}",
+                                            g.name, g.modes.empty() ? mode_name(g.mode) : "modes"));
   if (uses(Mode::servo) && !(g.servo.gain > 0 && g.servo.max_velocity > 0))
     throw std::invalid_argument(fmt::format("block group '{}': a servo needs a gain > 0 and a max_velocity > 0 (now {} "
                                             "and {})",
@@ -252,7 +252,8 @@ void BlockGroupImpl<2>::load(const Snapshot& s, const Model<2>&) {
     for (int m : s.get<std::vector<int>>(p + "modes")) settings_.modes.push_back(Mode(m));
     const std::vector<double>& sv = s.get<std::vector<double>>(p + "servo");
     if (sv.size() != 4)
-      throw std::invalid_argument(fmt::format("the snapshot's block group '{}' has no servo of 4 values", settings_.name));
+      throw std::invalid_argument(
+          fmt::format("the snapshot's block group '{}' has no servo of 4 values", settings_.name));
     settings_.servo = {sv[0], sv[1], sv[2], sv[3]};
     velocity_ = s.get<std::vector<double>>(p + "velocity");
   }

@@ -53,7 +53,8 @@ ShearBoxes shear_boxes(const Specimen& s) {
   const double tol = 1e-6 * s.height();
   double y_min = 1e300, y_max = -1e300;
   for (std::size_t e = 0; e < s.num_bonds(); ++e)
-    if (s.bonds.kind[e] == BondKind::joint) y_min = std::min(y_min, s.midpoint(e, 1)), y_max = std::max(y_max, s.midpoint(e, 1));
+    if (s.bonds.kind[e] == BondKind::joint)
+      y_min = std::min(y_min, s.midpoint(e, 1)), y_max = std::max(y_max, s.midpoint(e, 1));
   if (y_min > y_max)
     throw SceneError("rbdem shear needs one joint across the specimen and this one has none: set joint_set.enabled = "
                      "true (with joint_set.dip_deg = 0)");
@@ -262,7 +263,8 @@ void ShearProtocol::finish(const Simulation& sim, const TestRecord&, TestResult&
 int planes_inside(const JointSetParams& js, double height) {
   int n = 0;
   const double half = 0.5 * height, tol = 1e-9 * height;
-  const long k0 = long(std::ceil((-half - js.offset) / js.spacing)), k1 = long(std::floor((half - js.offset) / js.spacing));
+  const long k0 = long(std::ceil((-half - js.offset) / js.spacing));
+  const long k1 = long(std::floor((half - js.offset) / js.spacing));
   for (long k = k0; k <= k1; ++k)
     if (std::abs(js.offset + double(k) * js.spacing) < half - tol) ++n;
   return n;
