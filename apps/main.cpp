@@ -87,7 +87,8 @@ bool explain_extras(const CLI::App& app) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"rbdem: rigid block DEM of transversely isotropic rock: uniaxial and confined compression, Brazilian test.\n"
+  CLI::App app{"rbdem: rigid block DEM of transversely isotropic rock: uniaxial and confined compression, Brazilian test,\n"
+               "direct shear of a joint.\n"
                "With no command, runs the default study (dips 0 to 90 deg) on the built-in paper scene (the same\n"
                "values as scenes/paper.toml).\n"
                "Units are SI (m, Pa, s, kg); angles in degrees. Exit status: 0 done, 1 run failed, 2 bad input,\n"

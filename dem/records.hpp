@@ -98,6 +98,9 @@ struct CurvePoint {
   double kinetic = 0, strain_energy = 0;     // J
   double lateral_strain = 0;                 // -, width change / width (compression positive: < 0 when it widens)
   std::array<int, 4> broken{};               // rock tensile, rock shear, joint tensile, joint shear
+  // The direct shear test's (rbdem shear): the upper box's displacement along the joint, the normal stress on the
+  // joint and its dilation since the shear began (opening positive); 0 for the other tests.
+  double shear_displacement = 0, normal_stress = 0, dilation = 0;  // m, Pa, m
   double stress() const { return 0.5 * (stress_top + stress_bottom); }
   // eps_v = eps_a + eps_l, compression positive (plane strain).
   double volumetric_strain() const { return strain + lateral_strain; }
@@ -123,6 +126,14 @@ struct CurvePoint {
       [](auto& p) -> auto& { return p.lateral_strain; });
     f(Field{"volumetric_strain", "-", "axial plus lateral strain (plane strain), compression positive"},
       [](const auto& p) { return p.volumetric_strain(); });
+    f(Field{"shear_displacement_m", "m", "rbdem shear: the upper box's displacement along the joint (0 otherwise)"},
+      [](auto& p) -> auto& { return p.shear_displacement; });
+    f(Field{"normal_stress_pa", "Pa", "rbdem shear: the normal load on the upper box over the joint area, compression "
+                                      "positive (0 otherwise)"},
+      [](auto& p) -> auto& { return p.normal_stress; });
+    f(Field{"dilation_m", "m", "rbdem shear: the upper box's displacement across the joint since the shear began, "
+                               "opening positive (0 otherwise)"},
+      [](auto& p) -> auto& { return p.dilation; });
   }
 };
 

@@ -193,8 +193,8 @@ void declare_materials(Keys& k) {
              [](Scene& s) -> std::string& { return s.rock2.groups; }));
 }
 
-// --- [loading]: read by the tests between platens (dem/driver/platen_test.cpp) -------------------------------------
-// [loading]: the platens and the stop criteria of the compression tests.
+// --- [loading]: read by the tests between platens (dem/driver/platen_test.cpp) and rbdem shear --------------------
+// [loading]: the platens and the stop criteria of the compression tests; the boxes and the load of the shear test.
 void declare_loading(Keys& k) {
   k.add(positive("loading.platen_velocity", "m/s", 100.0, "closing speed of the top platen (bottom fixed)",
                  [](Scene& s) -> double& { return s.loading.platen_velocity; }));
@@ -219,6 +219,20 @@ void declare_loading(Keys& k) {
   k.add(positive("loading.quiet_transits", "-", 100.0,
                  "with fast_factor > 1: wave transits of the specimen without a break before the platen speeds up",
                  [](Scene& s) -> double& { return s.loading.quiet_transits; }));
+  // rbdem shear (dem/driver/protocols/shear.cpp)
+  k.add(real("loading.normal_stress", "Pa", 0.0, 1e10,
+             "rbdem shear: the normal stress on the joint, brought on before the shear and kept constant (CNL), or "
+             "the start of sigma_n = normal_stress + normal_stiffness x dilation (CNS)",
+             [](Scene& s) -> double& { return s.loading.normal_stress; }));
+  k.add(real("loading.normal_stiffness", "Pa/m", 0.0, 1e16,
+             "rbdem shear: the stiffness k of the spring between the normal load and the upper box (constant normal "
+             "stiffness test): the normal stress rises by k x the joint's dilation; 0 = constant normal load",
+             [](Scene& s) -> double& { return s.loading.normal_stiffness; }));
+  k.add(positive("loading.shear_velocity", "m/s", 100.0, "rbdem shear: the upper box's speed along the joint",
+                 [](Scene& s) -> double& { return s.loading.shear_velocity; }));
+  k.add(positive("loading.max_shear_displacement", "m", 1.0,
+                 "rbdem shear: the test ends when the upper box has moved this far along the joint",
+                 [](Scene& s) -> double& { return s.loading.max_shear_displacement; }));
 }
 
 // --- [numerics]: read by the engine (dem/engine.cpp) and the driver ------------------------------------------------

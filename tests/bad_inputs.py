@@ -111,6 +111,12 @@ CASES = [
     ("second set dipping 200 deg", "mesh dip2_200.toml", "joint_set2.dip_deg"),
     ("persistence with a user mesh", "mesh --mesh good_square.msh --set joint_set.persistence=0.5",
      "joint_set.persistence"),
+    # --- the direct shear test: one horizontal joint
+    ("`shear` of a dipping joint", "shear --set joint_set.dip_deg=30", "joint_set.dip_deg"),
+    ("`shear` with joints 10 mm apart (several planes)", "shear --set joint_set.spacing=0.01", "joint_set.spacing"),
+    ("`shear` of a disc", "shear --set specimen.shape=disc", "specimen.shape"),
+    ("`shear` without joints", "shear --set joint_set.enabled=false", "joint_set.enabled"),
+    ("`shear` with a negative normal stress", "shear --normal-stress -1e6", "normal"),
     # --- studies with realizations
     ("no realizations in a study", "sweep realizations_zero.toml", "study.realizations"),
     ("realizations not a whole number", "sweep realizations_real.toml", "study.realizations"),

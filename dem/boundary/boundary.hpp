@@ -8,7 +8,8 @@
 //   Platens     two rigid platens loading the specimen's top and bottom: the top one moves at a prescribed
 //               velocity or under a servo to a target stress, the bottom one is fixed
 //   Jacket      a confining pressure on the outer faces that are not on a platen, as a membrane applies it
-//   BlockGroup  chosen blocks held fixed, moved at a prescribed velocity, or loaded by a constant force
+//   BlockGroup  chosen blocks held fixed, moved at a prescribed velocity, loaded by a constant force, or moved
+//               rigidly by a servo, along each degree of freedom its own way (a shear box)
 #pragma once
 
 #include <string>
@@ -69,13 +70,39 @@ class Jacket : public Boundary {
   virtual int faces_lost_max() const = 0;     // the most at any step so far
 };
 
+// A servo along a group's degree of freedom (GroupSettings::Mode::servo): the group moves rigidly along it at
+//     v = clamp(gain (load + F), -max_velocity, max_velocity),   load = value - stiffness (u - origin),
+// F the force the rest of the model put on the group's blocks in the last step (its reaction, force()), u the
+// group's displacement along the dof (displacement()) and `value` the group's value for that dof: an overdamped
+// rigid body under a load that comes to rest where the reaction balances it. `stiffness` > 0 puts a spring in series
+// with the load, as a constant normal stiffness (CNS) shear test has one between its normal jack and the reaction
+// frame: the load grows by stiffness x (u - origin) as the group moves away from `origin`.
+struct GroupServo {
+  double gain = 0;          // m/s per N (rad/s per N m for a rotation)
+  double max_velocity = 0;  // m/s (rad/s), the rate limit
+  double stiffness = 0;     // N/m (N m per rad), the spring in series with the load; 0 = a constant load
+  double origin = 0;        // m (rad), the displacement at which the spring adds nothing
+};
+
 struct GroupSettings {
-  enum class Mode { fixed, velocity, force };
+  // What a group does along a degree of freedom: held fixed, moved at a prescribed velocity, loaded by a constant
+  // force on each of its blocks (which then move freely), moved rigidly by a servo (GroupServo), or moved rigidly
+  // as one body under the rest of the model's force on it plus its value (a load on the whole group; 0: free).
+  enum class Mode { fixed, velocity, force, servo, free };
   std::string name = "group";
   std::vector<int> blocks;        // the blocks of the group (ascending, each once)
-  Mode mode = Mode::fixed;
+  Mode mode = Mode::fixed;        // the mode of every degree of freedom, unless `modes` gives one for each
   std::vector<double> value;      // velocity mode: the blocks' velocity (m/s, and rad/s for the rotations);
-                                  // force mode: the force on each block (N, and N m); dof(dim) entries
+                                  // force mode: the force on each block (N, and N m); servo and free modes: the
+                                  // load on the whole group (N, N m); dof(dim) entries
+  // One mode per degree of freedom (dof(dim) entries; empty: `mode` along each), for a group that does different
+  // things along its dofs, as a shear box moved along the joint, under a servo across it and held from turning:
+  // {velocity, servo, fixed}. Fixed, velocity, servo and free dofs mix (the blocks move with the group); force (each
+  // block on its own) does not. A free dof follows the central difference of the group as one body (its blocks'
+  // mass; for the rotation each block turns about its own centroid, as a prescribed rotation turns it) with the
+  // engine's local damping.
+  std::vector<Mode> modes;
+  GroupServo servo;               // the servo of the servo dofs
 };
 
 class BlockGroup : public Boundary {
@@ -89,6 +116,24 @@ class BlockGroup : public Boundary {
   virtual std::vector<double> force() const = 0;
   // The mean displacement of the group's blocks from their reference positions (m), dim entries.
   virtual std::vector<double> displacement() const = 0;
+  // The servo of the servo dofs from the next step on (its gain, rate limit, spring and origin).
+  virtual void set_servo(const GroupServo& servo) = 0;
+  // The mode of each degree of freedom from the next step on (dof(dim) entries), among fixed, velocity, servo and
+  // free (a group's blocks cannot change between moving with the group and moving on their own: force mode stays
+  // as it was set); values as set_value gives them. A dof keeps its last velocity when it turns free.
+  virtual void set_modes(const std::vector<GroupSettings::Mode>& modes) = 0;
+  // The mode along degree of freedom d (GroupSettings::modes, else GroupSettings::mode).
+  GroupSettings::Mode mode(int d) const {
+    const GroupSettings& s = settings();
+    return s.modes.empty() ? s.mode : s.modes[std::size_t(d)];
+  }
+  // The velocity of the group along each dof in the last step (m/s, rad/s): the prescribed one, the servo's, 0 when
+  // fixed; a force group's blocks move freely (0). dof(dim) entries.
+  virtual std::vector<double> velocity() const = 0;
+  // The stiffness of the intact bonds that tie the group's blocks to the rest of the model, summed along each dof in
+  // their linearised form (the parallel bond and the closed linear part; N/m, N m per rad): what a servo on the group
+  // pushes against within one step, from which its gain is chosen. dof(dim) entries.
+  virtual std::vector<double> attachment_stiffness() const = 0;
 };
 
 }  // namespace rbdem

@@ -7,8 +7,8 @@
 //                                    block's mirror image (d = 2 x inradius)
 //   JacketImpl<2>      jacket.cpp    a confining pressure on the outer edges that are not on a platen (follower
 //                                    forces)
-//   BlockGroupImpl<2>  groups.cpp    chosen blocks fixed, moved at a prescribed velocity or loaded by a constant
-//                                    force
+//   BlockGroupImpl<2>  groups.cpp    chosen blocks fixed, moved at a prescribed velocity, loaded by a constant
+//                                    force or moved rigidly by a servo, each degree of freedom its own way
 #pragma once
 
 #include <string>
@@ -150,6 +150,10 @@ class BlockGroupImpl<2> : public BlockGroup, public BoundaryHooks<2> {
   void set_value(const std::vector<double>& value) override;
   std::vector<double> force() const override { return force_; }
   std::vector<double> displacement() const override;
+  void set_servo(const GroupServo& servo) override;
+  void set_modes(const std::vector<GroupSettings::Mode>& modes) override;
+  std::vector<double> velocity() const override;
+  std::vector<double> attachment_stiffness() const override;
   double work() const override { return work_; }
   std::vector<std::pair<std::string, double>> readings() const override;
 
@@ -164,9 +168,12 @@ class BlockGroupImpl<2> : public BlockGroup, public BoundaryHooks<2> {
   void load(const Snapshot& s, const Model<2>& m) override;
 
  private:
+  double dof_velocity(int d, const std::vector<double>& displacement, double dt) const;
+
   const Engine<2>& engine_;
   GroupSettings settings_;
   std::vector<double> force_ = std::vector<double>(3, 0.0);
+  std::vector<double> velocity_ = std::vector<double>(3, 0.0);
   double work_ = 0;
 };
 

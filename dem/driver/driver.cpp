@@ -55,6 +55,7 @@ class TestRun {
       });
       protocol_.prepare(sim_, static_threads);
       choose_time_step(limit.get());
+      rec_.dt = std::min(rec_.dt, protocol_.max_time_step(sim_));
       sim_.set_dt(rec_.dt);
       rec_.sample_every = std::max(1L, protocol_.max_steps(sim_, rec_) / std::max(options_.curve_points, 1));
       const Reading at_rest = protocol_.read(sim_);

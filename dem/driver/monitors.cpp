@@ -38,6 +38,9 @@ CurvePoint sample_point(const Simulation& sim, const Reading& reading) {
   p.kinetic = e.kinetic;
   p.strain_energy = e.strain;
   p.lateral_strain = reading.lateral_strain;
+  p.shear_displacement = reading.shear_displacement;
+  p.normal_stress = reading.normal_stress;
+  p.dilation = reading.dilation;
   const CrackCounts c = count_cracks(sim.cracks());
   p.broken = {c.rock_tensile, c.rock_shear, c.joint_tensile, c.joint_shear};
   return p;
@@ -67,6 +70,8 @@ void PeakTracker::after_step(const StepView& v) const {
     r.at_peak.step = v.sim.steps(), r.at_peak.time = v.sim.time(), r.at_peak.strain = v.reading.strain;
     r.at_peak.stress_top = v.reading.stress_top, r.at_peak.stress_bottom = v.reading.stress_bottom;
     r.at_peak.lateral_strain = v.reading.lateral_strain;
+    r.at_peak.shear_displacement = v.reading.shear_displacement;
+    r.at_peak.normal_stress = v.reading.normal_stress, r.at_peak.dilation = v.reading.dilation;
   }
 }
 

@@ -6,6 +6,7 @@
 //   prepare() the static solves of the start, which only read the simulation: the driver runs them while another
 //             thread computes the stability limit
 //   start()   before the explicit run: boundary set-up and a static start where it is exact
+//   max_time_step()  a bound on the time step where no block's dynamics sets one (every block in a box)
 //   read()    after each step: the axial strain and the stresses that the curve, the peak and the stop criterion use
 //   control() after each step: what the boundaries do next
 //   stop()    whether the test is over, and why
@@ -16,6 +17,7 @@
 #pragma once
 
 #include <atomic>
+#include <limits>
 #include <string>
 
 #include "dem/driver/record.hpp"
@@ -31,6 +33,8 @@ struct Reading {
   double stress_top = 0, stress_bottom = 0;  // Pa, the curve's stress of each platen's force, compression positive
   double stress = 0;                         // Pa, their mean (the curve's stress and the peak)
   double lateral_strain = 0;                 // -, width change / width, compression positive (< 0: it widens)
+  // The direct shear test's (CurvePoint::shear_displacement, normal_stress, dilation); 0 for the other tests.
+  double shear_displacement = 0, normal_stress = 0, dilation = 0;  // m, Pa, m
 };
 
 class LoadingProtocol {
@@ -52,6 +56,13 @@ class LoadingProtocol {
   // the threads the solves may use, read at each solve (StaticOptions::threads; it grows when the stability limit
   // beside them is done).
   virtual void prepare(const Simulation& sim, const std::atomic<int>& threads) { (void)sim, (void)threads; }
+  // The largest time step the test can resolve (s), for a test whose loaded parts all move as prescribed, so that
+  // no block's dynamics bounds the step (rbdem shear's boxes); +inf: the stability limit alone. The driver takes the
+  // smaller of this and the step it chose, before start().
+  virtual double max_time_step(const Simulation& sim) const {
+    (void)sim;
+    return std::numeric_limits<double>::infinity();
+  }
   // The reading after a step.
   virtual Reading read(const Simulation& sim) const = 0;
   // After each step's reading and monitors: what the protocol changes before the next step (a platen's speed or

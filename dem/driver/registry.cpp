@@ -12,7 +12,8 @@ namespace rbdem {
 #define RBDEM_PROTOCOLS(X) \
   X(ucs)                   \
   X(triaxial)              \
-  X(brazilian)
+  X(brazilian)             \
+  X(shear)
 
 #define RBDEM_DECLARE(name) ProtocolInfo name##_protocol();
 RBDEM_PROTOCOLS(RBDEM_DECLARE)
