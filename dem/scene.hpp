@@ -80,6 +80,15 @@ struct LoadingParams {
   double confining_pressure = 0.0;  // Pa, lateral pressure of a confined (triaxial) test; 0 = uniaxial
   double fast_factor = 1.0;       // -, the top platen's speed while no bond breaks, x platen_velocity; 1 = constant
   double quiet_transits = 3.0;    // -, wave transits without a break before the platen speeds up
+  // rbdem cyclic: loading-unloading cycles to cycles levels equally spaced up to cycle_max_stress (of sigma_1 -
+  // sigma_3), each unloaded to cycle_unload_stress, then to failure or a stop.
+  int cycles = 4;                     // -, the number of cycles
+  double cycle_max_stress = 40e6;     // Pa, the highest level (of the deviator); level k = k / cycles x this
+  double cycle_unload_stress = 2e6;   // Pa, the stress (of the deviator) each cycle unloads to
+  bool cycle_to_failure = true;       // -, after the last cycle: load to failure (true) or stop
+  // rbdem hold: the platen servo holds the stress sigma_1 = hold_stress for hold_steps explicit steps.
+  double hold_stress = 10e6;          // Pa
+  int hold_steps = 10000;             // -
 };
 
 struct NumericsParams {

@@ -193,6 +193,28 @@ void declare_materials(Keys& k) {
 }
 
 // --- [loading]: read by the tests between platens (dem/driver/platen_test.cpp) -------------------------------------
+namespace {
+// The keys of rbdem cyclic (dem/driver/protocols/cyclic.cpp) and rbdem hold (dem/driver/protocols/hold.cpp).
+void declare_cycles_and_hold(Keys& k) {
+  k.add(integer("loading.cycles", "-", 1, 1000,
+                "rbdem cyclic: loading-unloading cycles, to levels k / cycles x cycle_max_stress (k = 1 .. cycles)",
+                [](Scene& s) -> int& { return s.loading.cycles; }));
+  k.add(positive("loading.cycle_max_stress", "Pa", 1e10,
+                 "rbdem cyclic: the highest cycle level, of the deviator sigma_1 - sigma_3 (sigma_1 when uniaxial)",
+                 [](Scene& s) -> double& { return s.loading.cycle_max_stress; }));
+  k.add(real("loading.cycle_unload_stress", "Pa", 0.0, 1e10,
+             "rbdem cyclic: each cycle unloads to this deviator stress, below the first level",
+             [](Scene& s) -> double& { return s.loading.cycle_unload_stress; }));
+  k.add(boolean("loading.cycle_to_failure",
+                "rbdem cyclic: after the last cycle load to failure (true) or stop when it closes (false)",
+                [](Scene& s) -> bool& { return s.loading.cycle_to_failure; }));
+  k.add(positive("loading.hold_stress", "Pa", 1e10,
+                 "rbdem hold: the axial stress sigma_1 the platen servo holds (above loading.confining_pressure)",
+                 [](Scene& s) -> double& { return s.loading.hold_stress; }));
+  k.add(integer("loading.hold_steps", "-", 1, 100000000, "rbdem hold: explicit steps the stress is held for",
+                [](Scene& s) -> int& { return s.loading.hold_steps; }));
+}
+}  // namespace
 // [loading]: the platens and the stop criteria of the compression tests.
 void declare_loading(Keys& k) {
   k.add(positive("loading.platen_velocity", "m/s", 100.0, "closing speed of the top platen (bottom fixed)",
@@ -218,6 +240,7 @@ void declare_loading(Keys& k) {
   k.add(positive("loading.quiet_transits", "-", 100.0,
                  "with fast_factor > 1: wave transits of the specimen without a break before the platen speeds up",
                  [](Scene& s) -> double& { return s.loading.quiet_transits; }));
+  declare_cycles_and_hold(k);
 }
 
 // --- [numerics]: read by the engine (dem/engine.cpp) and the driver ------------------------------------------------

@@ -12,7 +12,9 @@ namespace rbdem {
 #define RBDEM_PROTOCOLS(X) \
   X(ucs)                   \
   X(triaxial)              \
-  X(brazilian)
+  X(brazilian)             \
+  X(cyclic)                \
+  X(hold)
 
 #define RBDEM_DECLARE(name) ProtocolInfo name##_protocol();
 RBDEM_PROTOCOLS(RBDEM_DECLARE)
