@@ -31,13 +31,14 @@ Scene elastic_scene() {
 
 // A linear elastic specimen unloads and reloads along its loading line: both secant moduli of every cycle are the
 // static modulus K H / A of the closure solve (TestResult "intact_modulus_pa"), up to the platen's dynamics, which a
-// platen at 2.5 mm/s keeps below 1 % (at 10 mm/s the first cycle's moduli are 3 % off). No bond breaks, so the
+// platen at 2.5 mm/s keeps below 1 % on branches of 3 MPa and more (at 10 mm/s the first cycle's moduli are 3 %
+// off; on branches of 2 MPa at 2.5 mm/s, 1.4 %). No bond breaks, so the
 // modulus does not fall, and each loop's net platen work is what local damping took: the stored energy is the same
 // at the reversal and at the closure (both at the level's stress) up to the kinetic energy, which is small.
 TEST(Cyclic, AnElasticSpecimenUnloadsAndReloadsAtItsStaticModulus) {
   Scene s = elastic_scene();
   s.loading.platen_velocity = 0.0025;
-  s.loading.cycles = 2, s.loading.cycle_max_stress = 6e6, s.loading.cycle_unload_stress = 1e6;
+  s.loading.cycles = 2, s.loading.cycle_max_stress = 8e6, s.loading.cycle_unload_stress = 1e6;
   s.loading.cycle_to_failure = false;
   const auto t0 = std::chrono::steady_clock::now();
   const TestResult r = run_test("cyclic", s, make_mesh(s));
@@ -49,7 +50,7 @@ TEST(Cyclic, AnElasticSpecimenUnloadsAndReloadsAtItsStaticModulus) {
   ASSERT_GT(E0, 0.0);
   for (const Cycle& c : r.cycles) {
     SCOPED_TRACE(c.cycle);
-    EXPECT_DOUBLE_EQ(c.level, 3e6 * c.cycle);
+    EXPECT_DOUBLE_EQ(c.level, 4e6 * c.cycle);
     EXPECT_NEAR(c.unloading_modulus / E0, 1.0, 0.01);
     EXPECT_NEAR(c.reloading_modulus / E0, 1.0, 0.01);
     EXPECT_NEAR(c.strain_at_level * E0 / c.level, 1.0, 0.02);  // the reversal at the level, on the loading line

@@ -73,7 +73,11 @@ class CyclicProtocol final : public ConfinedPlatenTest {
   double modulus_ = 0;        // Pa: the intact specimen's axial modulus (the static closure solve)
   int next_ = 0;              // the level the platen loads towards; cycles(): the final loading
   bool unloading_ = false;
-  long loading_since_ = 0;    // step at which the current loading branch began
+  // The current loading branch: its highest sigma_1 so far, the step and strain there, the cracks before it.
+  double branch_peak_ = -std::numeric_limits<double>::infinity();
+  long branch_peak_step_ = 0;
+  double branch_peak_strain_ = 0;
+  std::size_t branch_cracks_ = 0;
   std::optional<Loop> loop_;  // the loop under way
   bool have_prev_ = false;
   double strain_prev_ = 0, stress_prev_ = 0, top_prev_ = 0;  // the last step's axial strain, sigma_1, top stress
@@ -113,6 +117,8 @@ void CyclicProtocol::control(Simulation& sim, const Reading& r, const TestRecord
     (unloading_ ? l.unloading : l.reloading).pass(l.lo, l.hi, strain_prev_, s0, r.strain, deviator);
     if (!unloading_ && deviator >= l.row.level) close_loop(sim);
   }
+  if (!unloading_ && r.stress > branch_peak_)
+    branch_peak_ = r.stress, branch_peak_step_ = sim.steps(), branch_peak_strain_ = r.strain;
   if (!unloading_ && next_ < cycles() && deviator >= level(next_)) reverse(sim, r.strain);
   else if (unloading_ && deviator <= unload_stress()) reload(sim, r.strain);
   strain_prev_ = r.strain, stress_prev_ = r.stress, top_prev_ = r.stress_top, have_prev_ = true;
@@ -138,7 +144,8 @@ void CyclicProtocol::reload(Simulation& sim, double strain) {
   unloading_ = false;
   loop_->row.strain_at_unload = strain;
   ++next_;
-  loading_since_ = sim.steps();
+  branch_peak_ = -std::numeric_limits<double>::infinity();
+  branch_cracks_ = sim.cracks().size();
 }
 
 void CyclicProtocol::close_loop(const Simulation& sim) {
@@ -158,10 +165,10 @@ void CyclicProtocol::close_loop(const Simulation& sim) {
   if (next_ >= cycles() && !scene_.loading.cycle_to_failure) done_ = true;
 }
 
-// During the cycles the stress falls at every unloading: the post-peak criteria apply only on a loading branch
-// that has set a new peak (failure before a level, or after the last cycle).
-bool CyclicProtocol::stop(const Simulation& sim, const Reading& r, const TestRecord& record,
-                          std::string& reason) const {
+// During the cycles the stress falls at every unloading, and a damaged specimen may fail on a reloading branch
+// below the run's peak: the post-peak criteria of PlatenTest apply to the peak of the current loading branch, once
+// bonds broke on it (a reloading branch starts with the reversal's transients, not with failure).
+bool CyclicProtocol::stop(const Simulation& sim, const Reading& r, const TestRecord&, std::string& reason) const {
   if (done_) {
     reason = "cycles_done";
     return true;
@@ -170,8 +177,13 @@ bool CyclicProtocol::stop(const Simulation& sim, const Reading& r, const TestRec
     reason = "max_strain";
     return true;
   }
-  if (unloading_ || record.peak_step <= loading_since_) return false;
-  return PlatenTest::stop(sim, r, record, reason);
+  if (unloading_ || sim.cracks().size() == branch_cracks_ || sim.steps() <= branch_peak_step_) return false;
+  const double floor = pressure();
+  const bool dropped = r.stress - floor < scene_.loading.stop_fraction * (branch_peak_ - floor);
+  const bool residual = r.strain > (1.0 + scene_.loading.post_peak_strain) * branch_peak_strain_;
+  if (!dropped && !residual) return false;
+  reason = dropped ? "post_peak" : "post_peak_strain";
+  return true;
 }
 
 void CyclicProtocol::results(const Simulation&, const TestRecord& record, TestResult& result) const {
