@@ -138,7 +138,7 @@ struct Cycle {
   double strain_at_unload = 0;             // -, axial strain at the unloaded end (the permanent strain part)
   double unloading_modulus = 0;            // Pa
   double reloading_modulus = 0;            // Pa
-  double modulus_loss = 0;                 // -, 1 - unloading modulus / the first cycle's unloading modulus
+  double modulus_loss = 0;                 // -, 1 - unloading modulus / the intact specimen's static modulus
   double dissipated = 0;                   // J, the loop's area x volume
   double damped = 0;                       // J, local damping and contact friction over the loop (the engine's)
   int cracks = 0, cracks_total = 0;        // bonds broken in the cycle, and since the start
@@ -159,7 +159,7 @@ struct Cycle {
       [](auto& c) -> auto& { return c.unloading_modulus; });
     f(Field{"reloading_modulus_pa", "Pa", "secant modulus of the reloading branch, 10 % to 90 % of its range"},
       [](auto& c) -> auto& { return c.reloading_modulus; });
-    f(Field{"modulus_loss", "-", "1 - unloading modulus / the first cycle's unloading modulus"},
+    f(Field{"modulus_loss", "-", "1 - unloading modulus / the intact static modulus"},
       [](auto& c) -> auto& { return c.modulus_loss; });
     f(Field{"dissipated_j", "J", "hysteresis loop area (top platen stress) x volume: the platen's net work", 6},
       [](auto& c) -> auto& { return c.dissipated; });

@@ -153,7 +153,7 @@ void CyclicProtocol::close_loop(const Simulation& sim) {
   Cycle& c = l.row;
   c.unloading_modulus = l.unloading.modulus(l.lo, l.hi);
   c.reloading_modulus = l.reloading.modulus(l.lo, l.hi);
-  c.modulus_loss = cycles_.empty() ? 0.0 : 1.0 - c.unloading_modulus / cycles_.front().unloading_modulus;
+  c.modulus_loss = 1.0 - c.unloading_modulus / modulus_;
   c.dissipated = l.area * platens(sim).area() * sim.specimen().height();
   c.damped = damped(sim) - l.damped0;
   c.cracks_total = int(sim.cracks().size());
