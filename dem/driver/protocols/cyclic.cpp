@@ -186,10 +186,22 @@ bool CyclicProtocol::stop(const Simulation& sim, const Reading& r, const TestRec
   return true;
 }
 
-void CyclicProtocol::results(const Simulation&, const TestRecord& record, TestResult& result) const {
+void CyclicProtocol::results(const Simulation& sim, const TestRecord& record, TestResult& result) const {
   double dissipated = 0;
   for (const Cycle& c : cycles_) dissipated += c.dissipated;
   result.cycles = cycles_;
+  // A loop the run ended in (the specimen failed on its reloading branch): its unloading branch is the most damaged
+  // state the run measured. Its row has no reloading modulus, loop energy or closure.
+  if (loop_ && !unloading_) {
+    Cycle c = loop_->row;
+    c.unloading_modulus = loop_->unloading.modulus(loop_->lo, loop_->hi);
+    c.modulus_loss = 1.0 - c.unloading_modulus / modulus_;
+    c.reloading_modulus = c.dissipated = c.damped = nan;
+    c.cracks_total = int(sim.cracks().size());
+    c.cracks = int(sim.cracks().size() - cracks_before_);
+    c.closure_step = -1;
+    result.cycles.push_back(c);
+  }
   result.own = {{"intact_modulus_pa", modulus_, true},
                 {"cycles_completed", double(cycles_.size()), false},
                 {"cycle_max_stress_pa", scene_.loading.cycle_max_stress, false},
