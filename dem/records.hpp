@@ -137,6 +137,55 @@ struct CurvePoint {
   }
 };
 
+// One loading-unloading cycle of rbdem cyclic (dem/driver/protocols/cyclic.cpp, docs/cyclic.md): from the end of
+// the previous cycle to the moment the reloading branch reaches this cycle's level again. The loop is the path from
+// the reversal at the level down to the unload stress and back up to the level. Moduli are secants over 10 % to
+// 90 % of each branch's stress range; the dissipated energy is the loop's area in the plane of the top platen's
+// stress and the axial strain times the specimen's volume (the net work of the platen over the loop).
+struct Cycle {
+  int cycle = 0;                           // 1, 2, ...
+  double level = 0, unload_stress = 0;     // Pa, of the deviator (sigma_1 - sigma_3; sigma_1 when uniaxial)
+  double strain_at_level = 0;              // -, axial strain at the reversal
+  double strain_at_unload = 0;             // -, axial strain at the unloaded end (the permanent strain part)
+  double unloading_modulus = 0;            // Pa
+  double reloading_modulus = 0;            // Pa
+  double modulus_loss = 0;                 // -, 1 - unloading modulus / the intact specimen's static modulus
+  double dissipated = 0;                   // J, the loop's area x volume
+  double damped = 0;                       // J, local damping and contact friction over the loop (the engine's)
+  int cracks = 0, cracks_total = 0;        // bonds broken in the cycle, and since the start
+  long reversal_step = 0, closure_step = 0;  // explicit steps of the reversal and of the loop's closure
+
+  template <class F>
+  static void fields(int /*dim*/, F&& f) {
+    f(Field{"cycle", "-", "cycle number, from 1"}, [](auto& c) -> auto& { return c.cycle; });
+    f(Field{"level_pa", "Pa", "the cycle's level, deviator stress at the reversal"},
+      [](auto& c) -> auto& { return c.level; });
+    f(Field{"unload_stress_pa", "Pa", "deviator stress the cycle unloads to"},
+      [](auto& c) -> auto& { return c.unload_stress; });
+    f(Field{"strain_at_level", "-", "axial strain at the reversal"},
+      [](auto& c) -> auto& { return c.strain_at_level; });
+    f(Field{"strain_at_unload", "-", "axial strain at the unloaded end of the loop"},
+      [](auto& c) -> auto& { return c.strain_at_unload; });
+    f(Field{"unloading_modulus_pa", "Pa", "secant modulus of the unloading branch, 90 % to 10 % of its range"},
+      [](auto& c) -> auto& { return c.unloading_modulus; });
+    f(Field{"reloading_modulus_pa", "Pa", "secant modulus of the reloading branch, 10 % to 90 % of its range"},
+      [](auto& c) -> auto& { return c.reloading_modulus; });
+    f(Field{"modulus_loss", "-", "1 - unloading modulus / the intact static modulus"},
+      [](auto& c) -> auto& { return c.modulus_loss; });
+    f(Field{"dissipated_j", "J", "hysteresis loop area (top platen stress) x volume: the platen's net work", 6},
+      [](auto& c) -> auto& { return c.dissipated; });
+    f(Field{"damped_j", "J", "local damping and contact friction over the loop (the engine's accounts)", 6},
+      [](auto& c) -> auto& { return c.damped; });
+    f(Field{"cracks", "-", "bonds broken in the cycle"}, [](auto& c) -> auto& { return c.cracks; });
+    f(Field{"cracks_total", "-", "bonds broken since the start, at the loop's closure"},
+      [](auto& c) -> auto& { return c.cracks_total; });
+    f(Field{"reversal_step", "-", "explicit step of the reversal at the level"},
+      [](auto& c) -> auto& { return c.reversal_step; });
+    f(Field{"closure_step", "-", "explicit step at which the reloading branch reached the level again"},
+      [](auto& c) -> auto& { return c.closure_step; });
+  }
+};
+
 // The force network at one instant: one link per intact bond (in bond order), then one per contact, between the
 // centroids of its two blocks (force chains in ParaView, the fabric of the forces). Single precision: it is for
 // display and statistics; the exact state is the pose.

@@ -85,6 +85,15 @@ struct LoadingParams {
   double normal_stiffness = 0.0;         // Pa/m, the normal stiffness of a CNS test; 0 = constant normal load
   double shear_velocity = 0.01;          // m/s, the upper box's speed along the joint
   double max_shear_displacement = 5e-6;  // m, the shear displacement at which the test ends
+  // rbdem cyclic: loading-unloading cycles to cycles levels equally spaced up to cycle_max_stress (of sigma_1 -
+  // sigma_3), each unloaded to cycle_unload_stress, then to failure or a stop.
+  int cycles = 4;                     // -, the number of cycles
+  double cycle_max_stress = 16e6;     // Pa, the highest level (of the deviator); level k = k / cycles x this
+  double cycle_unload_stress = 1e6;   // Pa, the stress (of the deviator) each cycle unloads to
+  bool cycle_to_failure = true;       // -, after the last cycle: load to failure (true) or stop
+  // rbdem hold: the platen servo holds the stress sigma_1 = hold_stress for hold_steps explicit steps.
+  double hold_stress = 10e6;          // Pa
+  int hold_steps = 10000;             // -
 };
 
 struct NumericsParams {

@@ -194,6 +194,28 @@ void declare_materials(Keys& k) {
 }
 
 // --- [loading]: read by the tests between platens (dem/driver/platen_test.cpp) and rbdem shear --------------------
+namespace {
+// The keys of rbdem cyclic (dem/driver/protocols/cyclic.cpp) and rbdem hold (dem/driver/protocols/hold.cpp).
+void declare_cycles_and_hold(Keys& k) {
+  k.add(integer("loading.cycles", "-", 1, 1000,
+                "rbdem cyclic: loading-unloading cycles, to levels k / cycles x cycle_max_stress (k = 1 .. cycles)",
+                [](Scene& s) -> int& { return s.loading.cycles; }));
+  k.add(positive("loading.cycle_max_stress", "Pa", 1e10,
+                 "rbdem cyclic: the highest cycle level, of the deviator sigma_1 - sigma_3 (sigma_1 when uniaxial)",
+                 [](Scene& s) -> double& { return s.loading.cycle_max_stress; }));
+  k.add(real("loading.cycle_unload_stress", "Pa", 0.0, 1e10,
+             "rbdem cyclic: each cycle unloads to this deviator stress, below the first level",
+             [](Scene& s) -> double& { return s.loading.cycle_unload_stress; }));
+  k.add(boolean("loading.cycle_to_failure",
+                "rbdem cyclic: after the last cycle load to failure (true) or stop when it closes (false)",
+                [](Scene& s) -> bool& { return s.loading.cycle_to_failure; }));
+  k.add(positive("loading.hold_stress", "Pa", 1e10,
+                 "rbdem hold: the axial stress sigma_1 the platen servo holds (above loading.confining_pressure)",
+                 [](Scene& s) -> double& { return s.loading.hold_stress; }));
+  k.add(integer("loading.hold_steps", "-", 1, 100000000, "rbdem hold: explicit steps the stress is held for",
+                [](Scene& s) -> int& { return s.loading.hold_steps; }));
+}
+}  // namespace
 // [loading]: the platens and the stop criteria of the compression tests; the boxes and the load of the shear test.
 void declare_loading(Keys& k) {
   k.add(positive("loading.platen_velocity", "m/s", 100.0, "closing speed of the top platen (bottom fixed)",
@@ -233,6 +255,7 @@ void declare_loading(Keys& k) {
   k.add(positive("loading.max_shear_displacement", "m", 1.0,
                  "rbdem shear: the test ends when the upper box has moved this far along the joint",
                  [](Scene& s) -> double& { return s.loading.max_shear_displacement; }));
+  declare_cycles_and_hold(k);
 }
 
 // --- [numerics]: read by the engine (dem/engine.cpp) and the driver ------------------------------------------------

@@ -45,6 +45,23 @@ void add_signals(nlohmann::json& j, const TestResult& r) {
   j["residual_to_peak"] = to_peak(r.residual_stress);
 }
 
+// A record table (dem/records.hpp) as a JSON array of objects, one key per field of its table; NaN as null.
+template <class Record>
+nlohmann::json record_array(int dim, const std::vector<Record>& rows) {
+  nlohmann::json a = nlohmann::json::array();
+  for (std::size_t k = 0; k < rows.size(); ++k) a.push_back(nlohmann::json::object());
+  write_columns(dim, rows, [&](const Field& field, const auto& column, bool) {
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      using V = std::decay_t<decltype(column[k])>;
+      if constexpr (std::is_floating_point_v<V>)
+        a[k][field.name] = std::isfinite(column[k]) ? nlohmann::json(column[k]) : nlohmann::json(nullptr);
+      else
+        a[k][field.name] = column[k];
+    }
+  });
+  return a;
+}
+
 void add_cracks(nlohmann::json& j, const TestResult& r) {
   j["cracks"] = {{"rock_tensile", r.crack_counts.rock_tensile},
                  {"rock_shear", r.crack_counts.rock_shear},
@@ -107,6 +124,7 @@ nlohmann::json run_summary(const Scene& scene, const TestResult& r) {
   j["lateral_strain_at_peak"] = r.lateral_strain_at_peak;
   add_signals(j, r);
   for (const ResultValue& v : r.own) j[v.key] = v.value;  // the protocol's own numbers
+  if (!r.cycles.empty()) j["cycles"] = record_array(r.dimension, r.cycles);
   j["completed"] = r.completed;
   j["watchdog"] = r.completed ? nlohmann::json(nullptr)
                               : nlohmann::json{{"cause", r.watchdog_cause},
@@ -240,6 +258,7 @@ void write_run(const std::filesystem::path& dir, const Scene& scene, const Speci
   write_cracks_csv(dir / "cracks.csv", specimen.dim, r.cracks);
   write_fragments_csv(dir / "fragments.csv", r.fragments);
   write_crack_rate_csv(dir / "crack_rate.csv", r.crack_rate);
+  if (!r.cycles.empty()) write_text_atomic(dir / "cycles.csv", csv_table(specimen.dim, r.cycles));
   write_result_h5(dir / "result.h5", scene, specimen, r, threads);
   write_result_xdmf(dir / "result.xdmf", dir / "result.h5", specimen, r.test, r.frames);
   write_network_xdmf(dir / "forces.xdmf", dir / "result.h5", specimen, r.test, r.frames);

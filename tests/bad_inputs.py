@@ -132,6 +132,9 @@ CASES = [
     ("option without its value", "ucs --beta", "--beta"),
     ("unknown command", "ucss", "ucss"),
     ("sweep without its study file", "sweep", "study"),
+    ("cycles unloading above their first level", "cyclic --set loading.cycle_unload_stress=5e6",
+     "loading.cycle_unload_stress"),
+    ("a hold below the confining pressure", "hold --confining 20e6 --hold-stress 10e6", "loading.hold_stress"),
     ("missing study file", "sweep missing_study.toml", "missing_study.toml"),
     ("missing calibration file", "calibrate missing_targets.toml", "missing_targets.toml"),
     # --- user meshes (--mesh)

@@ -55,7 +55,12 @@ void PlatenTest::start_along(Simulation& sim, TestRecord& record, const StaticRe
   const double first_break = sim.first_break_along(base, st);
   const double base_strain = base.platen_displacement / H;
   const double max_factor = (scene_.loading.max_strain - base_strain) * H / st.platen_displacement;
-  const double factor = std::min(scene_.numerics.elastic_start_fraction * first_break, 0.5 * max_factor);
+  axial_stiffness_ = 0.5 * (st.top_force + st.bottom_force) / st.platen_displacement;
+  // The start stops at start_stress_limit() too (+inf, which leaves the factor alone, unless a test sets one).
+  const double unit_stress = stress_of(0.5 * (st.top_force + st.bottom_force), sim);
+  const double limit_factor = (start_stress_limit() - base_stress) / unit_stress;
+  const double factor =
+      std::min({scene_.numerics.elastic_start_fraction * first_break, 0.5 * max_factor, limit_factor});
   if (!(factor > 0 && std::isfinite(factor))) return;
   const double base_lateral = from_rest ? 0.0 : sim.lateral_strain_of(base), lateral = sim.lateral_strain_of(st);
   const int n = 20;
@@ -83,6 +88,14 @@ void PlatenTest::start_along(Simulation& sim, TestRecord& record, const StaticRe
   record.next_frame = (std::floor(record.elastic_start_strain / interval) + 1.0) * interval;
 }
 
+double PlatenTest::axial_stiffness(const Simulation& sim) {
+  if (!axial_stiffness_) {
+    const StaticResult st = closure_solve(sim);
+    axial_stiffness_ = 0.5 * (st.top_force + st.bottom_force) / st.platen_displacement;
+  }
+  return *axial_stiffness_;
+}
+
 bool PlatenTest::stop(const Simulation& sim, const Reading& reading, const TestRecord& record,
                       std::string& reason) const {
   const double floor = stress_floor();
@@ -92,6 +105,54 @@ bool PlatenTest::stop(const Simulation& sim, const Reading& reading, const TestR
   if (!dropped && !residual) return false;
   reason = dropped ? "post_peak" : "post_peak_strain";
   return true;
+}
+
+void ConfinedPlatenTest::install(Simulation& sim) {
+  PlatenTest::install(sim);
+  sim.add_jacket(0.0);  // the pressure comes with start(), after the static solves at rest
+}
+
+// The static solves do not depend on the jacket's pressure at rest (the pressure's load is an input of each).
+void ConfinedPlatenTest::prepare(const Simulation& sim, const std::atomic<int>& threads) {
+  if (!(pressure() > 0.0)) {
+    PlatenTest::prepare(sim, threads);
+    return;
+  }
+  prepared_isotropic_ = isotropic_state(sim, pressure(), &threads);
+  prepared_closure_ = closure_solve(sim, &threads);
+}
+
+void ConfinedPlatenTest::start(Simulation& sim, TestRecord& record) {
+  const double p = pressure();
+  sim.find<Jacket>()->set_pressure(p);
+  if (!(p > 0.0)) {
+    PlatenTest::start(sim, record);
+    return;
+  }
+  const double H = sim.specimen().height(), v = scene_.loading.platen_velocity;
+  const StaticResult iso = prepared_isotropic_ ? std::move(*prepared_isotropic_) : isotropic_state(sim, p);
+  prepared_isotropic_.reset();
+  record.preload_strain = iso.platen_displacement / H;
+  const double iso_lateral = sim.lateral_strain_of(iso);
+  const int n = 10;  // the isotropic stage on the curve (static: no time passes)
+  for (int k = 1; k <= n; ++k) {
+    const double f = double(k) / double(n);
+    CurvePoint pt;
+    pt.step = -1;
+    pt.strain = f * record.preload_strain;
+    pt.stress_top = pt.stress_bottom = f * p;
+    pt.lateral_strain = f * iso_lateral;
+    record.curve.push_back(pt);
+  }
+  const StaticResult axial = prepared_closure_ ? std::move(*prepared_closure_) : closure_solve(sim);
+  prepared_closure_.reset();
+  if (scene_.numerics.elastic_start) {
+    start_along(sim, record, iso, axial, p);
+  } else {
+    sim.apply_static(iso, axial, 0.0, v);
+    record.elastic_start_strain = record.preload_strain;
+    axial_stiffness_ = 0.5 * (axial.top_force + axial.bottom_force) / axial.platen_displacement;
+  }
 }
 
 StaticResult isotropic_state(const Simulation& sim, double p, const std::atomic<int>* threads) {

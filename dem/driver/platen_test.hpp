@@ -7,6 +7,7 @@
 // numerics.elastic_start_fraction of the first-break load (model only what the scene needs).
 #pragma once
 
+#include <limits>
 #include <optional>
 
 #include "dem/driver/protocol.hpp"
@@ -36,10 +37,38 @@ class PlatenTest : public LoadingProtocol {
                    double base_stress) const;
   // The static solve of the uniaxial elastic start: the platen closure alone, from rest.
   StaticResult closure_solve(const Simulation& sim, const std::atomic<int>* threads = nullptr) const;
+  // The highest curve stress (Pa) the static start may reach: a test that reverses or holds below the first break
+  // starts its explicit run below its first turning point. No limit by default.
+  virtual double start_stress_limit() const { return std::numeric_limits<double>::infinity(); }
+  // N/m: the specimen's axial stiffness between the platens in the linear model, the mean platen force per unit of
+  // platen closure (from the elastic start's closure solve, or a solve of its own when there was none).
+  double axial_stiffness(const Simulation& sim);
 
   const Scene& scene_;
   int curve_points_;
   std::optional<StaticResult> prepared_closure_;  // prepare()'s closure_solve, taken by start()
+  mutable std::optional<double> axial_stiffness_;  // N/m, known once a closure solve ran (start_along sets it)
+};
+
+// A test between platens, uniaxial or confined: with loading.confining_pressure > 0 a jacket applies it to the
+// sides and the specimen is first brought statically to the isotropic state sigma_1 = sigma_3 (exact: the model
+// is linear there), then the platens load it axially from a static start just below the first break along that
+// path (numerics.elastic_start). The stop criteria and the signals apply to the deviator sigma_1 - sigma_3.
+// rbdem triaxial, cyclic and hold share it.
+class ConfinedPlatenTest : public PlatenTest {
+ public:
+  using PlatenTest::PlatenTest;
+  void install(Simulation& sim) override;
+  bool prepares() const override { return pressure() > 0.0 || PlatenTest::prepares(); }
+  void prepare(const Simulation& sim, const std::atomic<int>& threads) override;
+  void start(Simulation& sim, TestRecord& record) override;
+  double stress_floor() const override { return pressure(); }
+
+ protected:
+  double pressure() const { return scene_.loading.confining_pressure; }
+
+ private:
+  std::optional<StaticResult> prepared_isotropic_;  // prepare()'s isotropic_state, taken by start()
 };
 
 // The static state of a hydrostatic stress sigma_1 = sigma_3 = p on a simulation with platens: the pressure p on
@@ -47,5 +76,10 @@ class PlatenTest : public LoadingProtocol {
 // platen stress p, found by superposing the two linear solutions (and re-solved until the linear parts' states
 // agree). The start of a confined test.
 StaticResult isotropic_state(const Simulation& sim, double pressure, const std::atomic<int>* threads = nullptr);
+
+// The platen servo of a stress hold (rbdem hold, dem/driver/protocols/hold.cpp): the target `target` (Pa), the gain
+// A / (10 sqrt(K M)) of the specimen's axial stiffness K (N/m), mass M (kg) and loaded area A (m^2), and the rate
+// limit `max_velocity` (m/s). docs/theory.md states the rule.
+PlatenServo hold_servo(double stiffness, double mass, double area, double target, double max_velocity);
 
 }  // namespace rbdem

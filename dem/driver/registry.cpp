@@ -13,7 +13,9 @@ namespace rbdem {
   X(ucs)                   \
   X(triaxial)              \
   X(brazilian)             \
-  X(shear)
+  X(shear)                 \
+  X(cyclic)                \
+  X(hold)
 
 #define RBDEM_DECLARE(name) ProtocolInfo name##_protocol();
 RBDEM_PROTOCOLS(RBDEM_DECLARE)

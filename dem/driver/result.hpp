@@ -72,6 +72,7 @@ struct TestResult {
   std::vector<Fragment> fragments;                       // at the end of the run, largest first
   double confining_pressure = 0;    // Pa, sigma_3: the jacket's pressure (0 without a jacket)
   std::vector<ResultValue> own;     // the protocol's own numbers, in its order
+  std::vector<Cycle> cycles;        // rbdem cyclic: one row per loading-unloading cycle (empty for other tests)
   std::size_t blocks = 0, bonds = 0, rock_bonds = 0, joint_bonds = 0;
   // The protocol's own value `key` (NaN when it has none).
   double own_value(const std::string& key) const {
