@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 
 #include "dem/driver/driver.hpp"
+#include "dem/measure.hpp"
 #include "dem/driver/registry.hpp"
 #include "dem/mesh_cache.hpp"
 #include "dem/simulation.hpp"
@@ -392,6 +393,65 @@ py::dict specimen_dict(const Specimen& sp) {
   return d;
 }
 
+const char* mode_name(GroupSettings::Mode m) {
+  switch (m) {
+    case GroupSettings::Mode::fixed: return "fixed";
+    case GroupSettings::Mode::velocity: return "velocity";
+    case GroupSettings::Mode::force: return "force";
+    case GroupSettings::Mode::servo: return "servo";
+    case GroupSettings::Mode::free: return "free";
+  }
+  return "?";
+}
+
+GroupSettings::Mode group_mode(const std::string& mode) {
+  using M = GroupSettings::Mode;
+  for (M m : {M::fixed, M::velocity, M::force, M::servo, M::free})
+    if (mode == mode_name(m)) return m;
+  throw SceneError(fmt::format("mode = '{}': a group's mode is 'fixed', 'velocity', 'force', 'servo' or 'free'",
+                               mode));
+}
+
+std::vector<GroupSettings::Mode> group_modes(const std::vector<std::string>& modes) {
+  std::vector<GroupSettings::Mode> out;
+  for (const auto& m : modes) out.push_back(group_mode(m));
+  return out;
+}
+
+// The Love-Weber region from the Python keywords (python/rbdem/simulation.py checks that at most one is given).
+Region region_of(const std::string& kind, const std::vector<double>& lo, const std::vector<double>& hi,
+                 double radius, const std::vector<int>& ids) {
+  if (kind == "whole") return Region::whole();
+  if (kind == "box") return Region::box(lo, hi);
+  if (kind == "circle") return Region::circle(lo, radius);
+  if (kind == "layers") return Region::layers(ids);
+  if (kind == "blocks") return Region::blocks(ids);
+  throw SceneError(fmt::format("region '{}': give a box, a circle, layers or blocks", kind));
+}
+
+// A dim x dim NumPy array of a stress tensor (Pa, tension positive).
+py::array_t<double> tensor_array(const StressTensor& t) {
+  py::array_t<double> a({py::ssize_t(t.dim), py::ssize_t(t.dim)});
+  for (int r = 0; r < t.dim; ++r)
+    for (int c = 0; c < t.dim; ++c) a.mutable_at(r, c) = t(r, c);
+  return a;
+}
+
+py::dict network_dict(const ForceNetwork& n, int dim) {
+  py::dict d;
+  d["i"] = ints(n.i), d["j"] = ints(n.j);
+  py::array_t<bool> contact(py::ssize_t(n.size()));
+  for (std::size_t k = 0; k < n.size(); ++k) contact.mutable_data()[k] = n.kind[k] != 0;
+  d["contact"] = contact;
+  py::array_t<double> f({py::ssize_t(n.size()), py::ssize_t(dim)});
+  std::copy(n.force.begin(), n.force.end(), f.mutable_data());
+  d["force"] = f;
+  py::array_t<double> fn(py::ssize_t(n.size()));
+  std::copy(n.normal_force.begin(), n.normal_force.end(), fn.mutable_data());
+  d["normal_force"] = fn;
+  return d;
+}
+
 py::dict readings(const Boundary& b) {
   py::dict d;
   for (const auto& [key, value] : b.readings()) d[key.c_str()] = value;
@@ -426,13 +486,24 @@ void bind_boundaries(py::module_& m) {
       .def_property_readonly("faces_lost", &Jacket::faces_lost);
   py::class_<BlockGroup, Boundary>(m, "BlockGroup")
       .def_property_readonly("blocks", [](const BlockGroup& g) { return ints(g.blocks()); })
-      .def_property_readonly("mode", [](const BlockGroup& g) {
-        switch (g.settings().mode) {
-          case GroupSettings::Mode::fixed: return "fixed";
-          case GroupSettings::Mode::velocity: return "velocity";
-          default: return "force";
-        }
-      })
+      .def_property_readonly("mode", [](const BlockGroup& g) { return std::string(mode_name(g.settings().mode)); })
+      .def_property_readonly("modes",
+                             [](const BlockGroup& g) {
+                               std::vector<std::string> m;
+                               for (int d = 0; d < int(g.settings().value.size()); ++d)
+                                 m.push_back(mode_name(g.mode(d)));
+                               return m;
+                             })
+      .def("set_modes", [](BlockGroup& g, const std::vector<std::string>& m) { g.set_modes(group_modes(m)); },
+           py::arg("modes"))
+      .def(
+          "set_servo",
+          [](BlockGroup& g, double gain, double max_velocity, double stiffness, double origin) {
+            g.set_servo({gain, max_velocity, stiffness, origin});
+          },
+          py::arg("gain"), py::arg("max_velocity"), py::arg("stiffness"), py::arg("origin"))
+      .def_property_readonly("velocity", &BlockGroup::velocity)
+      .def("attachment_stiffness", &BlockGroup::attachment_stiffness)
       .def_property_readonly("value", [](const BlockGroup& g) { return g.settings().value; })
       .def("set_value", &BlockGroup::set_value, py::arg("value"))
       .def_property_readonly("force", &BlockGroup::force)
@@ -446,13 +517,6 @@ py::object boundary_object(Boundary* b, py::handle owner) {
   if (auto* j = dynamic_cast<Jacket*>(b)) return py::cast(j, policy, owner);
   if (auto* g = dynamic_cast<BlockGroup*>(b)) return py::cast(g, policy, owner);
   return py::cast(b, policy, owner);
-}
-
-GroupSettings::Mode group_mode(const std::string& mode) {
-  if (mode == "fixed") return GroupSettings::Mode::fixed;
-  if (mode == "velocity") return GroupSettings::Mode::velocity;
-  if (mode == "force") return GroupSettings::Mode::force;
-  throw SceneError(fmt::format("mode = '{}': a group is 'fixed', 'velocity' or 'force'", mode));
 }
 
 }  // namespace
@@ -506,15 +570,37 @@ void bind_simulation(py::module_& m) {
       .def(
           "add_group",
           [](S& s, const std::string& name, std::vector<int> blocks, const std::string& mode,
-             std::vector<double> value) -> BlockGroup& {
+             std::vector<double> value, const std::vector<std::string>& modes, std::vector<double> servo) -> BlockGroup& {
             GroupSettings g;
             g.name = name, g.blocks = std::move(blocks), g.mode = group_mode(mode), g.value = std::move(value);
+            g.modes = group_modes(modes);
+            if (servo.size() == 4) g.servo = {servo[0], servo[1], servo[2], servo[3]};
             BlockGroup& b = s.sim().add_group(g);
             s.boundaries_changed();
             return b;
           },
-          py::arg("name"), py::arg("blocks"), py::arg("mode"), py::arg("value"),
+          py::arg("name"), py::arg("blocks"), py::arg("mode"), py::arg("value"), py::arg("modes"), py::arg("servo"),
           py::return_value_policy::reference_internal)
+      .def(
+          "stress",
+          [](const S& s, const std::string& kind, const std::vector<double>& lo, const std::vector<double>& hi,
+             double radius, const std::vector<int>& ids, bool bonds, bool contacts, bool boundaries) {
+            const StressTensor t =
+                average_stress(s.sim(), region_of(kind, lo, hi, radius, ids), {bonds, contacts, boundaries});
+            return py::make_tuple(tensor_array(t), t.volume, t.blocks);
+          },
+          py::arg("kind"), py::arg("lo"), py::arg("hi"), py::arg("radius"), py::arg("ids"), py::arg("bonds"),
+          py::arg("contacts"), py::arg("boundaries"))
+      .def(
+          "block_stresses",
+          [](const S& s, bool bonds, bool contacts, bool boundaries) {
+            const BlockStresses b = block_stresses(s.sim(), {bonds, contacts, boundaries});
+            py::array_t<double> a({py::ssize_t(b.size()), py::ssize_t(b.dim), py::ssize_t(b.dim)});
+            std::copy(b.stress.begin(), b.stress.end(), a.mutable_data());
+            return a;
+          },
+          py::arg("bonds"), py::arg("contacts"), py::arg("boundaries"))
+      .def("force_network", [](const S& s) { return network_dict(force_network(s.sim()), s.sim().dimension()); })
       .def("snapshot", [](const S& s) { return s.sim().snapshot(); })
       .def("restore", [](S& s, const Snapshot& snap) { s.sim().restore(snap); }, py::arg("snapshot"))
       .def("run_builtin", &S::run_builtin, py::arg("test"), py::arg("out"), py::arg("progress"), py::arg("resume"),

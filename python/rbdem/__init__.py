@@ -41,7 +41,7 @@ def _numpy():
     return numpy
 
 __all__ = [
-    "ucs", "triaxial", "brazilian", "resolve_scene", "elastic_gate", "verify", "verify_cases", "sweep",
+    "ucs", "triaxial", "brazilian", "shear", "cyclic", "hold", "resolve_scene", "elastic_gate", "verify", "verify_cases", "sweep",
     "scene_keys", "version", "__version__", "Result", "Frame", "GateReport", "SceneError", "ElasticGateError",
     "RunFailed", "InstabilityError", "Simulation", "Protocol", "Platens", "Jacket", "Group",
 ]
@@ -278,6 +278,44 @@ def brazilian(scene: Scene = None, *, beta: Optional[float] = None, overrides: O
               progress: Optional[Progress] = None) -> Result:
     """One Brazilian test of a disc, as `rbdem brazilian` (specimen.shape = "disc" is set). Arguments as ucs()."""
     return _run("brazilian", scene, beta, overrides, out, skip_elastic_gate, force, progress)
+
+
+def _with(sets: Optional[Mapping[str, Any]], **keys) -> dict:
+    """The keyword shorthands first (as the command line puts its options before --set), then the overrides."""
+    return {**{k: v for k, v in keys.items() if v is not None}, **dict(sets or {})}
+
+
+def shear(scene: Scene = None, *, normal_stress: Optional[float] = None, normal_stiffness: Optional[float] = None,
+          overrides: Optional[Mapping[str, Any]] = None, out: Union[None, str, "os.PathLike[str]"] = None,
+          skip_elastic_gate: bool = False, force: bool = False, progress: Optional[Progress] = None) -> Result:
+    """Direct shear of one joint, as `rbdem shear` (docs/model.md): the upper half pushed along the joint at
+    loading.shear_velocity under a constant normal stress (CNL), or one that grows with the dilation (CNS).
+
+    normal_stress     sigma_n [Pa] (loading.normal_stress; --normal-stress)
+    normal_stiffness  k [Pa/m] of a CNS test (loading.normal_stiffness; --normal-stiffness); 0 = CNL
+    The other arguments as ucs(). summary holds the peak and residual shear stress and the dilation.
+    """
+    sets = _with(overrides, **{"loading.normal_stress": normal_stress, "loading.normal_stiffness": normal_stiffness})
+    return _run("shear", scene, None, sets, out, skip_elastic_gate, force, progress)
+
+
+def cyclic(scene: Scene = None, *, beta: Optional[float] = None, confining: Optional[float] = None,
+           overrides: Optional[Mapping[str, Any]] = None, out: Union[None, str, "os.PathLike[str]"] = None,
+           skip_elastic_gate: bool = False, force: bool = False, progress: Optional[Progress] = None) -> Result:
+    """Loading and unloading cycles, as `rbdem cyclic` (docs/model.md): uniaxial, or confined at `confining` [Pa];
+    the per-cycle moduli, loop energies and cracks in summary["cycles"]. The other arguments as ucs()."""
+    sets = _with(overrides, **{"loading.confining_pressure": confining})
+    return _run("cyclic", scene, beta, sets, out, skip_elastic_gate, force, progress)
+
+
+def hold(scene: Scene = None, *, beta: Optional[float] = None, hold_stress: Optional[float] = None,
+         confining: Optional[float] = None, overrides: Optional[Mapping[str, Any]] = None,
+         out: Union[None, str, "os.PathLike[str]"] = None, skip_elastic_gate: bool = False, force: bool = False,
+         progress: Optional[Progress] = None) -> Result:
+    """A hold at constant axial stress by the platen servo, as `rbdem hold`: hold_stress [Pa]
+    (loading.hold_stress; --hold-stress), confining [Pa] as triaxial(). The other arguments as ucs()."""
+    sets = _with(overrides, **{"loading.hold_stress": hold_stress, "loading.confining_pressure": confining})
+    return _run("hold", scene, beta, sets, out, skip_elastic_gate, force, progress)
 
 
 @dataclass

@@ -250,15 +250,75 @@ class Simulation:
         return Jacket(self, self._core.add_jacket(float(pressure)))
 
     def add_group(self, name: str = "group", blocks: Optional[Iterable[int]] = None, *, layer=None, box=None,
-                  mode: str = "fixed", value: Optional[Sequence[float]] = None) -> "Group":
+                  mode: str = "fixed", value: Optional[Sequence[float]] = None, modes: Optional[Sequence[str]] = None,
+                  servo: Optional[Mapping[str, float]] = None) -> "Group":
         """Blocks chosen by index, layer or box (reference centroids), held `fixed`, moved at a `velocity` (value:
-        vx, vy [m/s], omega [rad/s]) or loaded by a constant `force` on each block (fx, fy [N], moment [N m])."""
+        vx, vy [m/s], omega [rad/s]) or loaded by a constant `force` on each block (fx, fy [N], moment [N m]).
+
+        modes: one mode per degree of freedom (x, y, rotation) instead of `mode`, among "fixed", "velocity",
+        "servo" and "free" (the blocks then move together as one body): a velocity dof moves at its value, a servo
+        dof at clamp(gain (value - stiffness (u - origin) + F), -max_velocity, max_velocity) with F the model's force
+        on the group and value the load on the whole group (N), a free dof as one body under F plus its value.
+        servo: {"gain": m/s per N, "max_velocity": m/s, "stiffness": N/m (0: a constant load), "origin": m}."""
         chosen = _block_list(self, blocks, layer=layer, box=box)
         dof = 3 if self.dimension == 2 else 6
         vals = [0.0] * dof if value is None else [float(v) for v in value]
-        if mode != "fixed" and len(vals) != dof:
-            raise _rbdem.SceneError(f"value: a {mode} group takes {dof} numbers per block (x, y and the rotation)")
-        return Group(self, self._core.add_group(name, chosen, mode, vals if mode != "fixed" else []))
+        per_dof = [str(m) for m in (modes or [])]
+        if (mode != "fixed" or per_dof) and len(vals) != dof:
+            raise _rbdem.SceneError(f"value: a {mode} group takes {dof} numbers (x, y and the rotation)")
+        sv = dict(servo or {})
+        unknown = set(sv) - {"gain", "max_velocity", "stiffness", "origin"}
+        if unknown:
+            raise _rbdem.SceneError(f"servo: unknown {sorted(unknown)}; give gain, max_velocity, stiffness, origin")
+        sv_list = [float(sv.get(k, 0.0)) for k in ("gain", "max_velocity", "stiffness", "origin")] if sv else []
+        keep = vals if (mode != "fixed" or per_dof) else []
+        try:
+            core = self._core.add_group(name, chosen, mode, keep, per_dof, sv_list)
+        except ValueError as e:
+            raise _rbdem.SceneError(str(e)) from None
+        return Group(self, core)
+
+    # --- measurement ---
+    def stress(self, *, box=None, circle=None, layers=None, blocks=None, bonds: bool = True, contacts: bool = True,
+               boundaries: bool = True) -> "np.ndarray":
+        """The Love-Weber average stress (Pa, tension positive, a dim x dim array) of the whole specimen, or of the
+        blocks whose centroids lie in box=((xmin, ymin), (xmax, ymax)) or circle=((x, y), radius), or of layers=
+        (names or ids) or blocks= (indices). bonds, contacts, boundaries: which forces enter (the whole specimen
+        needs the boundaries' loads; an interior region has none). docs/theory.md, "The stress inside the
+        specimen"."""
+        given = [k for k, v in (("box", box), ("circle", circle), ("layers", layers), ("blocks", blocks))
+                 if v is not None]
+        if len(given) > 1:
+            raise _rbdem.SceneError(f"stress(): give one region, not {' and '.join(given)}")
+        kind, lo, hi, radius, ids = "whole", [], [], 0.0, []
+        if box is not None:
+            kind, lo, hi = "box", [float(v) for v in box[0]], [float(v) for v in box[1]]
+        elif circle is not None:
+            kind, lo, radius = "circle", [float(v) for v in circle[0]], float(circle[1])
+        elif layers is not None:
+            names = self.specimen["layer_names"]
+            wanted = [layers] if isinstance(layers, (str, numbers.Integral)) else list(layers)
+            for w in wanted:
+                if isinstance(w, str) and w not in names:
+                    raise _rbdem.SceneError(f"layer '{w}': the specimen's layers are {', '.join(names)}")
+            kind, ids = "layers", [names.index(w) if isinstance(w, str) else int(w) for w in wanted]
+        elif blocks is not None:
+            kind, ids = "blocks", [int(b) for b in blocks]
+        try:
+            tensor, _, _ = self._core.stress(kind, lo, hi, radius, ids, bonds, contacts, boundaries)
+        except ValueError as e:
+            raise _rbdem.SceneError(str(e)) from None
+        return tensor
+
+    def block_stresses(self, *, bonds: bool = True, contacts: bool = True, boundaries: bool = True) -> "np.ndarray":
+        """The Love-Weber stress of every block, an (n, dim, dim) array (Pa, tension positive)."""
+        return self._core.block_stresses(bonds, contacts, boundaries)
+
+    def force_network(self) -> dict:
+        """The forces between blocks now: one row per intact bond, then one per contact. i, j (blocks), contact
+        (False for a bond), force (on block j, (n, dim), N), normal_force (along the normal from i to j, tension
+        positive, N). The same network each result.h5 frame stores."""
+        return self._core.force_network()
 
     @property
     def boundaries(self) -> list:
@@ -372,8 +432,9 @@ class Jacket(_Boundary):
 
 
 class Group(_Boundary):
-    """Blocks held fixed, moved at a velocity or loaded by a force: blocks, mode, value, force (the reaction or load
-    summed over the group, N and N m), displacement (mean, m)."""
+    """Blocks held fixed, moved at a velocity, loaded by a force, or moved as one body by a servo or freely, each
+    dof its own way: blocks, mode, modes, value, force (the reaction or load summed over the group, N and N m),
+    displacement (mean, m), velocity (of the last step)."""
 
     blocks = property(lambda self: self._core.blocks)
     mode = property(lambda self: self._core.mode)
@@ -381,8 +442,34 @@ class Group(_Boundary):
     force = property(lambda self: list(self._core.force))
     displacement = property(lambda self: list(self._core.displacement))
 
+    modes = property(lambda self: list(self._core.modes))
+    velocity = property(lambda self: list(self._core.velocity))
+
     def set_value(self, value: Sequence[float]) -> None:
-        """A new velocity or force (the mode's numbers) from the next step on."""
+        """A new velocity, force or servo load (the mode's numbers, one per dof) from the next step on."""
         v = [float(x) for x in value]
         self._core.set_value(v)
-        self._sim._record(self.name, self.mode, tuple(v))
+        self._sim._record(self.name, "value", tuple(v))
+
+    def set_modes(self, modes: Sequence[str]) -> None:
+        """The mode of each dof from the next step on (fixed, velocity, servo, free)."""
+        m = [str(x) for x in modes]
+        try:
+            self._core.set_modes(m)
+        except ValueError as e:
+            raise _rbdem.SceneError(str(e)) from None
+        self._sim._record(self.name, "modes", tuple(m))
+
+    def set_servo(self, gain: float, max_velocity: float, stiffness: float = 0.0, origin: float = 0.0) -> None:
+        """The servo of the servo dofs from the next step on (m/s per N, m/s, N/m, m)."""
+        args = (float(gain), float(max_velocity), float(stiffness), float(origin))
+        try:
+            self._core.set_servo(*args)
+        except ValueError as e:
+            raise _rbdem.SceneError(str(e)) from None
+        self._sim._record(self.name, "servo", args)
+
+    def attachment_stiffness(self) -> list:
+        """The stiffness of the intact bonds tying the group to the rest of the model, per dof (N/m, N m/rad): what
+        a servo on the group pushes against within one step, from which its gain is chosen."""
+        return list(self._core.attachment_stiffness())

@@ -184,3 +184,57 @@ def test_bad_protocol_attributes_are_refused():
         rbdem.Simulation(overrides=SMALL).run(42)
     with pytest.raises(rbdem.SceneError, match="unknown test"):
         rbdem.Simulation(overrides=SMALL).run("nope")
+
+
+def test_love_weber_stress_of_the_whole_specimen_is_the_platen_stress():
+    sim = rbdem.Simulation(beta=90, overrides=SMALL)
+    platens = sim.add_platens(velocity=0.005)  # slow: the stress wave has crossed the specimen many times
+    sim.step(6000)  # to about 10 MPa, elastic
+    assert sim.cracks["bond"].size == 0
+    s = sim.stress()
+    assert s.shape == (2, 2) and s[0, 1] == s[1, 0]
+    assert s[1, 1] == pytest.approx(-platens.stress, rel=0.02)  # tension positive
+    h = sim.specimen["hi"][1]
+    inner = sim.stress(box=((0.002, 0.25 * h), (0.008, 0.75 * h)), boundaries=False)
+    assert inner[1, 1] < 0
+    per_block = sim.block_stresses()
+    assert per_block.shape == (sim.specimen["blocks"], 2, 2)
+    area = sim.blocks["area"]
+    np.testing.assert_allclose((per_block * area[:, None, None]).sum(axis=0) / area.sum(), s, rtol=1e-9, atol=1e-3)
+    with pytest.raises(rbdem.SceneError):
+        sim.stress(box=((0, 0), (1, 1)), layers=[0])
+
+
+def test_force_network_has_every_intact_bond_then_every_contact():
+    sim = rbdem.Simulation(beta=0, overrides=SMALL)
+    sim.add_platens(velocity=0.2)
+    sim.step(1000)
+    n, bonds, contacts = sim.force_network(), sim.bonds, sim.contacts
+    intact = int(bonds["intact"].sum())
+    assert len(n["i"]) == intact + len(contacts["i"])
+    assert not n["contact"][:intact].any() and n["contact"][intact:].all()
+    np.testing.assert_allclose(n["normal_force"][:intact], bonds["normal_force"][bonds["intact"]], rtol=1e-6, atol=1e-3)
+
+
+def test_a_servo_group_brings_its_reaction_to_the_load():
+    sim = rbdem.Simulation(beta=0, overrides=SMALL)
+    sim.add_group("base", box=((-1, -1), (1, 0.0015)))
+    top = sim.add_group("top", box=((-1, 0.0185), (1, 1)), modes=["fixed", "servo", "fixed"],
+                        value=[0.0, -2e4, 0.0], servo={"gain": 1e-12, "max_velocity": 1.0})
+    top.set_servo(gain=0.2 / (top.attachment_stiffness()[1] * sim.dt), max_velocity=1.0)
+    assert top.modes == ["fixed", "servo", "fixed"]
+    sim.step(4000)
+    assert top.force[1] == pytest.approx(2e4, rel=1e-3)  # the specimen pushes back with the load
+    assert top.displacement[1] < 0
+    assert sim.controls[-1][2:4] == ("top", "servo")
+
+
+def test_shear_from_python_equals_the_command_line(tmp_path):
+    sets = {"specimen.width": 0.02, "specimen.height": 0.02, "mesh.size": 0.002, "numerics.threads": 1}
+    r = rbdem.shear(normal_stress=5e6, overrides=sets, skip_elastic_gate=True)
+    args = [a for k, v in sets.items() for a in ("--set", f"{k}={v}")]
+    subprocess.run([os.environ["RBDEM_EXE"], "shear", "--normal-stress", "5e6", *args, "--skip-elastic-gate", "-q",
+                    "--out", str(tmp_path)], check=True, capture_output=True)
+    cli = json.loads((tmp_path / "summary.json").read_text())
+    assert without_timing(r.summary) == without_timing(cli)
+    assert r.summary["test"] == "shear" and r.summary["residual_shear_stress_pa"] > 0
