@@ -449,7 +449,8 @@ class Group(_Boundary):
         """A new velocity, force or servo load (the mode's numbers, one per dof) from the next step on."""
         v = [float(x) for x in value]
         self._core.set_value(v)
-        self._sim._record(self.name, "value", tuple(v))
+        modes = set(self.modes)
+        self._sim._record(self.name, modes.pop() if len(modes) == 1 else "value", tuple(v))
 
     def set_modes(self, modes: Sequence[str]) -> None:
         """The mode of each dof from the next step on (fixed, velocity, servo, free)."""
