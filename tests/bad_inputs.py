@@ -115,6 +115,7 @@ CASES = [
     ("`shear` of a dipping joint", "shear --set joint_set.dip_deg=30", "joint_set.dip_deg"),
     ("`shear` with joints 10 mm apart (several planes)", "shear --set joint_set.spacing=0.01", "joint_set.spacing"),
     ("`shear` of a disc", "shear --set specimen.shape=disc", "specimen.shape"),
+    ("`shear` of a softening joint", "shear --set joint.fracture_energy=5", "joint.fracture_energy"),
     ("`shear` without joints", "shear --set joint_set.enabled=false", "joint_set.enabled"),
     ("`shear` with a negative normal stress", "shear --normal-stress -1e6", "normal"),
     # --- studies with realizations
