@@ -7,6 +7,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <atomic>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -14,6 +16,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "dem/driver/result.hpp"
 #include "dem/record_columns.hpp"
 #include "dem/records.hpp"
 #include "dem/scene.hpp"
@@ -57,6 +60,13 @@ struct GateFailed : std::runtime_error {
 struct PendingError {
   std::optional<py::error_already_set> error;
 };
+
+// The driver's progress hook for a run from Python: with the GIL taken, checks for Ctrl-C and calls `progress`
+// (None: no callback) as progress(step, strain, stress, peak, cracks); a Python exception from either sets `cancel`
+// and is kept in `pending`. Always installed, callback or not: it is where Ctrl-C is noticed. The hook refers to
+// `progress`, `cancel` and `pending` and holds no Python object itself (the driver copies it without the GIL).
+std::function<void(const RunProgress&)> progress_hook(const py::object& progress, std::atomic<bool>& cancel,
+                                                      PendingError& pending);
 
 // A table of records as a dict of NumPy arrays, one per field of its field table (dem/records.hpp), under the
 // names of the CSV columns; the enumerations as lists of their names.

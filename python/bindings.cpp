@@ -78,6 +78,21 @@ py::array_t<double> array_of(const std::vector<double>& v) {
   return a;
 }
 
+std::function<void(const RunProgress&)> progress_hook(const py::object& progress, std::atomic<bool>& cancel,
+                                                      PendingError& pending) {
+  return [&progress, &cancel, &pending](const RunProgress& p) {
+    if (cancel.load()) return;
+    py::gil_scoped_acquire acquire;
+    try {
+      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+      if (!progress.is_none()) progress(p.step, p.strain, p.stress, p.peak, p.cracks);
+    } catch (py::error_already_set& e) {
+      pending.error = std::move(e);
+      cancel.store(true);
+    }
+  };
+}
+
 // The curve's table, plus the mean platen stress (stress_pa) for convenience.
 py::dict curve_arrays(int dim, const std::vector<CurvePoint>& curve) {
   py::dict d = record_arrays(dim, curve);
@@ -167,18 +182,7 @@ py::dict run(const std::string& test, const std::string& file, const std::vector
   PendingError pending;
   RunOptions uo;
   uo.cancel = &cancel;
-  // Always installed, callback or not: it is where Ctrl-C is noticed.
-  uo.progress = [&](const RunProgress& p) {
-    if (cancel.load()) return;
-    py::gil_scoped_acquire acquire;
-    try {
-      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-      if (!progress.is_none()) progress(p.step, p.strain, p.stress, p.peak, p.cracks);
-    } catch (py::error_already_set& e) {
-      pending.error = std::move(e);
-      cancel.store(true);
-    }
-  };
+  uo.progress = progress_hook(progress, cancel, pending);
 
   io::CaseRun run;
   try {

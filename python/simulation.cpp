@@ -244,17 +244,7 @@ class PySimulation {
     RunOptions uo;
     uo.cancel = &cancel_;
     uo.interrupt_at_step = interrupt_at_step;
-    uo.progress = [this](const RunProgress& p) {
-      if (cancel_.load()) return;
-      py::gil_scoped_acquire acquire;
-      try {
-        if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-        if (!progress_.is_none()) progress_(p.step, p.strain, p.stress, p.peak, p.cracks);
-      } catch (py::error_already_set& e) {
-        pending_.error = std::move(e);
-        cancel_.store(true);
-      }
-    };
+    uo.progress = progress_hook(progress_, cancel_, pending_);
     if (!out.empty()) {
       const std::filesystem::path file = std::filesystem::path(out) / "checkpoint.h5";
       uo.checkpoint = [file](const TestCheckpoint& c) { io::write_checkpoint(file, c); };

@@ -75,20 +75,28 @@ TEST(Study, BadStudyFilesNameTheProblem) {
   std::filesystem::remove_all(dir);
 }
 
-TEST(Study, TableHasJaegerBesideTheMeasuredStrength) {
-  // Synthetic results (no runs): a dip study whose beta = 90 strength is 50 MPa.
+// Synthetic results of a dip study (no runs): each case's peak from its dip.
+template <class Peak>
+std::vector<CaseResult> synthetic_dip_results(const std::vector<double>& dips, Peak peak_of) {
   StudySpec spec = dip_study(Scene{}, "synthetic");
-  const auto cases = expand(spec);
+  if (!dips.empty()) spec.dips = dips;
   std::vector<CaseResult> results;
-  for (const auto& c : cases) {
+  for (const auto& c : expand(spec)) {
     CaseResult r;
     r.c = c;
-    const double peak = c.beta == 90 ? 50e6 : 20e6 + std::abs(c.beta - 60) * 1e5;
-    r.summary = {{"peak_stress_pa", peak}, {"strain_at_peak", 1e-4}, {"youngs_modulus_pa", 2e11},
+    r.summary = {{"peak_stress_pa", peak_of(c.beta)}, {"strain_at_peak", 1e-4}, {"youngs_modulus_pa", 2e11},
                  {"failure_mode", "x"}, {"steps", 10}, {"scene", scene_json(c.scene)},
                  {"cracks", {{"rock_tensile", 0}, {"rock_shear", 0}, {"joint_tensile", 0}, {"joint_shear", 0}}}};
     results.push_back(r);
   }
+  return results;
+}
+
+TEST(Study, TableHasJaegerBesideTheMeasuredStrength) {
+  // A dip study whose beta = 90 strength is 50 MPa.
+  const auto results = synthetic_dip_results({}, [](double beta) {
+    return beta == 90 ? 50e6 : 20e6 + std::abs(beta - 60) * 1e5;
+  });
   const auto dir = std::filesystem::temp_directory_path() / "rbdem_test_table";
   std::filesystem::create_directories(dir);
   const auto groups = write_tables(results, dir);
@@ -116,18 +124,9 @@ TEST(Study, TableHasJaegerBesideTheMeasuredStrength) {
 // none ("n/a"), never its own largest peak (which would make Jaeger equal the run at that dip by construction).
 TEST(Study, JaegerIsAnchoredAt90Or0DegreesOrNotAtAll) {
   auto groups_of = [](std::vector<double> dips) {
-    StudySpec spec = dip_study(Scene{}, "synthetic");
-    spec.dips = dips;
-    std::vector<CaseResult> results;
-    for (const auto& c : expand(spec)) {
-      CaseResult r;
-      r.c = c;
-      const double peak = c.beta == 0 ? 52e6 : c.beta == 90 ? 50e6 : 100e6 - c.beta * 1e6;
-      r.summary = {{"peak_stress_pa", peak}, {"strain_at_peak", 1e-4}, {"youngs_modulus_pa", 2e11},
-                   {"failure_mode", "x"}, {"steps", 10}, {"scene", scene_json(c.scene)},
-                   {"cracks", {{"rock_tensile", 0}, {"rock_shear", 0}, {"joint_tensile", 0}, {"joint_shear", 0}}}};
-      results.push_back(r);
-    }
+    const auto results = synthetic_dip_results(dips, [](double beta) {
+      return beta == 0 ? 52e6 : beta == 90 ? 50e6 : 100e6 - beta * 1e6;
+    });
     const auto dir = std::filesystem::temp_directory_path() / "rbdem_test_anchor";
     std::filesystem::create_directories(dir);
     auto groups = write_tables(results, dir);

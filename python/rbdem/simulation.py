@@ -102,6 +102,21 @@ class _Hooks:
         return None if v is None else [(str(k), float(x)) for k, x in dict(v).items()]
 
 
+def _layer_ids(sim: "Simulation", layer) -> list:
+    """Layer ids from a name or id, or several."""
+    names = sim.specimen["layer_names"]
+    wanted = [layer] if isinstance(layer, (str, numbers.Integral)) else list(layer)
+    ids = []
+    for w in wanted:
+        if isinstance(w, str):
+            if w not in names:
+                raise _rbdem.SceneError(f"layer '{w}': the specimen's layers are {', '.join(names)}")
+            ids.append(names.index(w))
+        else:
+            ids.append(int(w))
+    return ids
+
+
 def _block_list(sim: "Simulation", blocks=None, *, layer=None, box=None) -> list:
     """The blocks chosen by index, by layer (a name or id, or several) or by box ((xmin, ymin), (xmax, ymax)) of
     the reference centroids; several criteria intersect."""
@@ -120,17 +135,7 @@ def _block_list(sim: "Simulation", blocks=None, *, layer=None, box=None) -> list
         mask[idx] = True
         keep &= mask
     if layer is not None:
-        names = sim.specimen["layer_names"]
-        wanted = [layer] if isinstance(layer, (str, numbers.Integral)) else list(layer)
-        ids = []
-        for w in wanted:
-            if isinstance(w, str):
-                if w not in names:
-                    raise _rbdem.SceneError(f"layer '{w}': the specimen's layers are {', '.join(names)}")
-                ids.append(names.index(w))
-            else:
-                ids.append(int(w))
-        keep &= np_.isin(b["layer"], ids)
+        keep &= np_.isin(b["layer"], _layer_ids(sim, layer))
     if box is not None:
         lo, hi = np_.asarray(box[0], dtype=float), np_.asarray(box[1], dtype=float)
         x = b["reference_position"]
@@ -296,12 +301,7 @@ class Simulation:
         elif circle is not None:
             kind, lo, radius = "circle", [float(v) for v in circle[0]], float(circle[1])
         elif layers is not None:
-            names = self.specimen["layer_names"]
-            wanted = [layers] if isinstance(layers, (str, numbers.Integral)) else list(layers)
-            for w in wanted:
-                if isinstance(w, str) and w not in names:
-                    raise _rbdem.SceneError(f"layer '{w}': the specimen's layers are {', '.join(names)}")
-            kind, ids = "layers", [names.index(w) if isinstance(w, str) else int(w) for w in wanted]
+            kind, ids = "layers", _layer_ids(self, layers)
         elif blocks is not None:
             kind, ids = "blocks", [int(b) for b in blocks]
         try:
