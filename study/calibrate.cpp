@@ -12,14 +12,39 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include "dem/driver/registry.hpp"
 #include "io/results.hpp"
 #include "study/toml_file.hpp"
 
 namespace rbdem::study {
 
+const std::vector<TargetQuantity>& target_quantities() {
+  static const std::vector<TargetQuantity> q{
+      {"strength", "ucs", true, true, "uniaxial peak stress at beta (Pa)"},
+      {"modulus", "ucs", true, true, "uniaxial Young's modulus E50 at beta (Pa)"},
+      {"poisson", "ucs", true, true, "uniaxial Poisson's ratio at half the peak at beta"},
+      {"tensile_strength", "brazilian", true, true, "Brazilian tensile strength at beta (Pa)"},
+      {"friction_angle", "triaxial", true, true, "friction angle of the confined envelope at beta (deg)"},
+      {"cohesion", "triaxial", true, true, "cohesion of the confined envelope at beta (Pa)"},
+      {"min_strength", "ucs", false, true, "least uniaxial peak over dips (Pa)"},
+      {"anisotropy", "ucs", false, true, "peak at 90 deg over the least peak over dips"},
+      {"min_angle", "ucs", false, false, "dip of the least peak (deg; checked, not optimised)"},
+  };
+  return q;
+}
+
+namespace {
+
+const TargetQuantity& quantity_of(const std::string& name) {
+  for (const auto& q : target_quantities())
+    if (name == q.name) return q;
+  throw std::invalid_argument("unknown target quantity " + name);
+}
+
+}  // namespace
+
 std::string CalibrationTarget::label() const {
-  if (quantity == "strength" || quantity == "modulus") return fmt::format("{}@{:g}", quantity, beta);
-  return quantity;
+  return quantity_of(quantity).at_dip ? fmt::format("{}@{:g}", quantity, beta) : quantity;
 }
 
 namespace {
@@ -29,7 +54,15 @@ double number(const toml::node* node, const std::string& where) {
   return toml_number(*node, where);
 }
 
-bool optimised(const CalibrationTarget& t) { return t.quantity != "min_angle"; }
+bool optimised(const CalibrationTarget& t) { return quantity_of(t.quantity).optimised; }
+
+std::vector<double> numbers(const toml::node* node, const std::string& where) {
+  std::vector<double> v;
+  const toml::array* a = node ? node->as_array() : nullptr;
+  if (!a) throw SceneError(where + ": expected an array of numbers, e.g. [0, 5e6, 10e6]");
+  for (const auto& x : *a) v.push_back(number(&x, where));
+  return v;
+}
 
 }  // namespace
 
@@ -42,28 +75,31 @@ CalibrationSpec load_calibration(const std::filesystem::path& path) {
       throw SceneError(fmt::format("{}: unknown top-level key '{}' (expected [calibrate], [[parameter]], [[target]])",
                                    where, k.str()));
   if (const toml::table* c = root["calibrate"].as_table()) {
-    for (const auto& [k, v] : *c)
-      if (k != "base" && k != "tolerance" && k != "max_iterations" && k != "dips" && k != "set")
-        throw SceneError(fmt::format("{} [calibrate]: unknown key '{}'", where, k.str()));
+    check_keys(*c, {"base", "tolerance", "max_iterations", "dips", "realizations", "confining", "set"},
+               where + " [calibrate]");
     if (auto b = c->get_as<std::string>("base"); b && !b->get().empty())
       spec.base = load_scene_file(path.parent_path() / b->get());
     if (c->contains("tolerance")) spec.tolerance = number(c->get("tolerance"), where + " calibrate.tolerance");
     if (c->contains("max_iterations"))
       spec.max_iterations = int(number(c->get("max_iterations"), where + " calibrate.max_iterations"));
-    if (auto d = c->get_as<toml::array>("dips")) {
-      spec.dips.clear();
-      for (const auto& x : *d) spec.dips.push_back(number(&x, where + " calibrate.dips"));
-    }
+    if (c->contains("dips")) spec.dips = numbers(c->get("dips"), where + " calibrate.dips");
+    if (c->contains("confining")) spec.confining = numbers(c->get("confining"), where + " calibrate.confining");
+    if (c->contains("realizations"))
+      spec.realizations = int(number(c->get("realizations"), where + " calibrate.realizations"));
     if (auto set = c->get_as<toml::table>("set"))
       for (const auto& [k, v] : *set)
         set_parameter(spec.base, k.str(), toml_value_text(v, where + " " + std::string(k.str())));
   }
   if (!(spec.tolerance > 0 && spec.tolerance < 1))
     throw SceneError(where + ": calibrate.tolerance must lie in (0, 1), e.g. 0.03");
+  check_realizations(spec.realizations, spec.base);
+  if (spec.confining.size() < 2 || std::set<double>(spec.confining.begin(), spec.confining.end()).size() < 2)
+    throw SceneError(where + ": calibrate.confining needs two different pressures at least (Pa), e.g. [0, 5e6, 10e6]");
   if (auto params = root["parameter"].as_array())
     for (const auto& node : *params) {
       const toml::table* t = node.as_table();
       if (!t) throw SceneError(where + ": [[parameter]] must be tables");
+      check_keys(*t, {"name", "keys", "ratios", "start", "min", "max"}, where + " [[parameter]]");
       CalibrationParameter p;
       if (auto n = t->get_as<std::string>("name")) p.name = n->get();
       const std::string pw = where + " parameter '" + p.name + "'";
@@ -87,14 +123,19 @@ CalibrationSpec load_calibration(const std::filesystem::path& path) {
     for (const auto& node : *targets) {
       const toml::table* t = node.as_table();
       if (!t) throw SceneError(where + ": [[target]] must be tables");
+      check_keys(*t, {"quantity", "beta", "value"}, where + " [[target]]");
       CalibrationTarget g;
       if (auto q = t->get_as<std::string>("quantity")) g.quantity = q->get();
-      static const std::set<std::string> known{"strength", "modulus", "min_strength", "anisotropy", "min_angle"};
-      if (!known.count(g.quantity))
-        throw SceneError(fmt::format("{}: target quantity '{}' unknown (strength, modulus, min_strength, anisotropy, "
-                                     "min_angle)",
-                                     where, g.quantity));
+      if (std::none_of(target_quantities().begin(), target_quantities().end(),
+                       [&](const TargetQuantity& q) { return g.quantity == q.name; })) {
+        std::string list;
+        for (const auto& q : target_quantities()) list += (list.empty() ? "" : ", ") + std::string(q.name);
+        throw SceneError(fmt::format("{}: target quantity '{}' unknown ({})", where, g.quantity, list));
+      }
       if (t->contains("beta")) g.beta = number(t->get("beta"), where + " target beta");
+      if (t->contains("beta") && !quantity_of(g.quantity).at_dip)
+        throw SceneError(fmt::format("{}: target {} reads the dip curve over calibrate.dips and takes no beta",
+                                     where, g.quantity));
       g.value = number(t->get("value"), where + " target " + g.quantity + " value");
       spec.targets.push_back(g);
     }
@@ -110,18 +151,113 @@ CalibrationSpec load_calibration(const std::filesystem::path& path) {
 
 namespace {
 
-// The dips each evaluation runs: those of the strength and modulus targets and, when a target reads the whole dip
-// curve (min_strength, anisotropy, min_angle), spec.dips.
-std::set<double> evaluation_dips(const CalibrationSpec& spec) {
-  bool need_dips = false;
-  std::set<double> betas;
+// The runs one evaluation needs, by test: the dips of the targets read at one dip and, for the targets read from the
+// uniaxial dip curve (min_strength, anisotropy, min_angle), calibrate.dips.
+struct Plan {
+  std::map<std::string, std::set<double>> dips;  // test -> dips
+};
+
+Plan evaluation_plan(const CalibrationSpec& spec) {
+  Plan plan;
   for (const auto& t : spec.targets) {
-    if (t.quantity == "strength" || t.quantity == "modulus") betas.insert(t.beta);
-    else need_dips = true;
+    const TargetQuantity& q = quantity_of(t.quantity);
+    std::set<double>& dips = plan.dips[q.test];
+    if (q.at_dip) dips.insert(t.beta);
+    else dips.insert(spec.dips.begin(), spec.dips.end());
   }
-  if (need_dips)
-    for (double d : spec.dips) betas.insert(d);
-  return betas;
+  return plan;
+}
+
+// The cases of one test of an evaluation on the scene `s`: its dips, each on calibrate.realizations meshes and, for
+// the confined test, at every calibrate.confining pressure.
+std::vector<Case> plan_cases(const CalibrationSpec& spec, const Scene& s, const std::string& test,
+                             const std::set<double>& dips) {
+  StudySpec st = dip_study(s, "calibration");
+  st.test = test;
+  for (const auto& [key, value] : protocol_info(test).scene_defaults) set_parameter(st.base, key, value);
+  st.dips.assign(dips.begin(), dips.end());
+  st.realizations = spec.realizations;
+  if (test == "triaxial") {
+    Axis a;
+    a.name = "confining";
+    std::vector<std::string> values;
+    for (double p : spec.confining) a.labels.push_back(fmt::format("{:g}", p)), values.push_back(fmt::format("{}", p));
+    a.values.push_back({"loading.confining_pressure", values});
+    st.axes.push_back(a);
+  }
+  return expand(st);
+}
+
+// Runs `cases` under `dir`. A run whose summary says it was not quasi-static runs again at half, then a quarter of
+// its platen speed (under dir/slower_2x, slower_4x) and its result replaces the first; `quasi_static` says whether
+// every run ends quasi-static.
+std::vector<CaseResult> run_quasi_static(const std::vector<Case>& cases, const std::filesystem::path& dir,
+                                         const SweepOptions& ro, const std::function<void(const std::string&)>& log,
+                                         bool& quasi_static) {
+  auto results = run_cases(cases, dir, ro);
+  const auto dynamic = [](const CaseResult& r) { return !r.summary.value("quasi_static", true); };
+  for (int factor = 2; factor <= 4; factor *= 2) {
+    std::vector<std::size_t> slow;
+    std::vector<Case> again;
+    for (std::size_t k = 0; k < results.size(); ++k) {
+      if (!dynamic(results[k])) continue;
+      Case c = cases[k];
+      c.scene.loading.platen_velocity = cases[k].scene.loading.platen_velocity / factor;
+      if (log)
+        log(fmt::format("   {} {} not quasi-static ({}): run again at loading.platen_velocity = {:g} m/s", c.test, c.id,
+                        results[k].summary.value("quasi_static_reason", std::string()),
+                        c.scene.loading.platen_velocity));
+      slow.push_back(k), again.push_back(std::move(c));
+    }
+    if (slow.empty()) break;
+    const auto redo = run_cases(again, dir / fmt::format("slower_{}x", factor), ro);
+    for (std::size_t i = 0; i < slow.size(); ++i) results[slow[i]] = redo[i];
+  }
+  quasi_static = std::none_of(results.begin(), results.end(), dynamic);
+  return results;
+}
+
+// What one evaluation measured: the mean summaries over the realizations by test and dip, and the confined envelope
+// of each dip.
+struct Readings {
+  std::map<std::string, std::map<double, nlohmann::json>> at;  // test -> beta -> mean summary
+  std::map<double, Envelope> envelope;                         // beta -> envelope of the confined runs
+};
+
+double reading(const Readings& rd, const std::string& test, double beta, const char* key, const CalibrationTarget& t) {
+  const nlohmann::json* v = nullptr;
+  if (auto i = rd.at.find(test); i != rd.at.end())
+    if (auto j = i->second.find(beta); j != i->second.end()) v = &j->second;
+  if (!v || !v->contains(key) || !(*v)[key].is_number())
+    throw std::runtime_error(fmt::format("target {}: the {} run at beta = {:g} reports no {} (see its summary.json)",
+                                         t.label(), test, beta, key));
+  return (*v)[key].get<double>();
+}
+
+// Every target's quantity from one evaluation's readings.
+std::vector<double> measure_targets(const CalibrationSpec& spec, const Readings& rd) {
+  std::vector<double> measured;
+  for (const auto& t : spec.targets) {
+    double v = 0;
+    if (t.quantity == "strength") v = reading(rd, "ucs", t.beta, "peak_stress_pa", t);
+    else if (t.quantity == "modulus") v = reading(rd, "ucs", t.beta, "youngs_modulus_pa", t);
+    else if (t.quantity == "poisson") v = reading(rd, "ucs", t.beta, "poisson_ratio_at_half_peak", t);
+    else if (t.quantity == "tensile_strength") v = reading(rd, "brazilian", t.beta, "tensile_strength_pa", t);
+    else if (t.quantity == "friction_angle") v = rd.envelope.at(t.beta).friction_deg;
+    else if (t.quantity == "cohesion") v = rd.envelope.at(t.beta).cohesion_pa;
+    else {
+      double mn = std::numeric_limits<double>::infinity(), arg = 0;
+      for (double d : spec.dips) {
+        const double s_d = reading(rd, "ucs", d, "peak_stress_pa", t);
+        if (s_d < mn) mn = s_d, arg = d;
+      }
+      if (t.quantity == "min_strength") v = mn;
+      else if (t.quantity == "min_angle") v = arg;
+      else v = reading(rd, "ucs", 90.0, "peak_stress_pa", t) / mn;  // anisotropy
+    }
+    measured.push_back(v);
+  }
+  return measured;
 }
 
 // The base scene with every parameter's keys set to its value p[i] times the key's ratio, validated.
@@ -132,30 +268,6 @@ Scene scene_for(const CalibrationSpec& spec, const std::vector<double>& p) {
       set_parameter(s, spec.parameters[i].keys[k], fmt::format("{}", p[i] * spec.parameters[i].ratios[k]));
   validate(s);
   return s;
-}
-
-// Every target's quantity from one evaluation's cases (their summaries, by dip).
-std::vector<double> measure_targets(const CalibrationSpec& spec, const std::vector<CaseResult>& results) {
-  std::map<double, const nlohmann::json*> at;
-  for (const auto& r : results) at[r.c.beta] = &r.summary;
-  std::vector<double> measured;
-  for (const auto& t : spec.targets) {
-    double v = 0;
-    if (t.quantity == "strength") v = (*at.at(t.beta))["peak_stress_pa"].get<double>();
-    else if (t.quantity == "modulus") v = (*at.at(t.beta))["youngs_modulus_pa"].get<double>();
-    else {
-      double mn = std::numeric_limits<double>::infinity(), arg = 0;
-      for (double d : spec.dips) {
-        const double s_d = (*at.at(d))["peak_stress_pa"].get<double>();
-        if (s_d < mn) mn = s_d, arg = d;
-      }
-      if (t.quantity == "min_strength") v = mn;
-      else if (t.quantity == "min_angle") v = arg;
-      else v = (*at.at(90.0))["peak_stress_pa"].get<double>() / mn;  // anisotropy
-    }
-    measured.push_back(v);
-  }
-  return measured;
 }
 
 // The log line of one evaluation: its parameters, every target as measured (with its error, or its target where a
@@ -173,6 +285,8 @@ std::string evaluation_line(const CalibrationSpec& spec, const CalibrationIterat
                               spec.targets[k].value);
   }
   line += fmt::format(" | max error {:.1f}%", 100 * it.max_error);
+  if (!it.quasi_static) line += " | NOT quasi-static";
+  if (it.reused) line += " (runs reused)";
   return line;
 }
 
@@ -180,30 +294,45 @@ std::string evaluation_line(const CalibrationSpec& spec, const CalibrationIterat
 // targets, logs a line and is kept in result.history. Also the maps between parameters and the search's log space.
 struct Evaluator {
   const CalibrationSpec& spec;
-  std::vector<std::size_t> opt;  // indices of optimised targets
-  std::set<double> betas;        // the dips each evaluation runs
+  const CalibrateOptions& options;
   std::filesystem::path out;
-  int workers = 0;
-  const std::function<void(const std::string&)>& log;
   CalibrationResult& result;
+  std::vector<std::size_t> opt;  // indices of optimised targets
+  Plan plan = evaluation_plan(spec);
 
   CalibrationIteration operator()(const std::vector<double>& p, const char* kind) {
     const Scene s = scene_for(spec, p);
-    StudySpec st = dip_study(s, "calibration");
-    st.dips.assign(betas.begin(), betas.end());
     const auto dir = out / fmt::format("eval_{:02d}", result.evaluations);
-    SweepOptions ro;
-    ro.workers = workers;
-    const auto results = run_cases(expand(st), dir, ro);
-    ++result.evaluations;
     CalibrationIteration it;
+    it.reused = true;
+    SweepOptions ro;
+    ro.workers = options.workers;
+    ro.cancel = options.cancel;
+    if (options.progress)
+      ro.on_done = [&](const CaseResult& r) {
+        options.progress(fmt::format("   eval {:02d} {} {}: peak {:.2f} MPa, {} steps, {:.1f} s", result.evaluations,
+                                     r.c.test, r.c.id, r.summary.value("peak_stress_pa", 0.0) / 1e6,
+                                     r.summary.value("steps", 0L), r.wall_seconds));
+      };
+    Readings rd;
+    for (const auto& [test, dips] : plan.dips) {
+      bool quasi_static = true;
+      const auto results = run_quasi_static(plan_cases(spec, s, test, dips), test == "ucs" ? dir : dir / test, ro,
+                                            options.log, quasi_static);
+      it.quasi_static = it.quasi_static && quasi_static;
+      for (const auto& r : results) it.reused = it.reused && r.reused;
+      for (const auto& m : realization_means(results)) rd.at[test][m.mean.c.beta] = m.mean.summary;
+      if (test == "triaxial")
+        for (const auto& e : write_envelopes(results, dir / test)) rd.envelope[e.beta_deg] = e;
+    }
+    ++result.evaluations;
     it.kind = kind;
     it.parameters = p;
-    it.measured = measure_targets(spec, results);
+    it.measured = measure_targets(spec, rd);
     for (std::size_t j : opt)
       it.max_error = std::max(it.max_error, std::abs(it.measured[j] / spec.targets[j].value - 1));
     it.iteration = int(result.history.size());
-    log(evaluation_line(spec, it));
+    if (options.log) options.log(evaluation_line(spec, it));
     result.history.push_back(it);
     return it;
   }
@@ -211,7 +340,8 @@ struct Evaluator {
   Eigen::VectorXd residual(const CalibrationIteration& it) const {
     Eigen::VectorXd r(static_cast<Eigen::Index>(opt.size()));
     for (std::size_t j = 0; j < opt.size(); ++j)
-      r[long(j)] = std::log(it.measured[opt[j]] / spec.targets[opt[j]].value);
+      // A quantity of the wrong sign (a negative cohesion intercept) counts as a million times too small.
+      r[long(j)] = std::log(std::max(it.measured[opt[j]] / spec.targets[opt[j]].value, 1e-6));
     return r;
   }
   Eigen::VectorXd to_x(const std::vector<double>& p) const {
@@ -263,19 +393,21 @@ void write_calibration(const CalibrationSpec& spec, const CalibrationResult& res
   std::string csv = "iteration,kind";
   for (const auto& p : spec.parameters) csv += "," + p.name;
   for (const auto& t : spec.targets) csv += "," + t.label() + "," + t.label() + "_target";
-  csv += ",max_error\n";
+  csv += ",max_error,quasi_static\n";
   for (const auto& it : result.history) {
     csv += fmt::format("{},{}", it.iteration, it.kind);
     for (double v : it.parameters) csv += fmt::format(",{:.9g}", v);
     for (std::size_t k = 0; k < spec.targets.size(); ++k)
       csv += fmt::format(",{:.9g},{:.9g}", it.measured[k], spec.targets[k].value);
-    csv += fmt::format(",{:.6g}\n", it.max_error);
+    csv += fmt::format(",{:.6g},{}\n", it.max_error, it.quasi_static ? 1 : 0);
   }
   io::write_text_atomic(out / "calibration.csv", csv);
   std::string header = fmt::format("# Calibrated by `rbdem calibrate` in {} evaluations ({:.0f} s): max target error {:.1f} % "
                                    "({}).\n",
                                    result.evaluations, result.wall_seconds, 100 * result.best.max_error,
-                                   result.converged ? "converged" : "NOT converged within the iteration limit");
+                                   result.converged              ? "converged"
+                                   : result.best.quasi_static ? "NOT converged within the iteration limit"
+                                                              : "NOT converged: its best evaluation is not quasi-static");
   for (std::size_t k = 0; k < spec.targets.size(); ++k)
     header += fmt::format("#   {} = {:.4g} (target {:.4g})\n", spec.targets[k].label(), result.best.measured[k],
                           spec.targets[k].value);
@@ -284,11 +416,11 @@ void write_calibration(const CalibrationSpec& spec, const CalibrationResult& res
 
 }  // namespace
 
-CalibrationResult calibrate(const CalibrationSpec& spec, const std::filesystem::path& out, int workers,
-                            const std::function<void(const std::string&)>& log) {
+CalibrationResult calibrate(const CalibrationSpec& spec, const std::filesystem::path& out,
+                            const CalibrateOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   CalibrationResult result;
-  Evaluator evaluate{spec, {}, evaluation_dips(spec), out, workers, log, result};
+  Evaluator evaluate{spec, options, out, result, {}};
   for (std::size_t k = 0; k < spec.targets.size(); ++k)
     if (optimised(spec.targets[k])) evaluate.opt.push_back(k);
   const std::size_t n = spec.parameters.size(), m = evaluate.opt.size();
@@ -310,7 +442,7 @@ CalibrationResult calibrate(const CalibrationSpec& spec, const std::filesystem::
       if (it.max_error < result.best.max_error) result.best = it;
     }
   broyden_search(evaluate, x, r, J);
-  result.converged = result.best.max_error <= spec.tolerance;
+  result.converged = result.best.max_error <= spec.tolerance && result.best.quasi_static;
   result.scene = scene_for(spec, result.best.parameters);
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   write_calibration(spec, result, out);

@@ -33,16 +33,6 @@ namespace rbdem::study {
 
 namespace {
 
-void check_keys(const toml::table& t, std::initializer_list<std::string_view> allowed, const std::string& where) {
-  for (const auto& [k, v] : t) {
-    if (std::find(allowed.begin(), allowed.end(), k.str()) == allowed.end()) {
-      std::string list;
-      for (auto a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
-      throw SceneError(fmt::format("{}: unknown key '{}' (allowed: {})", where, k.str(), list));
-    }
-  }
-}
-
 std::string case_value_label(const std::string& s) {
   std::string out;
   for (char c : s) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_') ? c : '_';

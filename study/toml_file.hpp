@@ -1,7 +1,9 @@
 // Reading the study layer's TOML files (studies, calibration targets) with errors that name the file and the fix.
 #pragma once
 
+#include <algorithm>
 #include <filesystem>
+#include <initializer_list>
 #include <string>
 #include <string_view>
 
@@ -26,6 +28,17 @@ inline toml::table read_toml_file(const std::filesystem::path& path, std::string
                                  e.source().begin.column, e.description()));
   } catch (const std::exception&) {
     throw unreadable();
+  }
+}
+
+// Refuses a key of `t` that is not in `allowed`, naming the key, where it is and the keys allowed there.
+inline void check_keys(const toml::table& t, std::initializer_list<std::string_view> allowed, const std::string& where) {
+  for (const auto& [k, v] : t) {
+    if (std::find(allowed.begin(), allowed.end(), k.str()) == allowed.end()) {
+      std::string list;
+      for (auto a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+      throw SceneError(fmt::format("{}: unknown key '{}' (allowed: {})", where, k.str(), list));
+    }
   }
 }
 

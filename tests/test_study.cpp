@@ -321,6 +321,51 @@ TEST(Calibrate, ShippedTargetsFileLoads) {
   EXPECT_DOUBLE_EQ(spec.parameters[0].start, spec.base.rock.cohesion);
 }
 
+// A targets file with the given [calibrate] lines, one parameter and the given [[target]] tables.
+CalibrationSpec calibration_from(const std::string& calibrate, const std::string& targets) {
+  const auto dir = std::filesystem::temp_directory_path() / ("rbdem_cal_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "t.toml") << "[calibrate]\n" << calibrate << "\n[[parameter]]\nname = \"s\"\n"
+                                << "keys = [\"rock.cohesion\"]\n" << targets;
+  struct Cleanup {
+    std::filesystem::path d;
+    ~Cleanup() { std::filesystem::remove_all(d); }
+  } cleanup{dir};
+  return load_calibration(dir / "t.toml");
+}
+
+// A misspelt key used to be ignored (the calibration then ran without the target the user meant).
+TEST(Calibrate, UnknownKeysAreRefusedNamingTheKey) {
+  const std::string target = "[[target]]\nquantity = \"strength\"\nvalue = 5e7\n";
+  const auto refused = [](const std::string& calibrate, const std::string& targets, const std::string& words) {
+    try {
+      calibration_from(calibrate, targets);
+      ADD_FAILURE() << "accepted: " << calibrate << targets;
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+  };
+  refused("", "[[target]]\nquantity = \"strength\"\nbeta = 90\nvalu = 5e7\n", "unknown key 'valu'");
+  refused("", "[[target]]\nquantity = \"strenght\"\nvalue = 5e7\n", "target quantity 'strenght' unknown");
+  refused("realisations = 3", target, "unknown key 'realisations'");
+  refused("", "[[target]]\nquantity = \"min_strength\"\nbeta = 60\nvalue = 2e7\n", "takes no beta");
+  refused("confining = [5e6]", target, "two different pressures");
+  refused("realizations = 0", target, "realizations");
+  EXPECT_NO_THROW(calibration_from("", target));
+}
+
+TEST(Calibrate, ReadsRealizationsConfiningAndEveryTargetQuantity) {
+  std::string targets;
+  for (const auto& q : target_quantities())
+    targets += fmt::format("[[target]]\nquantity = \"{}\"\n{}value = 1\n", q.name, q.at_dip ? "beta = 60\n" : "");
+  const CalibrationSpec spec = calibration_from("realizations = 3\nconfining = [0, 2e6, 4e6]", targets);
+  EXPECT_EQ(spec.realizations, 3);
+  EXPECT_EQ(spec.confining, (std::vector<double>{0, 2e6, 4e6}));
+  ASSERT_EQ(spec.targets.size(), target_quantities().size());
+  EXPECT_EQ(spec.targets[0].label(), "strength@60");
+  EXPECT_EQ(spec.targets.back().label(), "min_angle");
+}
+
 }  // namespace
 }  // namespace rbdem::study
 
