@@ -319,6 +319,10 @@ TEST(Calibrate, ShippedTargetsFileLoads) {
   EXPECT_EQ(spec.parameters.size(), 2u);
   EXPECT_EQ(spec.targets.size(), 3u);
   EXPECT_DOUBLE_EQ(spec.parameters[0].start, spec.base.rock.cohesion);
+  const CalibrationSpec four = load_calibration(source_dir / "scenes/calibrate_four_targets.toml");
+  EXPECT_EQ(four.realizations, 3);
+  EXPECT_EQ(four.targets.size(), 4u);
+  EXPECT_EQ(four.targets[3].label(), "tensile_strength@0");
 }
 
 // A targets file with the given [calibrate] lines, one parameter and the given [[target]] tables.
