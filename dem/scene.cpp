@@ -385,6 +385,11 @@ void validate(const Scene& scene) {
     throw SceneError(fmt::format("mesh.seed = {} has no effect on a user mesh (mesh.file = \"{}\"): realizations "
                                  "re-mesh the specimen; use mesh.seed = 0 with a user mesh, or no mesh.file",
                                  scene.mesh.seed, scene.mesh.file));
+  if (scene.loading.transit_strain_fraction > 0.0 && !scene.numerics.elastic_start)
+    throw SceneError(fmt::format("loading.transit_strain_fraction = {} sets the platen speed from the static elastic "
+                                 "start, and numerics.elastic_start = false: set numerics.elastic_start = true, or "
+                                 "loading.transit_strain_fraction = 0 and loading.platen_velocity",
+                                 fmt_real(scene.loading.transit_strain_fraction)));
 }
 
 // Every stress of a scene is in Pa. A value in MPa or GPa written as a bare number lands a million or a billion

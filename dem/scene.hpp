@@ -80,6 +80,9 @@ struct LoadingParams {
   double confining_pressure = 0.0;  // Pa, lateral pressure of a confined (triaxial) test; 0 = uniaxial
   double fast_factor = 1.0;       // -, the top platen's speed while no bond breaks, x platen_velocity; 1 = constant
   double quiet_transits = 3.0;    // -, wave transits without a break before the platen speeds up
+  // -, > 0: the platen speed follows the rock: the platen closes this fraction of the elastic start's strain per
+  // wave transit of the specimen (PlatenTest, docs/model.md "Loading rate"); 0 = platen_velocity as given
+  double transit_strain_fraction = 0.0;
   // rbdem shear (direct shear of one joint, dem/driver/protocols/shear.cpp)
   double normal_stress = 5e6;            // Pa, the normal stress on the joint at the start of the shear
   double normal_stiffness = 0.0;         // Pa/m, the normal stiffness of a CNS test; 0 = constant normal load

@@ -111,6 +111,7 @@ nlohmann::json run_summary(const Scene& scene, const TestResult& r) {
   j["dt_block_estimate_s"] = r.dt_block_estimate;
   j["mass_scaling"] = r.mass_scaling;
   j["elastic_start_strain"] = r.elastic_start_strain;
+  j["platen_velocity_m_s"] = r.platen_velocity > 0.0 ? nlohmann::json(r.platen_velocity) : nlohmann::json(nullptr);
   j["wall_seconds"] = r.wall_seconds;
   j["threads"] = r.threads;
   j["platen_force_mismatch"] = r.platen_force_mismatch;

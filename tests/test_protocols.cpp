@@ -87,6 +87,50 @@ TEST(Loading, FastPlatenStopsAtMaxStrain) {
   EXPECT_LE(last, s.loading.max_strain + step);
 }
 
+// loading.transit_strain_fraction: the platen speed follows the rock, v = f eps_s sqrt(E_s / rho) from the static
+// start's strain and stress increments (its last curve point), and the run's summary reports it.
+TEST(Loading, TransitFractionSetsThePlatenSpeedFromTheElasticStart) {
+  Scene s = small_scene(90);
+  s.loading.transit_strain_fraction = 0.0075;
+  const TestResult r = run_test("ucs", s, make_mesh(s));
+  ASSERT_TRUE(r.completed);
+  const CurvePoint* last_static = nullptr;
+  for (const auto& p : r.curve)
+    if (p.step == -1) last_static = &p;
+  ASSERT_NE(last_static, nullptr);
+  const double eps = last_static->strain, sigma = last_static->stress();
+  const double expected = 0.0075 * std::sqrt(eps * sigma / (s.rock.density * s.numerics.mass_scaling));
+  EXPECT_NEAR(r.platen_velocity, expected, 1e-9 * expected);
+  // The explicit run closes at that speed: strain per step v dt / H between two samples after the start.
+  const CurvePoint& a = r.curve[std::size_t(std::find_if(r.curve.begin(), r.curve.end(),
+                                                         [](const CurvePoint& p) { return p.step > 0; }) -
+                                            r.curve.begin())];
+  const CurvePoint& b = r.curve[r.curve.size() / 2 + r.curve.size() / 4];
+  ASSERT_GT(b.step, a.step);
+  EXPECT_NEAR((b.strain - a.strain) / double(b.step - a.step), expected * r.dt / s.specimen.height, 1e-9 * expected);
+  EXPECT_TRUE(r.quasi_static) << r.quasi_static_reason;
+}
+
+// The point of following the rock: at a fixed platen speed a rock ten times softer (same strengths) needs more
+// steps to reach its larger failure strain (the explicit part's strain grows as 1 / E and the time step shrinks as
+// 1 / sqrt(E)); with the speed set by the transit fraction it needs about as many as the stiff one, and stays
+// quasi-static.
+TEST(Loading, TransitFractionKeepsTheStepsOfASofterRock) {
+  auto steps = [](double modulus_factor, double fraction) {
+    Scene s = small_scene(90);
+    s.rock.effective_modulus *= modulus_factor, s.joint.effective_modulus *= modulus_factor;
+    s.loading.transit_strain_fraction = fraction;
+    const TestResult r = run_test("ucs", s, make_mesh(s));
+    EXPECT_TRUE(r.completed && r.quasi_static) << r.quasi_static_reason;
+    return double(r.steps);
+  };
+  const double fixed_ratio = steps(0.1, 0.0) / steps(1.0, 0.0);
+  const double following_ratio = steps(0.1, 0.0075) / steps(1.0, 0.0075);
+  EXPECT_GT(fixed_ratio, 1.5);  // 1.75 on this 4 mm mesh
+  EXPECT_LT(following_ratio, 1.2);  // 1.005
+  EXPECT_GT(following_ratio, 0.8);
+}
+
 // The static isotropic stage: the jacket's pressure and the platen closure superposed so that the platen stress is
 // p. Handed to the explicit engine, the state is in equilibrium: both platens carry p W t and every block's net force
 // is small against the pressure's force on one edge. The static solve is linear (loads on the reference geometry)

@@ -67,6 +67,7 @@ class TestRun {
       const Energies e = sim_.energies();
       rec_.energy0 = e.kinetic + e.strain;
     }
+    rate_.follow(rec_);
     watchdog_.mark_sound(sim_, rec_);
     start_seconds_ = std::chrono::duration<double>(Clock::now() - wall0_).count();
   }
@@ -119,6 +120,7 @@ class TestRun {
     r.steps = sim_.steps();
     r.dt = rec_.dt, r.dt_critical = rec_.dt_critical, r.dt_block_estimate = rec_.dt_block_estimate;
     r.elastic_start_strain = rec_.elastic_start_strain;
+    r.platen_velocity = rec_.platen_velocity;
     r.energy_ratio_max = rec_.energy_ratio_max;
     r.stop_reason = stop_reason_;
     if (const Jacket* jacket = sim_.find<Jacket>()) r.confining_pressure = jacket->pressure();

@@ -41,6 +41,11 @@ class LoadRate {
  public:
   explicit LoadRate(const Scene& scene);
   bool adapts() const { return fast_ > 1.0; }
+  // The run's base speed (m/s) when the protocol set it (TestRecord::platen_velocity > 0, loading.
+  // transit_strain_fraction): the fast speed is fast_factor times it.
+  void follow(const TestRecord& record) {
+    if (record.platen_velocity > 0.0) slow_ = record.platen_velocity;
+  }
   void after_step(Simulation& sim) const;
 
  private:

@@ -24,7 +24,7 @@ Reading PlatenTest::read(const Simulation& sim) const {
 }
 
 long PlatenTest::max_steps(const Simulation& sim, const TestRecord& record) const {
-  const double H = sim.specimen().height(), v = scene_.loading.platen_velocity;
+  const double H = sim.specimen().height(), v = velocity(record);
   return long(std::ceil((scene_.loading.max_strain - record.elastic_start_strain) * H / (v * record.dt)));
 }
 
@@ -40,6 +40,7 @@ void PlatenTest::prepare(const Simulation& sim, const std::atomic<int>& threads)
 }
 
 void PlatenTest::start(Simulation& sim, TestRecord& record) {
+  record.platen_velocity = scene_.loading.platen_velocity;  // start_along sets the rock's speed where asked
   if (!scene_.numerics.elastic_start) return;
   const StaticResult closure = prepared_closure_ ? std::move(*prepared_closure_) : closure_solve(sim);
   prepared_closure_.reset();
@@ -50,7 +51,7 @@ void PlatenTest::start(Simulation& sim, TestRecord& record) {
 // at a fraction of the first-break load. An empty `base` is the unloaded specimen.
 void PlatenTest::start_along(Simulation& sim, TestRecord& record, const StaticResult& base, const StaticResult& st,
                              double base_stress) const {
-  const double H = sim.specimen().height(), v = scene_.loading.platen_velocity;
+  const double H = sim.specimen().height();
   const bool from_rest = base.empty();
   const double first_break = sim.first_break_along(base, st);
   const double base_strain = base.platen_displacement / H;
@@ -62,6 +63,9 @@ void PlatenTest::start_along(Simulation& sim, TestRecord& record, const StaticRe
   const double factor =
       std::min({scene_.numerics.elastic_start_fraction * first_break, 0.5 * max_factor, limit_factor});
   if (!(factor > 0 && std::isfinite(factor))) return;
+  const double v = record.platen_velocity =
+      rock_velocity(factor * st.platen_displacement / H, factor * unit_stress, sim);
+  if (scene_.loading.transit_strain_fraction > 0.0) sim.find<Platens>()->set_velocity(v);
   const double base_lateral = from_rest ? 0.0 : sim.lateral_strain_of(base), lateral = sim.lateral_strain_of(st);
   const int n = 20;
   for (int k = 1; k <= n; ++k) {
@@ -86,6 +90,22 @@ void PlatenTest::start_along(Simulation& sim, TestRecord& record, const StaticRe
   record.frames.push_back(std::move(f));
   const double interval = scene_.output.frame_strain_interval;
   record.next_frame = (std::floor(record.elastic_start_strain / interval) + 1.0) * interval;
+}
+
+double PlatenTest::velocity(const TestRecord& record) const {
+  return record.platen_velocity > 0.0 ? record.platen_velocity : scene_.loading.platen_velocity;
+}
+
+// With loading.transit_strain_fraction f > 0, the speed at which the platen closes f times the start's strain
+// increment eps_s per wave transit of the specimen, H / c with c = sqrt(E_s / rho) from the start's apparent modulus
+// E_s = sigma_s / eps_s (the stress increment sigma_s over the strain increment) and the blocks' density (times the
+// mass scaling): v = f eps_s c. The inertial part of the platen force is of order rho H (v / T) ~ f sigma_s, so f
+// sets the quasi-static error whatever the rock's modulus and strength (docs/model.md, Loading rate).
+double PlatenTest::rock_velocity(double strain, double stress, const Simulation&) const {
+  const double f = scene_.loading.transit_strain_fraction;
+  if (!(f > 0.0)) return scene_.loading.platen_velocity;
+  const double rho = scene_.rock.density * scene_.numerics.mass_scaling;
+  return f * std::sqrt(std::max(strain * stress, 0.0) / rho);
 }
 
 double PlatenTest::axial_stiffness(const Simulation& sim) {
@@ -125,11 +145,12 @@ void ConfinedPlatenTest::prepare(const Simulation& sim, const std::atomic<int>& 
 void ConfinedPlatenTest::start(Simulation& sim, TestRecord& record) {
   const double p = pressure();
   sim.find<Jacket>()->set_pressure(p);
+  record.platen_velocity = scene_.loading.platen_velocity;  // start_along sets the rock's speed where asked
   if (!(p > 0.0)) {
     PlatenTest::start(sim, record);
     return;
   }
-  const double H = sim.specimen().height(), v = scene_.loading.platen_velocity;
+  const double H = sim.specimen().height(), v = velocity(record);
   const StaticResult iso = prepared_isotropic_ ? std::move(*prepared_isotropic_) : isotropic_state(sim, p);
   prepared_isotropic_.reset();
   record.preload_strain = iso.platen_displacement / H;

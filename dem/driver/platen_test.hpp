@@ -43,6 +43,12 @@ class PlatenTest : public LoadingProtocol {
   // N/m: the specimen's axial stiffness between the platens in the linear model, the mean platen force per unit of
   // platen closure (from the elastic start's closure solve, or a solve of its own when there was none).
   double axial_stiffness(const Simulation& sim);
+  // m/s: the top platen's speed of the run (record.platen_velocity once the start set it, else the scene's).
+  double velocity(const TestRecord& record) const;
+  // m/s: the platen speed of the explicit run from a static start that reached `strain` and `stress` (the curve's)
+  // from its base: loading.platen_velocity, or with loading.transit_strain_fraction > 0 the speed that follows the
+  // rock.
+  double rock_velocity(double strain, double stress, const Simulation& sim) const;
 
   const Scene& scene_;
   int curve_points_;

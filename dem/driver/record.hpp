@@ -21,6 +21,8 @@ struct TestRecord {
   double elastic_start_strain = 0;    // strain skipped by the static elastic start (0 if none)
   double preload_strain = 0;          // axial strain of a static preload before the axial loading (the isotropic
                                       // stage of a confined test; 0 if none)
+  double platen_velocity = 0;         // m/s, the top platen's speed in the explicit run: loading.platen_velocity, or
+                                      // set from the rock by loading.transit_strain_fraction (0 before the start)
   // sampling
   long sample_every = 1;              // explicit steps between curve samples
   double next_frame = 0;              // axial strain of the next regular frame
@@ -53,6 +55,7 @@ struct TestRecord {
     f("dt_block_estimate", r.dt_block_estimate);
     f("elastic_start_strain", r.elastic_start_strain);
     f("preload_strain", r.preload_strain);
+    f("platen_velocity", r.platen_velocity);
     f("sample_every", r.sample_every);
     f("next_frame", r.next_frame);
     f("peak", r.peak);

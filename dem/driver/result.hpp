@@ -62,6 +62,7 @@ struct TestResult {
   double mass_scaling = 1.0;
   double wall_seconds = 0;
   double elastic_start_strain = 0;  // strain skipped by the static elastic start (0 if none)
+  double platen_velocity = 0;       // m/s, the top platen's speed of the explicit run (0: a test without platens)
   double lateral_strain_at_peak = 0;  // -, compression positive (< 0: the specimen widened)
   // The signals of the test (dem/driver/signals.hpp, docs/theory.md, section 10); NaN where not defined.
   double poisson_ratio_at_half_peak = undefined_signal;  // -, tangent -d eps_l / d eps_a at 40-60 % of the peak

@@ -49,6 +49,7 @@ class BrazilianProtocol final : public PlatenTest {
   // full disc touches the platens at points: the contact is nonlinear, the run explicit from the first touch.
   void start(Simulation& sim, TestRecord& record) override {
     if (flattened()) PlatenTest::start(sim, record);
+    else record.platen_velocity = scene_.loading.platen_velocity;
   }
   bool lateral_signals() const override { return false; }
   void results(const Simulation& sim, const TestRecord& record, TestResult& result) const override {
@@ -84,6 +85,10 @@ ProtocolInfo brazilian_protocol() {
     if (scene.specimen.shape != "disc" && scene.mesh.file.empty())
       throw SceneError("the Brazilian test loads a disc: set specimen.shape = \"disc\" (and specimen.diameter)");
     refuse_confining_pressure("brazilian", scene);
+    if (scene.loading.transit_strain_fraction > 0.0 && !(scene.specimen.contact_arc_deg > 0.0))
+      throw SceneError("loading.transit_strain_fraction sets the platen speed from the static elastic start, which a "
+                       "disc touched at points (specimen.contact_arc_deg = 0) has not: give a contact arc, or set "
+                       "loading.transit_strain_fraction = 0 and loading.platen_velocity");
   };
   p.make = [](const Scene& scene, int curve_points) {
     return std::make_unique<BrazilianProtocol>(scene, curve_points);

@@ -143,6 +143,8 @@ ProtocolInfo hold_protocol() {
                                    l.hold_stress, l.confining_pressure));
     if (l.fast_factor > 1.0)
       throw SceneError("rbdem hold sets the platen's speed itself: set loading.fast_factor = 1");
+    if (l.transit_strain_fraction > 0.0)
+      throw SceneError("rbdem hold loads at loading.platen_velocity: set loading.transit_strain_fraction = 0");
   };
   p.make = [](const Scene& scene, int curve_points) { return std::make_unique<HoldProtocol>(scene, curve_points); };
   p.headline = [](const TestResult& r) {
