@@ -61,6 +61,10 @@ TEST(Quaternion, MapsAndHalfRotationInvertEachOther) {
   EXPECT_NEAR(norm(rotation_vector(q) - phi), 0.0, 1e-14);
   const Quat h = half_rotation(q), hh = h * h;
   EXPECT_NEAR(std::abs(hh.w - q.w) + std::abs(hh.x - q.x) + std::abs(hh.y - q.y) + std::abs(hh.z - q.z), 0, 1e-15);
+  for (double angle : {0.0099, 0.0101}) {  // either side of rotation_vector's series
+    const Vec3 a = (angle / std::sqrt(14.0)) * Vec3{1, -2, 3};
+    EXPECT_NEAR(norm(rotation_vector(from_rotation_vector(a)) - a), 0.0, 1e-17);
+  }
   const Vec3 tiny{3e-9, -1e-9, 2e-9};  // the small-angle branches
   EXPECT_NEAR(norm(rotation_vector(from_rotation_vector(tiny)) - tiny), 0.0, 1e-24);
   const Mat3 R = matrix(q);
@@ -252,6 +256,28 @@ TEST(CriticalStep3, BlockEstimateIsBelowTheExactLimitOfABondedBlock) {
               estimate / exact);
   EXPECT_LT(estimate, exact);
   EXPECT_GT(estimate, 0.1 * exact);  // conservative, not useless
+  // The step itself has the central difference's limit: under the linearised bond, undamped, a motion started
+  // in every mode stays bounded at 0.98 dt_crit and grows without bound at 1.02 dt_crit.
+  const RigidBody3 body{bj.mass, bj.inertia.moments, bj.inertia.rotation};
+  auto growth = [&](double dt) {
+    RigidState3 s;
+    s.v = {1e-6, -2e-6, 3e-6}, s.omega = {1e-3, 2e-3, -1e-3};
+    double early = 0, late = 0;
+    for (int n = 0; n < 400; ++n) {
+      const Vec3 r = rotation_vector(s.q);
+      Eigen::Matrix<double, 6, 1> u;
+      u << s.x.x, s.x.y, s.x.z, r.x, r.y, r.z;
+      const Eigen::Matrix<double, 6, 1> load = -K * u;
+      rigid_step(body, s, {load(0), load(1), load(2)}, {load(3), load(4), load(5)}, dt, 0.0);
+      (n < 100 ? early : late) = std::max(n < 100 ? early : late, std::abs(dot(s.v, s.v) * bj.mass));
+    }
+    return late / early;
+  };
+  const double below = growth(0.98 * exact), above = growth(1.02 * exact);
+  std::printf("[ rigid3 ] kinetic energy growth over 400 steps: %.2g at 0.98 dt_crit, %.2g at 1.02 dt_crit\n", below,
+              above);
+  EXPECT_LT(below, 100.0);
+  EXPECT_GT(above, 1e6);
 }
 
 }  // namespace

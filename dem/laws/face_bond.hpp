@@ -82,7 +82,7 @@ struct FaceBond {
   BondLoad load(const FaceSection& s, const FaceForces& f) const {
     const BondStrength& st = strength;
     const double sigma_c_A = st.sigma_c * s.A;
-    const double shear = std::hypot(f.fs1, f.fs2) + st.beta_m * s.A * std::abs(f.mt) * s.r_max / s.J;
+    const double shear = std::sqrt(f.fs1 * f.fs1 + f.fs2 * f.fs2) + st.beta_m * s.A * std::abs(f.mt) * s.r_max / s.J;
     return {-f.fn + st.beta_m * bending_load(s, f.m1, f.m2), sigma_c_A, shear,
             st.cohesion * s.A - std::min(-f.fn, sigma_c_A) * st.tan_phi};
   }
@@ -156,7 +156,7 @@ inline FaceLinearPart face_linear_part(const LinearContact& law, const FaceOverl
   FaceLinearPart out;
   out.fn = law.normal_force(o.volume, o.area);  // K V A_c / A^2: inv_lref is 1 / A here
   const double c = -law.Ks * o.area * law.inv_lref * dt;
-  const double t1 = fs1 + c * vs1, t2 = fs2 + c * vs2, mag = std::hypot(t1, t2), limit = law.mu * out.fn;
+  const double t1 = fs1 + c * vs1, t2 = fs2 + c * vs2, mag = std::sqrt(t1 * t1 + t2 * t2), limit = law.mu * out.fn;
   const double scale = mag > limit ? limit / mag : 1.0;
   out.slides = out.fn > 0.0 && mag > limit;
   out.fs1 = out.fn > 0.0 ? scale * t1 : 0.0, out.fs2 = out.fn > 0.0 ? scale * t2 : 0.0;

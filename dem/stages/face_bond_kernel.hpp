@@ -59,23 +59,24 @@ struct FaceBondEval {
   Vec3 p;                   // m, the bond point (world)
 };
 
-// The relative motion of the pair at the bond and the frame it is measured in (q_m and the world arms).
+// The relative motion of the pair at the bond and the frame it is measured in.
 struct FaceKinematics {
   FaceMotion motion;
-  Quat qm;
+  Mat3 frame;      // the face frame now: rows e1, e2, n turned by q_m (world components)
   Vec3 g, ci, cj;  // the gap p_j - p_i and the bond point (midway) from each centroid
 };
 inline FaceKinematics face_kinematics(const FaceBondFrame& b, const BlockKin3& I, const BlockKin3& J) {
   FaceKinematics k;
   Quat rel = conj(I.q) * J.q;
   if (rel.w < 0) rel = {-rel.w, -rel.x, -rel.y, -rel.z};  // the shorter arc: q and -q are one rotation
-  k.qm = I.q * half_rotation(rel);
+  const Mat3 Rm = matrix(I.q * half_rotation(rel));
+  k.frame = {{Rm * b.axes.r[0], Rm * b.axes.r[1], Rm * b.axes.r[2]}};
   const Vec3 ai = rotate(I.q, b.ri), aj = rotate(J.q, b.rj);
   k.g = (J.x + aj) - (I.x + ai);
   k.ci = ai + 0.5 * k.g, k.cj = aj - 0.5 * k.g;
-  // The gap in the face frame; the rotation vector of rel is in i's body axes, which are the mean frame's too
-  // (sqrt(rel) turns about the same axis), so the rest frame's axes resolve both.
-  const Vec3 d = b.axes * rotate_back(k.qm, k.g), t = b.axes * rotation_vector(rel);
+  // The gap in the face frame now; the rotation vector of rel is in i's body axes, which are the mean frame's
+  // too (sqrt(rel) turns about the same axis), so the rest frame's axes resolve it.
+  const Vec3 d = k.frame * k.g, t = b.axes * rotation_vector(rel);
   k.motion = {d.x, d.y, d.z, t.x, t.y, t.z};
   return k;
 }
@@ -92,18 +93,18 @@ inline FaceBondEval eval_face_bond(const FaceBondFrame& b, const BlockKin3& I, c
   // The linear part on the compressed part of the face, at the centroid of that part; the slip rate is the
   // relative velocity of the two blocks' material points there.
   const FaceOverlap o = face_overlap(b.section, u.dn, u.t1, u.t2);
-  const Vec3 lever = rotate(k.qm, b.axes.transposed_times({o.c1, o.c2, 0.0}));
+  const Vec3 lever = k.frame.transposed_times({o.c1, o.c2, 0.0});
   const Vec3 pc = k.ci + lever;  // the contact point from i's centroid; from j's it is pc - (x_j - x_i)
   const Vec3 pcj = k.cj + lever;
   const Vec3 vrel = (J.v + cross(J.omega, pcj)) - (I.v + cross(I.omega, pc));
-  const Vec3 vs = b.axes * rotate_back(k.qm, vrel);
+  const Vec3 vs = k.frame * vrel;
   const LinearContact law{b.k.kn, b.k.ks, b.mu, 1.0 / b.section.A};
   out.linear = face_linear_part(law, o, vs.x, vs.y, dt, fs1, fs2);
   // Frame components to world: the parallel bond at the bond point, the linear part at the contact point.
   const FaceForces& f = out.pb;
-  const Vec3 fb = rotate(k.qm, b.axes.transposed_times({f.fs1, f.fs2, f.fn}));
-  const Vec3 mb = rotate(k.qm, b.axes.transposed_times({f.m1, f.m2, f.mt}));
-  const Vec3 fl = rotate(k.qm, b.axes.transposed_times({out.linear.fs1, out.linear.fs2, out.linear.fn}));
+  const Vec3 fb = k.frame.transposed_times({f.fs1, f.fs2, f.fn});
+  const Vec3 mb = k.frame.transposed_times({f.m1, f.m2, f.mt});
+  const Vec3 fl = k.frame.transposed_times({out.linear.fs1, out.linear.fs2, out.linear.fn});
   out.f = keep * fb + fl;
   const Vec3 ml = cross(lever, fl);  // the linear part's moment about the bond point
   out.mj = cross(k.cj, out.f) + ml + keep * mb;
