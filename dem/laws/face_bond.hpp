@@ -70,6 +70,13 @@ struct FaceBond {
     return {-k.ks * u.d1, -k.ks * u.d2, -k.kn * u.dn, -k.kb1 * u.t1, -k.kb2 * u.t2, -k.kt * u.tn};
   }
 
+  // The elastic energy (J) the parallel bond stores at the forces f: 1/2 (F_n^2 / K_n + |F_s|^2 / K_s + M_1^2 /
+  // kb_1 + M_2^2 / kb_2 + M_t^2 / kb_t).
+  static double strain_energy(const FaceStiffness& k, const FaceForces& f) {
+    return 0.5 * (f.fn * f.fn / k.kn + (f.fs1 * f.fs1 + f.fs2 * f.fs2) / k.ks + f.m1 * f.m1 / k.kb1 +
+                  f.m2 * f.m2 / k.kb2 + f.mt * f.mt / k.kt);
+  }
+
   // The largest bending stress times A over the face's vertices: A max_k (-M_1 y2_k / I1 + M_2 y1_k / I2) (N).
   static double bending_load(const FaceSection& s, double m1, double m2) {
     double top = -std::numeric_limits<double>::infinity();
