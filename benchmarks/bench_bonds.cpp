@@ -19,6 +19,12 @@ namespace {
 
 using namespace rbdem;
 
+// The time per bond-step of `n` bonds per iteration (CPU time, as Google Benchmark's rates).
+benchmark::Counter per_bond_step(int n, const benchmark::State& state) {
+  return benchmark::Counter(double(n) * double(state.iterations()),
+                            benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
 // `n` bonds on random faces (edges of 0.5 to 1.5 mm) between a tetrahedron below and one above, each pair strained
 // by a random relative motion of up to 1e-7 m and 1e-4 rad (the linear part closed on some, open or partly open on
 // the others), with moving blocks.
@@ -32,7 +38,8 @@ struct FaceBonds {
     auto vec = [&](double s) { return Vec3{s * u(rng), s * u(rng), s * u(rng)}; };
     const FaceBond law{1.0 / 2.5, {10e6, 20e6, 0.5, 1.0}, 0.0};
     for (int b = 0; b < n; ++b) {
-      const Tri face{{Vec3{0, 0, 0} + vec(0.2e-3), Vec3{1e-3, 0, 0} + vec(0.3e-3), Vec3{0.3e-3, 1e-3, 0} + vec(0.3e-3)}};
+      const Tri face{
+          {Vec3{0, 0, 0} + vec(0.2e-3), Vec3{1e-3, 0, 0} + vec(0.3e-3), Vec3{0.3e-3, 1e-3, 0} + vec(0.3e-3)}};
       const Vec3 mid = (1.0 / 3.0) * ((face[0] + face[1]) + face[2]);
       const Vec3 ci = mid + Vec3{0, 0, -0.25e-3} + vec(0.1e-3), cj = mid + Vec3{0, 0, 0.25e-3} + vec(0.1e-3);
       frame.push_back(stages::face_bond_frame(ci, cj, face, law, 10e9, 0.6));
@@ -58,8 +65,7 @@ void BM_FaceBond3D(benchmark::State& state) {
     benchmark::DoNotOptimize(sum);
   }
   state.counters["bonds"] = n;
-  state.counters["ns_per_bond_step"] =
-      benchmark::Counter(double(n) * double(state.iterations()), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["ns_per_bond_step"] = per_bond_step(n, state);
 }
 BENCHMARK(BM_FaceBond3D)->Arg(4096)->Unit(benchmark::kMicrosecond);
 
@@ -84,8 +90,7 @@ void BM_EdgeBond2D(benchmark::State& state) {
     benchmark::DoNotOptimize(sum);
   }
   state.counters["bonds"] = n;
-  state.counters["ns_per_bond_step"] =
-      benchmark::Counter(double(n) * double(state.iterations()), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["ns_per_bond_step"] = per_bond_step(n, state);
 }
 BENCHMARK(BM_EdgeBond2D)->Unit(benchmark::kMicrosecond);
 

@@ -69,13 +69,13 @@ Face face_of(const Tri& t) {
   const double phi = 0.5 * std::atan2(2.0 * cuv, cuu - cvv);
   f.e1 = std::cos(phi) * u + std::sin(phi) * v;
   f.e2 = cross(f.normal, f.e1);
-  for (int k = 0; k < 3; ++k) {
-    const Vec3 d = t[std::size_t(k)] - f.centroid;
-    f.y1[std::size_t(k)] = dot(d, f.e1), f.y2[std::size_t(k)] = dot(d, f.e2);
-    f.r_max = std::max(f.r_max, norm(d));
-  }
   double s11 = 0, s22 = 0;
-  for (int k = 0; k < 3; ++k) s11 += f.y1[std::size_t(k)] * f.y1[std::size_t(k)], s22 += f.y2[std::size_t(k)] * f.y2[std::size_t(k)];
+  for (std::size_t k = 0; k < 3; ++k) {
+    const Vec3 d = t[k] - f.centroid;
+    f.y1[k] = dot(d, f.e1), f.y2[k] = dot(d, f.e2);
+    f.r_max = std::max(f.r_max, norm(d));
+    s11 += f.y1[k] * f.y1[k], s22 += f.y2[k] * f.y2[k];
+  }
   f.I2 = f.area / 12.0 * s11, f.I1 = f.area / 12.0 * s22;
   f.J = f.I1 + f.I2;
   return f;

@@ -230,7 +230,9 @@ struct Pair {
 };
 
 // The pair moved by a finite rigid motion: each block's centroid c -> R c + t and rotation q -> r q.
-BlockKin3 moved(const BlockKin3& b, Quat r, Vec3 t) { return {rotate(r, b.x) + t, r * b.q, rotate(r, b.v), rotate(r, b.omega)}; }
+BlockKin3 moved(const BlockKin3& b, Quat r, Vec3 t) {
+  return {rotate(r, b.x) + t, r * b.q, rotate(r, b.v), rotate(r, b.omega)};
+}
 
 TEST(FaceBondKernel, RotationAboutE1ThroughTheFaceIsPureBending) {
   const Pair p;
@@ -269,8 +271,8 @@ TEST(FaceBondKernel, FiniteRigidMotionGivesNoForceAndKeepsAStrainedBondsForces) 
   EXPECT_LT(o.area, 0.99 * b.section.A);
   // On the same scales F and M: positions are differences of coordinates of about a millimetre, whose round-off
   // (1e-19 m) is what the gap of a strained bond can resolve.
-  for (auto [x, y] : {std::pair{before.pb.fn, after.pb.fn}, {before.pb.fs1, after.pb.fs1}, {before.pb.fs2, after.pb.fs2},
-                      {before.linear.fn, after.linear.fn}})
+  for (auto [x, y] : {std::pair{before.pb.fn, after.pb.fn}, {before.pb.fs1, after.pb.fs1},
+                      {before.pb.fs2, after.pb.fs2}, {before.linear.fn, after.linear.fn}})
     EXPECT_NEAR(x, y, 1e-12 * F);
   for (auto [x, y] : {std::pair{before.pb.m1, after.pb.m1}, {before.pb.m2, after.pb.m2}, {before.pb.mt, after.pb.mt}})
     EXPECT_NEAR(x, y, 1e-12 * M);
