@@ -10,6 +10,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <cstdio>
 #include <map>
 #include <stdexcept>
@@ -40,14 +41,15 @@ const TetMesh& specimen(double dip, double dip_direction, double h, Shape3 shape
 }
 
 // Between frictionless platens the mean stress is exactly uniaxial (fe_3d.hpp), so the mean-strain modulus and the
-// apparent Poisson's ratios are Amadei's to round-off on any mesh; the platens' modulus carries the faceting error
-// of the cylinder's side, within `platen_tol`.
+// apparent Poisson's ratios are Amadei's on any mesh, to round-off and the CG tolerance (1e-10 relative residual
+// leaves up to about 2e-10 in them); the platens' modulus carries the faceting error of the cylinder's side,
+// within `platen_tol`.
 void expect_amadei(const Fe3Result& fe, double dip, double platen_tol, const char* what) {
   const theory::Uniaxial3 a = theory::amadei_uniaxial_3d(layered, dip);
   EXPECT_NEAR(fe.apparent_modulus / a.modulus - 1, 0.0, platen_tol) << what << " dip " << dip;
-  EXPECT_NEAR(fe.mean_strain_modulus / a.modulus - 1, 0.0, 1e-10) << what << " dip " << dip;
-  EXPECT_NEAR(fe.poisson_strike, a.poisson_strike, 1e-10) << what << " dip " << dip;
-  EXPECT_NEAR(fe.poisson_dip, a.poisson_dip, 1e-10) << what << " dip " << dip;
+  EXPECT_NEAR(fe.mean_strain_modulus / a.modulus - 1, 0.0, 1e-8) << what << " dip " << dip;
+  EXPECT_NEAR(fe.poisson_strike, a.poisson_strike, 1e-8) << what << " dip " << dip;
+  EXPECT_NEAR(fe.poisson_dip, a.poisson_dip, 1e-8) << what << " dip " << dip;
 }
 
 // P1 on the 4 mm cylinder (about 16,000 tetrahedra; the material turned to each dip on the 60 deg specimen's mesh):
@@ -88,9 +90,9 @@ TEST(Fe3D, IsotropicLimitGivesEAndNu) {
   const auto iso = theory::TIConstants::isotropic(50e9, 0.25);
   const Fe3Result r = solve_elastic_3d(specimen(60, 0, 0.008), iso, 60, 0);
   EXPECT_NEAR(r.apparent_modulus / 50e9, 1.0, 1e-4);  // faceting at 8 mm (DISABLED_FacetingConvergence)
-  EXPECT_NEAR(r.mean_strain_modulus / 50e9, 1.0, 1e-10);
-  EXPECT_NEAR(r.poisson_strike, 0.25, 1e-10);
-  EXPECT_NEAR(r.poisson_dip, 0.25, 1e-10);
+  EXPECT_NEAR(r.mean_strain_modulus / 50e9, 1.0, 1e-8);
+  EXPECT_NEAR(r.poisson_strike, 0.25, 1e-8);
+  EXPECT_NEAR(r.poisson_dip, 0.25, 1e-8);
 }
 
 // On the prism the uniform stress is exact: both elements and both solvers reproduce Amadei to round-off, and the
@@ -154,27 +156,53 @@ TEST(Fe3D, DISABLED_FacetingConvergence) {
     }
 }
 
-// The costs of docs/continuum.md: the 60 deg cylinder at 4, 3 and 2 mm, P1 (CG+AMG) and, at 4 mm, P2.
+// The seven-dip table of docs/continuum.md: each dip's own jointed 4 mm cylinder (joints every 25 mm), P1 and P2.
+TEST(Fe3D, DISABLED_SevenDipTable) {
+  std::printf("dip  Amadei E_z (GPa)  P1 E_z (GPa)  P1 error   P2 E_z (GPa)  P2 error   nu_s Amadei  nu_s P1   "
+              "nu_s P2   nu_d Amadei  nu_d P1   nu_d P2\n");
+  Fe3Options p2;
+  p2.degree = 2;
+  for (double dip : dips) {
+    const TetMesh& m = specimen(dip, 0.0, 0.004);
+    const Fe3Result a = solve_elastic_3d(m, layered, dip, 0.0), b = solve_elastic_3d(m, layered, dip, 0.0, p2);
+    const theory::Uniaxial3 t = theory::amadei_uniaxial_3d(layered, dip);
+    std::printf("%3.0f  %16.4f  %12.4f  %8.1e  %12.4f  %8.1e  %11.5f  %8.5f  %8.5f  %11.5f  %8.5f  %8.5f\n", dip,
+                t.modulus / 1e9, a.apparent_modulus / 1e9, a.apparent_modulus / t.modulus - 1,
+                b.apparent_modulus / 1e9, b.apparent_modulus / t.modulus - 1, t.poisson_strike, a.poisson_strike,
+                b.poisson_strike, t.poisson_dip, a.poisson_dip, b.poisson_dip);
+  }
+}
+
+// The costs of docs/continuum.md: the 60 deg cylinder (joints every 10 mm) at 4, 3 and 2 mm, P1 with CG+AMG at
+// each size, and at 4 mm also P1 with UMFPACK and P2 with CG+AMG. Wall and processor seconds (std::clock) both:
+// on a shared machine the wall time grows with the load, the processor time of these one-thread stages does not.
 TEST(Fe3D, DISABLED_CostTable) {
-  std::printf("h (mm)  mesh (s)  tets     rock faces  joint faces  min dihedral  slivers  degree  DoFs      "
-              "solver  iterations  assemble (s)  solve (s)  E rel. error\n");
+  std::printf("h (mm)  tets    nodes   rock faces  joint faces  min dihedral  slivers  mesh wall/cpu (s)  degree  "
+              "DoFs     solver  iter  assemble (s)  solve (s)  FE wall/cpu (s)  E error\n");
+  auto cpu = [] { return double(std::clock()) / CLOCKS_PER_SEC; };
   for (double h : {0.004, 0.003, 0.002}) {
     SpecimenGeometry3 g;
     g.set1 = {60.0, 0.0, 0.01, 0.0};
+    const double c0 = cpu();
     const TetMesh m = mesh_specimen3(g, h);
+    const double mesh_cpu = cpu() - c0;
     const TetMeshReport r = report(m);
     for (int run : {0, 1, 2}) {  // P1 (CG+AMG), P1 (UMFPACK), P2 (CG+AMG)
       if (run > 0 && h < 0.004) continue;
       Fe3Options o;
       o.degree = run == 2 ? 2 : 1;
       o.solver = run == 1 ? Solver::direct : Solver::cg_amg;
-      const int degree = o.degree;
+      const auto w0 = std::chrono::steady_clock::now();
+      const double c1 = cpu();
       const Fe3Result fe = solve_elastic_3d(m, layered, 60, 0, o);
-      std::printf("%6.1f  %8.2f  %7zu  %10zu  %11zu  %12.2f  %7zu  %6d  %8zu  %6s  %10u  %12.2f  %9.2f  %11.1e\n",
-                  h * 1e3, r.mesh_seconds, r.tets, r.rock_faces, r.joint_faces, r.min_dihedral_deg, r.slivers,
-                  degree, fe.dofs, fe.solver_used == Solver::direct ? "direct" : "cg+amg", fe.iterations,
-                  fe.assemble_seconds,
-                  fe.solve_seconds, fe.apparent_modulus / theory::amadei_uniaxial_3d(layered, 60).modulus - 1);
+      const double fe_cpu = cpu() - c1;
+      const double fe_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+      std::printf("%6.1f  %6zu  %6zu  %10zu  %11zu  %12.2f  %7zu  %8.2f / %6.2f  %6d  %7zu  %6s  %4u  %12.2f  %9.2f  "
+                  "%7.2f / %6.2f  %7.1e\n",
+                  h * 1e3, r.tets, r.nodes, r.rock_faces, r.joint_faces, r.min_dihedral_deg, r.slivers,
+                  r.mesh_seconds, mesh_cpu, o.degree, fe.dofs, fe.solver_used == Solver::direct ? "direct" : "cg+amg",
+                  fe.iterations, fe.assemble_seconds, fe.solve_seconds, fe_wall, fe_cpu,
+                  fe.apparent_modulus / theory::amadei_uniaxial_3d(layered, 60).modulus - 1);
     }
   }
 }

@@ -105,6 +105,7 @@ TEST(Amadei3D, RotatedComplianceEqualsWrittenOutFormulas) {
       EXPECT_NEAR(tensor.modulus, closed.modulus, 1e-12 * layered.E) << dip << " " << dd;
       EXPECT_NEAR(tensor.strain_strike, closed.strain_strike, 1e-12 / layered.E) << dip << " " << dd;
       EXPECT_NEAR(tensor.strain_dip, closed.strain_dip, 1e-12 / layered.E) << dip << " " << dd;
+      EXPECT_NEAR(tensor.shear_dip, closed.shear_dip, 1e-12 / layered.E) << dip << " " << dd;
     }
   // Loading normal to the bedding (dip 0) gives E' and nu'; along it (dip 90) E, with nu along the strike and
   // nu' E/E' across the bedding.

@@ -104,6 +104,11 @@ Uniaxial3 uniaxial_from_compliance(const TIConstants& c, double dip_deg, double 
   u.strain_dip = along(eps, axes.dip_direction);
   u.poisson_strike = -u.strain_strike / S[2][2];
   u.poisson_dip = -u.strain_dip / S[2][2];
+  const Vec3 z{0.0, 0.0, 1.0};
+  double zd = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) zd += z[i] * eps[i][j] * axes.dip_direction[j];
+  u.shear_dip = 2.0 * zd;
   return u;
 }
 
@@ -117,6 +122,8 @@ Uniaxial3 amadei_uniaxial_3d(const TIConstants& c, double dip_deg) {
   u.strain_dip = s2 * c2 * (1.0 / c.E + 1.0 / c.E_prime - 1.0 / c.G_prime) - (s2 * s2 + c2 * c2) * c.nu_prime / c.E_prime;
   u.poisson_strike = -u.strain_strike / s_zz;
   u.poisson_dip = -u.strain_dip / s_zz;
+  u.shear_dip = 2.0 * s * co *
+                (s2 / c.E - c2 / c.E_prime + c.nu_prime * (s2 - c2) / c.E_prime + (c2 - s2) / (2.0 * c.G_prime));
   return u;
 }
 

@@ -39,6 +39,7 @@ struct Uniaxial3 {
   double modulus = 0;
   double strain_strike = 0, strain_dip = 0;
   double poisson_strike = 0, poisson_dip = 0;
+  double shear_dip = 0;  // engineering shear strain gamma_zd = 2 z . eps . d per unit axial stress, 1/Pa
 };
 // From the rotated compliance: eps = S e_z, read along the two horizontal axes.
 Uniaxial3 uniaxial_from_compliance(const TIConstants& c, double dip_deg, double dip_direction_deg);
