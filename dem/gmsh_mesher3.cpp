@@ -75,7 +75,8 @@ void cut_by_planes(const MeshJob3& job) {
 
 // The volumes in layer order, each a physical volume "layer_<l>": by the number of planes of the first set below
 // the volume's centre of mass, then of the second set (so the layers of one set run along its normal).
-std::vector<int> group_layers(const MeshJob3& job, std::vector<std::string>& names) {
+std::vector<int> group_layers(const MeshJob3& job, std::vector<std::string>& names,
+                              std::vector<std::array<int, 2>>& rows) {
   gmsh::vectorpair volumes;
   gmsh::model::getEntities(volumes, 3);
   const Vec c = job.centre;
@@ -94,6 +95,7 @@ std::vector<int> group_layers(const MeshJob3& job, std::vector<std::string>& nam
   std::vector<int> tags;
   for (std::size_t l = 0; l < order.size(); ++l) {
     names.push_back(fmt::format("layer_{}", l));
+    rows.push_back(order[l].first);
     const int pg = gmsh::model::addPhysicalGroup(3, {order[l].second});
     gmsh::model::setPhysicalName(3, pg, names.back());
     tags.push_back(order[l].second);
@@ -159,13 +161,15 @@ TetMesh mesh_specimen3_now(const MeshJob3& job) {
     gmsh::model::add("specimen3");
     cut_by_planes(job);
     std::vector<std::string> names;
-    const std::vector<int> layers = group_layers(job, names);
+    std::vector<std::array<int, 2>> rows;
+    const std::vector<int> layers = group_layers(job, names, rows);
     gmsh::option::setNumber("Mesh.MeshSizeMin", job.h);
     gmsh::option::setNumber("Mesh.MeshSizeMax", job.h);
     gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
     gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
     gmsh::model::mesh::generate(3);
     mesh = collect_tets(layers, std::move(names));
+    mesh.layer_rows = std::move(rows);
   } catch (const std::exception& e) {
     throw SceneError(fmt::format("gmsh failed to mesh the 3D specimen: {} (check the specimen's sizes, the joint "
                                  "planes and the mesh size)",

@@ -95,7 +95,13 @@ std::vector<SharedFace> shared_faces(const TetMesh& mesh) {
       mesh,
       [&](const FaceEntry& a, const FaceEntry& b) {
         const bool joint = !mesh.layer.empty() && mesh.layer[a.tet] != mesh.layer[b.tet];
-        out.push_back({face_nodes(mesh, a.tet, a.local), {a.tet, b.tet}, joint});
+        int set = joint ? 0 : -1;
+        if (joint && !mesh.layer_rows.empty()) {
+          const auto& ra = mesh.layer_rows[std::size_t(mesh.layer[a.tet])];
+          const auto& rb = mesh.layer_rows[std::size_t(mesh.layer[b.tet])];
+          set = ra[0] != rb[0] ? 0 : 1;
+        }
+        out.push_back({face_nodes(mesh, a.tet, a.local), {a.tet, b.tet}, joint, set});
       },
       [](const FaceEntry&) {});
   std::sort(out.begin(), out.end(), [](const SharedFace& a, const SharedFace& b) { return a.tets < b.tets; });

@@ -30,6 +30,9 @@ struct TetMesh {
   std::vector<std::array<int, 4>> tets;      // node indices, positive volume
   std::vector<int> layer;                    // layer id per tetrahedron (0 .. layer_names.size()-1)
   std::vector<std::string> layer_names;      // one per layer, ordered along the first joint set's normal
+  // Per layer (may be empty): how many planes of the first and of the second joint set lie below it along their
+  // normals. Two layers that differ in the first count meet on a plane of the first set.
+  std::vector<std::array<int, 2>> layer_rows;
   std::vector<BoundaryFace> boundary;        // the surface, each face tagged bottom, top or lateral
   std::vector<std::string> notes;            // what the mesher adjusted (planes left out, nodes snapped)
   double mesh_seconds = 0;                   // wall time gmsh took (geometry, fragment, mesh), s
@@ -44,11 +47,12 @@ struct SharedFace {
   std::array<int, 3> nodes;  // ordered so that (b - a) x (c - a) points from tets[0] into tets[1]
   std::array<int, 2> tets;
   bool joint = false;
+  int set = -1;  // -1: rock (one layer); 0: a joint of the first set, 1: of the second (TetMesh::layer_rows)
 };
 
 // Signed volume of tetrahedron t, m^3 (positive in a valid mesh).
 double tet_volume(const TetMesh& mesh, std::size_t t);
-// Every face shared by two tetrahedra, in order of (tets[0], local face). Throws std::invalid_argument when a face
+// Every face shared by two tetrahedra, in order of (tets[0], tets[1]). Throws std::invalid_argument when a face
 // belongs to more than two tetrahedra (a broken mesh).
 std::vector<SharedFace> shared_faces(const TetMesh& mesh);
 // The faces of only one tetrahedron (the surface), outward, tagged by height: all three nodes within `tol` of the

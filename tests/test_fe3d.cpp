@@ -173,6 +173,20 @@ TEST(Fe3D, DISABLED_SevenDipTable) {
   }
 }
 
+// Bonded against frictionless platens, P1 on each dip's own 4 mm cylinder: the end effect of docs/continuum.md.
+TEST(Fe3D, DISABLED_BondedTable) {
+  std::printf("dip  Amadei E_z (GPa)  frictionless (GPa)  bonded (GPa)  bonded / frictionless - 1\n");
+  Fe3Options bonded;
+  bonded.platens = Platens::bonded;
+  for (double dip : dips) {
+    const TetMesh& m = specimen(dip, 0.0, 0.004);
+    const double free = solve_elastic_3d(m, layered, dip, 0.0).apparent_modulus;
+    const double held = solve_elastic_3d(m, layered, dip, 0.0, bonded).apparent_modulus;
+    std::printf("%3.0f  %16.4f  %18.4f  %12.4f  %25.4f\n", dip, theory::amadei_uniaxial_3d(layered, dip).modulus / 1e9,
+                free / 1e9, held / 1e9, held / free - 1);
+  }
+}
+
 // The costs of docs/continuum.md: the 60 deg cylinder (joints every 10 mm) at 4, 3 and 2 mm, P1 with CG+AMG at
 // each size, and at 4 mm also P1 with UMFPACK and P2 with CG+AMG. Wall and processor seconds (std::clock) both:
 // on a shared machine the wall time grows with the load, the processor time of these one-thread stages does not.

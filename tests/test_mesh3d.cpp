@@ -112,13 +112,30 @@ TEST(Mesh3D, CylinderJointFacesLieOnTheirPlanesAtAnyDipDirection) {
   g.set2 = {70.0, 120.0, 0.03, 0.004};
   const TetMesh m = mesh_specimen3(g, 0.008);
   const auto planes = joint_planes(g, 0.004);
-  std::size_t joints = 0;
+  std::vector<JointPlane> set1, set2;
+  for (const auto& p : planes) (p.set == 0 ? set1 : set2).push_back(p);
+  std::array<std::size_t, 2> joints{0, 0};
   for (const auto& f : shared_faces(m)) {
     EXPECT_EQ(f.joint, on_a_plane(m, f.nodes, planes, g.centre(), 1e-9));
-    joints += f.joint;
+    // The set a joint face is given is the set whose plane it lies on.
+    if (f.set >= 0) {
+      EXPECT_TRUE(on_a_plane(m, f.nodes, f.set == 0 ? set1 : set2, g.centre(), 1e-9));
+    }
+    if (f.joint) ++joints[std::size_t(f.set)];
   }
-  EXPECT_GT(joints, 0u);
+  EXPECT_GT(joints[0], 0u);
+  EXPECT_GT(joints[1], 0u);
   EXPECT_GT(m.num_layers(), planes.size() + 1);  // crossing sets cut more pieces than parallel planes would
+}
+
+// Without joints the specimen is one layer: every shared face is rock.
+TEST(Mesh3D, WithoutJointsTheSpecimenIsOneLayer) {
+  SpecimenGeometry3 g = cylinder(60.0, 0.0, 0.02);
+  g.joints = false;
+  const TetMeshReport r = report(mesh_specimen3(g, 0.01));
+  EXPECT_EQ(r.layers, 1u);
+  EXPECT_EQ(r.joint_faces, 0u);
+  EXPECT_GT(r.rock_faces, 0u);
 }
 
 // Every face of a tetrahedron is shared or on the surface; the surface is bottom and top (flat) and lateral.
