@@ -80,23 +80,25 @@ SymmetricTensor<4, dim> stiffness_tensor_3d(const theory::TIConstants& c, double
   return C;
 }
 
-struct Heights {
+struct Extent {
   double zmin = 0, zmax = 0, tol = 0;
+  Point<dim> centre;  // of the bounding box: where the AMG's rotation modes turn about
 };
 
-Heights heights(const TetMesh& mesh) {
-  Heights h{mesh.nodes[0][2], mesh.nodes[0][2], 0};
+Extent extent_of(const TetMesh& mesh) {
+  Extent h;
   double extent = 0;
   std::array<double, 3> lo = mesh.nodes[0], hi = mesh.nodes[0];
   for (const auto& p : mesh.nodes)
     for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], p[i]), hi[i] = std::max(hi[i], p[i]);
   for (int i = 0; i < 3; ++i) extent = std::max(extent, hi[i] - lo[i]);
   h.zmin = lo[2], h.zmax = hi[2], h.tol = 1e-6 * extent;
+  h.centre = Point<dim>(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2]));
   return h;
 }
 
 // One cell per tetrahedron, one vertex per node (the same numbering), the platens marked by height.
-void make_triangulation(const TetMesh& mesh, const Heights& z, Triangulation<dim>& tria) {
+void make_triangulation(const TetMesh& mesh, const Extent& z, Triangulation<dim>& tria) {
   std::vector<Point<dim>> vertices;
   vertices.reserve(mesh.nodes.size());
   for (const auto& p : mesh.nodes) vertices.emplace_back(p[0], p[1], p[2]);
@@ -119,7 +121,7 @@ void make_triangulation(const TetMesh& mesh, const Heights& z, Triangulation<dim
 // The prescribed DoFs: the platens' displacements and, for frictionless platens, the three pins of the rigid
 // horizontal motions (fe_3d.hpp).
 std::map<types::global_dof_index, double> fixed_dofs(const DoFHandler<dim>& dof, const Mapping<dim>& mapping,
-                                                     const Heights& z, const Fe3Options& o) {
+                                                     const Extent& z, const Fe3Options& o) {
   std::map<types::global_dof_index, double> fixed;
   const bool bonded = o.platens == Platens::bonded;
   const ComponentMask mask = bonded ? ComponentMask(3, true) : ComponentMask({false, false, true});
@@ -231,7 +233,7 @@ Fe3Result solve_elastic_3d(const TetMesh& mesh, const theory::TIConstants& c, do
   check_inputs(mesh, c, dip_deg, dip_direction_deg, options);
   Fe3Result result;
   Stopwatch clock;
-  const Heights z = heights(mesh);
+  const Extent z = extent_of(mesh);
   Triangulation<dim> tria;
   make_triangulation(mesh, z, tria);
   const FESystem<dim> fe(FE_SimplexP<dim>(options.degree), dim);
@@ -264,12 +266,11 @@ Fe3Result solve_elastic_3d(const TetMesh& mesh, const theory::TIConstants& c, do
   if (direct) {
     internal::solve_direct(K, b, u);
   } else {
-    const auto centre = 0.5 * (tria.get_vertices().front() + tria.get_vertices().back());
     internal::CgAmgSettings settings;
     settings.tolerance = options.cg_tolerance;
     settings.max_iterations = 10000;
     settings.higher_order = options.degree > 1;
-    const auto cg = internal::solve_cg_amg_3d(K, b, u, dof_geometry_3d(dof, mapping), centre, settings,
+    const auto cg = internal::solve_cg_amg_3d(K, b, u, dof_geometry_3d(dof, mapping), z.centre, settings,
                                               {"solve_elastic_3d", "Fe3Options",
                                                [](double v) { return std::to_string(v); }});
     result.iterations = cg.iterations;
