@@ -55,4 +55,9 @@ std::vector<int> count_node_copies(const TriMesh& mesh, const std::vector<Interf
 
 std::string dealii_version() { return module().dealii_version(); }
 
+Fe3Result solve_elastic_3d(const TetMesh& mesh, const theory::TIConstants& c, double dip_deg,
+                           double dip_direction_deg, const Fe3Options& options) {
+  return module().solve_elastic_3d(mesh, c, dip_deg, dip_direction_deg, options);
+}
+
 }  // namespace rbdem::continuum

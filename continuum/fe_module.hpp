@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <string>
 
+#include "continuum/fe_3d.hpp"
 #include "continuum/fe_disc.hpp"
 #include "continuum/fe_joints.hpp"
 #include "continuum/fe_model.hpp"
@@ -22,12 +23,13 @@
 namespace rbdem::continuum {
 
 // Bumped whenever a signature below or a struct it passes changes; the sizes catch a stale module as well.
-inline constexpr int fe_module_abi = 1;
+inline constexpr int fe_module_abi = 2;
 
 struct FeModule {
   int abi = fe_module_abi;
-  std::size_t sizes[6] = {sizeof(FeOptions), sizeof(FeResult), sizeof(JointedFeOptions), sizeof(JointedFeResult),
-                          sizeof(DiscOptions), sizeof(DiscResult)};
+  std::size_t sizes[9] = {sizeof(FeOptions),   sizeof(FeResult),   sizeof(JointedFeOptions),
+                          sizeof(JointedFeResult), sizeof(DiscOptions), sizeof(DiscResult),
+                          sizeof(Fe3Options),  sizeof(Fe3Result), sizeof(TetMesh)};
   FeResult (*solve_elastic)(const TriMesh&, const theory::TIConstants&, double, double, const FeOptions&) = nullptr;
   JointedFeResult (*solve_elastic_jointed)(const TriMesh&, const std::vector<theory::TIConstants>&, double,
                                            const std::vector<InterfaceEdge>&, double,
@@ -38,6 +40,8 @@ struct FeModule {
   std::vector<std::pair<int, int>> (*layer_interface_edges)(const TriMesh&) = nullptr;
   std::vector<int> (*count_node_copies)(const TriMesh&, const std::vector<InterfaceEdge>&) = nullptr;
   std::string (*dealii_version)() = nullptr;
+  Fe3Result (*solve_elastic_3d)(const TetMesh&, const theory::TIConstants&, double, double,
+                                const Fe3Options&) = nullptr;
 };
 
 }  // namespace rbdem::continuum

@@ -13,6 +13,7 @@ extern "C" __attribute__((visibility("default"))) const rbdem::continuum::FeModu
     m.layer_interface_edges = &layer_interface_edges;
     m.count_node_copies = &count_node_copies;
     m.dealii_version = &dealii_version;
+    m.solve_elastic_3d = &solve_elastic_3d;
     return m;
   }();
   return &table;

@@ -98,12 +98,16 @@ DofGeometry dof_geometry(const DoFHandler<dim>& dof) {
   return g;
 }
 
+namespace {
+
 // Smoothed-aggregation AMG (Trilinos ML, deal.II's elliptic defaults: Chebyshev smoother of degree 2, KLU on the
-// coarsest level) with the three rigid-body modes as near null space, preconditioning CG on the deal.II matrix. The
-// DoFs of a node are consecutive (FESystem numbering), which ML's "PDE equations" = 2 needs. Trilinos runs on
-// MPI_COMM_SELF: serial on each rank under mpirun.
-CgAmgReport solve_cg_amg(const SparseMatrix<double>& K, const Vector<double>& b, Vector<double>& u,
-                         const DofGeometry& geometry, const CgAmgSettings& settings, const SolveCaller& caller) {
+// coarsest level) with the rigid-body modes as near null space (`fill_modes` writes `n_modes` of them), preconditioning
+// CG on the deal.II matrix. The DoFs of a node are consecutive (FESystem numbering), which ML's "PDE equations" =
+// `components` needs. Trilinos runs on MPI_COMM_SELF: serial on each rank under mpirun.
+template <class FillModes>
+CgAmgReport run_cg_amg(const SparseMatrix<double>& K, const Vector<double>& b, Vector<double>& u, int components,
+                       int n_modes, FillModes fill_modes, double tolerance, unsigned max_iterations, bool higher_order,
+                       const SolveCaller& caller) {
   Stopwatch clock;
   CgAmgReport report;
   std::lock_guard<std::mutex> lock(trilinos_mutex());
@@ -114,23 +118,22 @@ CgAmgReport solve_cg_amg(const SparseMatrix<double>& K, const Vector<double>& b,
 
   TrilinosWrappers::PreconditionAMG::AdditionalData data;
   data.elliptic = true;
-  data.higher_order_elements = settings.higher_order;
+  data.higher_order_elements = higher_order;
   Teuchos::ParameterList parameters;
   std::unique_ptr<Epetra_MultiVector> no_modes;  // deal.II's constant modes would give translations only
   data.set_parameters(parameters, no_modes, K_epetra);
-  Epetra_MultiVector modes(K_epetra.trilinos_matrix().OperatorDomainMap(), 3);
-  assert(geometry.point.size() == n && geometry.component.size() == n);
-  fill_rigid_body_modes(geometry, settings.centre, modes);
+  Epetra_MultiVector modes(K_epetra.trilinos_matrix().OperatorDomainMap(), n_modes);
+  fill_modes(modes);
   parameters.set("null space: type", "pre-computed");
   parameters.set("null space: dimension", modes.NumVectors());
   parameters.set("null space: vectors", modes.Values());
-  parameters.set("PDE equations", dim);
+  parameters.set("PDE equations", components);
 
   TrilinosWrappers::PreconditionAMG amg;
   amg.initialize(K_epetra, parameters);
   report.precondition_seconds = clock.lap();
 
-  SolverControl control(settings.max_iterations, settings.tolerance * b.l2_norm());
+  SolverControl control(max_iterations, tolerance * b.l2_norm());
   SolverCG<Vector<double>> cg(control);
   try {
     cg.solve(K, u, b, amg);
@@ -141,6 +144,40 @@ CgAmgReport solve_cg_amg(const SparseMatrix<double>& K, const Vector<double>& b,
   }
   report.iterations = control.last_step();
   return report;
+}
+
+// The six rigid-body modes of 3D elasticity at the DoFs: three translations and the rotations about x, y and z
+// through `centre`.
+void fill_rigid_body_modes_3d(const DofGeometry3& geometry, const Point<3>& centre, Epetra_MultiVector& modes) {
+  for (std::size_t i = 0; i < geometry.component.size(); ++i) {
+    const int c = geometry.component[i];
+    assert(c == int(i % 3));  // node-wise (u_x, u_y, u_z) triples, as "PDE equations" = 3 assumes
+    const Tensor<1, 3> r = geometry.point[i] - centre;
+    for (int k = 0; k < 3; ++k) modes[k][i] = c == k ? 1.0 : 0.0;
+    // Rotation about axis a: u = e_a x r.
+    modes[3][i] = c == 0 ? 0.0 : c == 1 ? -r[2] : r[1];
+    modes[4][i] = c == 0 ? r[2] : c == 1 ? 0.0 : -r[0];
+    modes[5][i] = c == 0 ? -r[1] : c == 1 ? r[0] : 0.0;
+  }
+}
+
+}  // namespace
+
+CgAmgReport solve_cg_amg(const SparseMatrix<double>& K, const Vector<double>& b, Vector<double>& u,
+                         const DofGeometry& geometry, const CgAmgSettings& settings, const SolveCaller& caller) {
+  assert(geometry.point.size() == K.m() && geometry.component.size() == K.m());
+  return run_cg_amg(
+      K, b, u, dim, 3, [&](Epetra_MultiVector& modes) { fill_rigid_body_modes(geometry, settings.centre, modes); },
+      settings.tolerance, settings.max_iterations, settings.higher_order, caller);
+}
+
+CgAmgReport solve_cg_amg_3d(const SparseMatrix<double>& K, const Vector<double>& b, Vector<double>& u,
+                            const DofGeometry3& geometry, const Point<3>& centre, const CgAmgSettings& settings,
+                            const SolveCaller& caller) {
+  assert(geometry.point.size() == K.m() && geometry.component.size() == K.m());
+  return run_cg_amg(
+      K, b, u, 3, 6, [&](Epetra_MultiVector& modes) { fill_rigid_body_modes_3d(geometry, centre, modes); },
+      settings.tolerance, settings.max_iterations, settings.higher_order, caller);
 }
 
 double solve_direct(const SparseMatrix<double>& K, const Vector<double>& b, Vector<double>& u) {

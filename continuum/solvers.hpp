@@ -56,6 +56,16 @@ CgAmgReport solve_cg_amg(const dealii::SparseMatrix<double>& K, const dealii::Ve
                          dealii::Vector<double>& u, const DofGeometry& geometry, const CgAmgSettings& settings,
                          const SolveCaller& caller);
 
+// The same in 3D: the support point and component (0, 1, 2: u_x, u_y, u_z) of every DoF, and the six rigid-body
+// modes about `centre` as the AMG's near null space (settings.centre is not used).
+struct DofGeometry3 {
+  std::vector<dealii::Point<3>> point;
+  std::vector<unsigned char> component;
+};
+CgAmgReport solve_cg_amg_3d(const dealii::SparseMatrix<double>& K, const dealii::Vector<double>& b,
+                            dealii::Vector<double>& u, const DofGeometry3& geometry, const dealii::Point<3>& centre,
+                            const CgAmgSettings& settings, const SolveCaller& caller);
+
 // Solves K u = b with UMFPACK. Returns the seconds of the factorisation.
 double solve_direct(const dealii::SparseMatrix<double>& K, const dealii::Vector<double>& b, dealii::Vector<double>& u);
 

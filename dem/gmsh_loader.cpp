@@ -33,4 +33,10 @@ TriMesh mesh_with_gmsh(const MeshJob& job) { return mesh_or_throw(module().mesh_
 
 TriMesh read_with_gmsh(const std::filesystem::path& path) { return mesh_or_throw(module().read_msh(path.string())); }
 
+TetMesh mesh3_with_gmsh(const MeshJob3& job) {
+  MeshOutcome3 out = module().mesh_specimen3(job);
+  if (!out.error.empty()) throw SceneError(out.error);
+  return std::move(out.mesh);
+}
+
 }  // namespace rbdem::gmsh_io

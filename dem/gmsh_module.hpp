@@ -16,6 +16,8 @@
 #include <vector>
 
 #include "dem/specimen_mesh.hpp"
+#include "dem/specimen_mesh3.hpp"
+#include "mesh/tetmesh.hpp"
 #include "mesh/trimesh.hpp"
 
 namespace rbdem::gmsh_io {
@@ -37,21 +39,41 @@ struct MeshOutcome {
   std::string error;  // empty on success; else the message of the SceneError the caller raises
 };
 
+// What the module needs to mesh a 3D specimen: the solid and the joint planes that cut it (already chosen).
+struct MeshJob3 {
+  SpecimenGeometry3 geometry;
+  std::vector<JointPlane> planes;
+  std::array<double, 3> centre{};  // SpecimenGeometry3::centre() (the module links none of the DEM library)
+  double h = 0.0;                  // target edge length, m
+};
+
+struct MeshOutcome3 {
+  TetMesh mesh;
+  std::string error;  // empty on success
+};
+
 // Bumped whenever a signature below or a struct it passes changes; the sizes catch a stale module as well.
-inline constexpr int gmsh_module_abi = 1;
+inline constexpr int gmsh_module_abi = 2;
 
 struct GmshModule {
   int abi = gmsh_module_abi;
-  std::size_t sizes[4] = {sizeof(MeshJob), sizeof(MeshOutcome), sizeof(TriMesh), sizeof(SpecimenGeometry)};
+  std::size_t sizes[7] = {sizeof(MeshJob),  sizeof(MeshOutcome),       sizeof(TriMesh), sizeof(SpecimenGeometry),
+                          sizeof(MeshJob3), sizeof(SpecimenGeometry3), sizeof(TetMesh)};
   MeshOutcome (*mesh_specimen)(const MeshJob&) = nullptr;
   // The triangles and interfaces of a .msh file that has passed read_msh's pre-scan.
   MeshOutcome (*read_msh)(const std::string& path) = nullptr;
+  // The tetrahedra of a 3D specimen (specimen_mesh3.hpp).
+  MeshOutcome3 (*mesh_specimen3)(const MeshJob3&) = nullptr;
 };
 
 // The front's calls (gmsh_loader.cpp): each loads the module at the first call (thread-safe; std::runtime_error
 // naming the paths tried when no module fits) and raises the module's error as a SceneError.
 TriMesh mesh_with_gmsh(const MeshJob& job);
 TriMesh read_with_gmsh(const std::filesystem::path& path);
+TetMesh mesh3_with_gmsh(const MeshJob3& job);
+
+// The module's 3D mesher (gmsh_mesher3.cpp), which the table above points to.
+MeshOutcome3 mesh_specimen3(const MeshJob3& job);
 
 }  // namespace rbdem::gmsh_io
 

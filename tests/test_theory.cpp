@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "theory/elasticity.hpp"
+#include "theory/elasticity3.hpp"
 
 namespace rbdem::theory {
 namespace {
@@ -91,6 +92,69 @@ TEST(Jaeger, IntactStrengthOutsideTheSlidingRange) {
   EXPECT_EQ(jaeger_strength(in, 25.0), 50e6);
   EXPECT_EQ(jaeger_strength(in, 90.0), 50e6);
   EXPECT_LT(jaeger_strength(in, 60.0), 50e6);
+}
+
+// ---- 3D: the rotated TI compliance (theory/elasticity3.hpp; docs/theory.md, "The layered cylinder in 3D") --------
+
+// The tensor rotation of the compliance against Amadei's written-out formulas, at dips and dip directions all round:
+// the uniaxial response depends on the dip alone.
+TEST(Amadei3D, RotatedComplianceEqualsWrittenOutFormulas) {
+  for (double dip = 0; dip <= 90; dip += 7.5)
+    for (double dd : {0.0, 30.0, 90.0, 137.0, 250.0}) {
+      const Uniaxial3 tensor = uniaxial_from_compliance(layered, dip, dd), closed = amadei_uniaxial_3d(layered, dip);
+      EXPECT_NEAR(tensor.modulus, closed.modulus, 1e-12 * layered.E) << dip << " " << dd;
+      EXPECT_NEAR(tensor.strain_strike, closed.strain_strike, 1e-12 / layered.E) << dip << " " << dd;
+      EXPECT_NEAR(tensor.strain_dip, closed.strain_dip, 1e-12 / layered.E) << dip << " " << dd;
+      EXPECT_NEAR(tensor.shear_dip, closed.shear_dip, 1e-12 / layered.E) << dip << " " << dd;
+    }
+  // Loading normal to the bedding (dip 0) gives E' and nu'; along it (dip 90) E, with nu along the strike and
+  // nu' E/E' across the bedding.
+  const Uniaxial3 flat = amadei_uniaxial_3d(layered, 0), upright = amadei_uniaxial_3d(layered, 90);
+  EXPECT_NEAR(flat.modulus, layered.E_prime, 1e-3);
+  EXPECT_NEAR(flat.poisson_strike, layered.nu_prime, 1e-14);
+  EXPECT_NEAR(flat.poisson_dip, layered.nu_prime, 1e-14);
+  EXPECT_NEAR(upright.modulus, layered.E, 1e-3);
+  EXPECT_NEAR(upright.poisson_strike, layered.nu, 1e-14);
+  EXPECT_NEAR(upright.poisson_dip, layered.nu_prime * layered.E / layered.E_prime, 1e-14);
+}
+
+// At dip direction 0 the x-z section is the 2D slice: the x, z and xz rows and columns of the 3D compliance are the
+// 2D plane-stress compliance rotated by the same dip (an independent code path: theory/elasticity.cpp).
+TEST(Amadei3D, ZeroDipDirectionSectionIsThePlaneStressCompliance) {
+  constexpr int pick[3] = {0, 2, 4};  // 3D Voigt xx, zz, xz <-> 2D xx, yy, xy
+  for (double dip = 0; dip <= 90; dip += 15) {
+    const Compliance6 S = rotated_compliance(layered, dip, 0.0);
+    const Compliance3 S2 = theory::rotated_compliance(reduced_compliance(layered, Plane::stress), dip);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) EXPECT_NEAR(S[pick[i]][pick[j]], S2[i][j], 1e-12 / layered.E) << dip;
+  }
+}
+
+TEST(Amadei3D, IsotropicLimitIsTheSameAtEveryOrientation) {
+  const auto iso = TIConstants::isotropic(50e9, 0.25);
+  const Compliance6 S0 = ti_compliance(iso);
+  for (double dip = 0; dip <= 90; dip += 15)
+    for (double dd : {0.0, 45.0, 200.0}) {
+      const Compliance6 S = rotated_compliance(iso, dip, dd);
+      for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 6; ++j) EXPECT_NEAR(S[i][j], S0[i][j], 1e-14 / 50e9);
+    }
+}
+
+TEST(Amadei3D, PlaneAxesAreOrthonormalAndMatchThe2DNormal) {
+  for (double dip : {0.0, 30.0, 90.0})
+    for (double dd : {0.0, 60.0}) {
+      const PlaneAxes a = plane_axes(dip, dd);
+      auto dot = [](const Vec3& u, const Vec3& v) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; };
+      EXPECT_NEAR(dot(a.normal, a.normal), 1.0, 1e-15);
+      EXPECT_NEAR(dot(a.normal, a.strike), 0.0, 1e-15);
+      EXPECT_NEAR(dot(a.strike, a.dip_direction), 0.0, 1e-15);
+    }
+  // Dip direction 0: the normal in the x-z plane is the 2D joints' normal (-sin beta, cos beta).
+  const PlaneAxes a = plane_axes(30.0, 0.0);
+  EXPECT_NEAR(a.normal[0], -0.5, 1e-15);
+  EXPECT_NEAR(a.normal[1], 0.0, 1e-15);
+  EXPECT_NEAR(a.normal[2], std::sqrt(3.0) / 2, 1e-15);
 }
 
 }  // namespace

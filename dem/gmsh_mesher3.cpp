@@ -1,0 +1,199 @@
+// The module's 3D mesher: a cylinder or a prism cut by joint planes and meshed in tetrahedra through the gmsh C++
+// API (OpenCASCADE kernel). See specimen_mesh3.hpp for what it makes and gmsh_module.hpp for why it is a module.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <map>
+#include <set>
+
+#include <fmt/format.h>
+#include <gmsh.h>
+
+#include "dem/gmsh_module.hpp"
+#include "dem/gmsh_session.hpp"
+
+namespace rbdem::gmsh_io {
+
+namespace {
+
+using Vec = std::array<double, 3>;
+
+int add_solid(const SpecimenGeometry3& g) {
+  if (g.shape == Shape3::cylinder) {
+    const double R = 0.5 * g.diameter;
+    return gmsh::model::occ::addCylinder(R, R, 0.0, 0.0, 0.0, g.height, R);
+  }
+  return gmsh::model::occ::addBox(0.0, 0.0, 0.0, g.width, g.depth, g.height);
+}
+
+// A square of the plane, centred on the foot of the specimen's centre and larger than the specimen, to cut it by.
+int add_plane(const SpecimenGeometry3& g, const Vec& c, const JointPlane& p) {
+  const Vec n = p.normal;
+  // Two unit vectors in the plane: the horizontal strike (any horizontal vector when the plane is horizontal) and
+  // the dip line n x u.
+  const double horizontal = std::hypot(n[0], n[1]);
+  const Vec u = horizontal > 1e-12 ? Vec{-n[1] / horizontal, n[0] / horizontal, 0.0} : Vec{1.0, 0.0, 0.0};
+  const Vec v{n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]};
+  const double L = 2.0 * std::max({g.diameter, g.width, g.depth, g.height});
+  std::vector<int> points;
+  for (const auto& [a, b] : {std::pair{-1.0, -1.0}, {1.0, -1.0}, {1.0, 1.0}, {-1.0, 1.0}}) {
+    Vec x{};
+    for (int i = 0; i < 3; ++i) x[i] = c[i] + p.r * n[i] + L * (a * u[i] + b * v[i]);
+    points.push_back(gmsh::model::occ::addPoint(x[0], x[1], x[2]));
+  }
+  std::vector<int> lines;
+  for (int k = 0; k < 4; ++k) lines.push_back(gmsh::model::occ::addLine(points[k], points[(k + 1) % 4]));
+  return gmsh::model::occ::addPlaneSurface({gmsh::model::occ::addCurveLoop(lines)});
+}
+
+// Cuts the solid by the planes and removes the parts of the planes outside it: afterwards every surface of the
+// model bounds a volume, and the volumes are the layers.
+void cut_by_planes(const MeshJob3& job) {
+  const int solid = add_solid(job.geometry);
+  gmsh::vectorpair tools;
+  for (const auto& p : job.planes) tools.push_back({2, add_plane(job.geometry, job.centre, p)});
+  if (!tools.empty()) {
+    gmsh::vectorpair out;
+    std::vector<gmsh::vectorpair> map;
+    gmsh::model::occ::fragment({{3, solid}}, tools, out, map);
+  }
+  gmsh::model::occ::synchronize();
+  gmsh::vectorpair volumes, bounding, surfaces, dangling;
+  gmsh::model::getEntities(volumes, 3);
+  gmsh::model::getBoundary(volumes, bounding, false, false, false);
+  std::set<int> kept;
+  for (const auto& [dim, tag] : bounding) kept.insert(std::abs(tag));
+  gmsh::model::getEntities(surfaces, 2);
+  for (const auto& dt : surfaces)
+    if (!kept.count(dt.second)) dangling.push_back(dt);
+  if (!dangling.empty()) {
+    gmsh::model::occ::remove(dangling, true);
+    gmsh::model::occ::synchronize();
+  }
+}
+
+// The volumes in layer order, each a physical volume "layer_<l>": by the number of planes of the first set below
+// the volume's centre of mass, then of the second set (so the layers of one set run along its normal).
+std::vector<int> group_layers(const MeshJob3& job, std::vector<std::string>& names,
+                              std::vector<std::array<int, 2>>& rows) {
+  gmsh::vectorpair volumes;
+  gmsh::model::getEntities(volumes, 3);
+  const Vec c = job.centre;
+  std::vector<std::pair<std::array<int, 2>, int>> order;
+  for (const auto& [dim, tag] : volumes) {
+    Vec m{};
+    gmsh::model::occ::getCenterOfMass(3, tag, m[0], m[1], m[2]);
+    std::array<int, 2> below{0, 0};
+    for (const auto& p : job.planes) {
+      const double r = p.normal[0] * (m[0] - c[0]) + p.normal[1] * (m[1] - c[1]) + p.normal[2] * (m[2] - c[2]);
+      if (r > p.r) ++below[std::size_t(p.set)];
+    }
+    order.push_back({below, tag});
+  }
+  std::sort(order.begin(), order.end());
+  std::vector<int> tags;
+  for (std::size_t l = 0; l < order.size(); ++l) {
+    names.push_back(fmt::format("layer_{}", l));
+    rows.push_back(order[l].first);
+    const int pg = gmsh::model::addPhysicalGroup(3, {order[l].second});
+    gmsh::model::setPhysicalName(3, pg, names.back());
+    tags.push_back(order[l].second);
+  }
+  return tags;
+}
+
+// The first-order tetrahedra of the layer volumes, with the nodes they use (in order of first use).
+TetMesh collect_tets(const std::vector<int>& layer_volumes, std::vector<std::string> names) {
+  std::vector<std::size_t> node_tags;
+  std::vector<double> coord, param;
+  gmsh::model::mesh::getNodes(node_tags, coord, param, -1, -1, false, false);
+  std::map<std::size_t, std::size_t> where;
+  for (std::size_t k = 0; k < node_tags.size(); ++k) where[node_tags[k]] = k;
+  TetMesh mesh;
+  std::map<std::size_t, int> index;  // gmsh node tag -> mesh node
+  for (std::size_t l = 0; l < layer_volumes.size(); ++l) {
+    std::vector<std::size_t> etags, enodes;
+    gmsh::model::mesh::getElementsByType(4, etags, enodes, layer_volumes[l]);
+    for (std::size_t e = 0; e < etags.size(); ++e) {
+      std::array<int, 4> tet{};
+      for (int v = 0; v < 4; ++v) {
+        const std::size_t tag = enodes[4 * e + std::size_t(v)];
+        auto [it, added] = index.try_emplace(tag, int(mesh.nodes.size()));
+        if (added) {
+          const std::size_t k = where.at(tag);
+          mesh.nodes.push_back({coord[3 * k], coord[3 * k + 1], coord[3 * k + 2]});
+        }
+        tet[std::size_t(v)] = it->second;
+      }
+      mesh.tets.push_back(tet);
+      mesh.layer.push_back(int(l));
+    }
+  }
+  mesh.layer_names = std::move(names);
+  return mesh;
+}
+
+// Snaps the nodes within `tol` of the flat faces onto them (OpenCASCADE returns 0.09999999999999999 for 0.1) and
+// turns every tetrahedron to a positive volume.
+void tidy3(TetMesh& mesh, const SpecimenGeometry3& g, double tol) {
+  auto snap = [&](double& x, double to) {
+    if (std::abs(x - to) < tol) x = to;
+  };
+  for (auto& p : mesh.nodes) {
+    snap(p[2], 0.0);
+    snap(p[2], g.height);
+    if (g.shape == Shape3::prism) {
+      snap(p[0], 0.0), snap(p[0], g.width);
+      snap(p[1], 0.0), snap(p[1], g.depth);
+    }
+  }
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+    if (tet_volume(mesh, t) < 0) std::swap(mesh.tets[t][2], mesh.tets[t][3]);
+}
+
+TetMesh mesh_specimen3_now(const MeshJob3& job) {
+  const auto start = std::chrono::steady_clock::now();
+  const SpecimenGeometry3& g = job.geometry;
+  GmshSession session;
+  TetMesh mesh;
+  try {
+    gmsh::model::add("specimen3");
+    cut_by_planes(job);
+    std::vector<std::string> names;
+    std::vector<std::array<int, 2>> rows;
+    const std::vector<int> layers = group_layers(job, names, rows);
+    gmsh::option::setNumber("Mesh.MeshSizeMin", job.h);
+    gmsh::option::setNumber("Mesh.MeshSizeMax", job.h);
+    gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
+    gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
+    gmsh::model::mesh::generate(3);
+    mesh = collect_tets(layers, std::move(names));
+    mesh.layer_rows = std::move(rows);
+  } catch (const std::exception& e) {
+    throw SceneError(fmt::format("gmsh failed to mesh the 3D specimen: {} (check the specimen's sizes, the joint "
+                                 "planes and the mesh size)",
+                                 gmsh_error(e.what())));
+  }
+  const double tol = 1e-9 * std::max({g.diameter, g.width, g.depth, g.height});
+  tidy3(mesh, g, tol);
+  mesh.boundary = boundary_faces(mesh, tol);
+  mesh.mesh_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return mesh;
+}
+
+}  // namespace
+
+MeshOutcome3 mesh_specimen3(const MeshJob3& job) {
+  MeshOutcome3 out;
+  try {
+    out.mesh = mesh_specimen3_now(job);
+  } catch (const std::exception& e) {
+    out.error = e.what();
+  } catch (...) {
+    out.error = "gmsh failed to mesh the 3D specimen: " + gmsh_error("unknown error");
+  }
+  return out;
+}
+
+}  // namespace rbdem::gmsh_io

@@ -1,0 +1,114 @@
+// The 3D specimen's joint planes and the front of its meshing (the gmsh calls are in gmsh_mesher3.cpp, in the gmsh
+// module). See specimen_mesh3.hpp.
+#include "dem/specimen_mesh3.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "dem/gmsh_module.hpp"
+#include "theory/elasticity3.hpp"
+
+namespace rbdem {
+
+std::array<double, 3> JointPlaneSet::normal() const {
+  return theory::plane_axes(dip_deg, dip_direction_deg).normal;
+}
+
+std::array<double, 3> SpecimenGeometry3::centre() const {
+  if (shape == Shape3::cylinder) return {0.5 * diameter, 0.5 * diameter, 0.5 * height};
+  return {0.5 * width, 0.5 * depth, 0.5 * height};
+}
+
+double SpecimenGeometry3::half_extent(const std::array<double, 3>& n) const {
+  const double vertical = 0.5 * height * std::abs(n[2]);
+  if (shape == Shape3::cylinder) return 0.5 * diameter * std::hypot(n[0], n[1]) + vertical;
+  return 0.5 * width * std::abs(n[0]) + 0.5 * depth * std::abs(n[1]) + vertical;
+}
+
+double SpecimenGeometry3::volume() const {
+  if (shape == Shape3::cylinder) return 0.25 * std::numbers::pi * diameter * diameter * height;
+  return width * depth * height;
+}
+
+namespace {
+
+void add_set(const SpecimenGeometry3& g, int k, double min_piece, std::vector<std::string>* notes,
+             std::vector<JointPlane>& out) {
+  const JointPlaneSet& js = k == 0 ? g.set1 : g.set2;
+  const auto n = js.normal();
+  const double extent = g.half_extent(n);
+  const double tol = 1e-9 * std::max({g.diameter, g.width, g.depth, g.height});
+  const long kmin = long(std::ceil((-extent - js.offset) / js.spacing - 1e-9));
+  const long kmax = long(std::floor((extent - js.offset) / js.spacing + 1e-9));
+  for (long row = kmin; row <= kmax; ++row) {
+    const double r = js.offset + double(row) * js.spacing;
+    const double cap = extent - std::abs(r);  // thickness of the piece it cuts off on its near side
+    if (cap <= tol) continue;                 // touches the solid at an edge or a point only
+    if (cap < min_piece) {
+      if (notes)
+        notes->push_back(fmt::format("joint plane {} at {:.4g} m from the centre left out: it would cut off a cap "
+                                     "{:.3g} m thick (under {:.3g} m); shift the set's offset to keep it",
+                                     k + 1, r, cap, min_piece));
+      continue;
+    }
+    out.push_back({n, r, k});
+  }
+}
+
+void check_geometry(const SpecimenGeometry3& g, double h) {
+  auto positive = [](double v, const char* name) {
+    if (!(std::isfinite(v) && v > 0))
+      throw SceneError(fmt::format("{} = {} m: it must be a positive length", name, v));
+  };
+  positive(h, "mesh.size");
+  positive(g.height, "specimen.height");
+  if (g.shape == Shape3::cylinder) {
+    positive(g.diameter, "specimen.diameter");
+  } else {
+    positive(g.width, "specimen.width");
+    positive(g.depth, "specimen.depth");
+  }
+  for (int k = 0; k < 2; ++k) {
+    const bool on = k == 0 ? g.joints : g.second_set;
+    const JointPlaneSet& js = k == 0 ? g.set1 : g.set2;
+    const char* name = k == 0 ? "joint_set" : "joint_set2";
+    if (!on) continue;
+    if (!(std::isfinite(js.dip_deg) && js.dip_deg >= 0 && js.dip_deg <= 90))
+      throw SceneError(fmt::format("{}.dip_deg = {}: it must lie in [0, 90] deg", name, js.dip_deg));
+    if (!std::isfinite(js.dip_direction_deg) || !std::isfinite(js.offset))
+      throw SceneError(fmt::format("{}.dip_direction_deg and {}.offset must be finite", name, name));
+    if (!(js.spacing >= 2.0 * h))
+      throw SceneError(fmt::format("{}.spacing = {:.4g} m holds fewer than two elements of mesh.size = {:.4g} m: "
+                                   "use mesh.size <= {:.4g} m or a wider spacing",
+                                   name, js.spacing, h, 0.5 * js.spacing));
+  }
+}
+
+}  // namespace
+
+std::vector<JointPlane> joint_planes(const SpecimenGeometry3& g, double min_piece, std::vector<std::string>* notes) {
+  std::vector<JointPlane> out;
+  if (g.joints) add_set(g, 0, min_piece, notes, out);
+  if (g.second_set) add_set(g, 1, min_piece, notes, out);
+  return out;
+}
+
+TetMesh mesh_specimen3(const SpecimenGeometry3& g, double h) {
+  check_geometry(g, h);
+  std::vector<std::string> notes;
+  gmsh_io::MeshJob3 job;
+  job.geometry = g;
+  // Caps thinner than half an element would be a layer of flat tetrahedra (blocks with a tiny time step).
+  job.planes = joint_planes(g, 0.5 * h, &notes);
+  job.centre = g.centre();
+  job.h = h;
+  TetMesh mesh = gmsh_io::mesh3_with_gmsh(job);
+  notes.insert(notes.end(), mesh.notes.begin(), mesh.notes.end());
+  mesh.notes = std::move(notes);
+  return mesh;
+}
+
+}  // namespace rbdem

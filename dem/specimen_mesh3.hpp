@@ -1,0 +1,66 @@
+// The three-dimensional specimen and its tetrahedral mesh, made with gmsh (the OpenCASCADE kernel).
+//
+// The specimen is a cylinder of diameter D and height H standing on z = 0, its axis at x = y = D/2 (inscribed in
+// the box [0, D] x [0, D] x [0, H]), or a prism [0, W] x [0, B] x [0, H] (width along x, depth along y). One or two
+// sets of parallel joint planes cut it: each set has a dip from the horizontal and a dip direction (0: the strike
+// along the depth axis y, so the x-z section through the centre is the 2D specimen's slice through the dip; axes and
+// normal as in theory/elasticity3.hpp), a spacing along its normal and an offset, one plane through the specimen's
+// centre when the offset is 0, as in 2D. gmsh cuts the solid by the planes (occ::fragment), so the mesh conforms
+// to every joint plane: each piece between planes is one layer (one physical volume), and a joint is a surface of
+// mesh faces with a different layer on either side.
+//
+// There are no scene keys for this yet: the 3D engine and its keys (specimen.dimension, specimen.shape,
+// specimen.diameter, specimen.depth, joint_set.dip_direction_deg) come later and will fill this struct.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "mesh/tetmesh.hpp"
+
+namespace rbdem {
+
+enum class Shape3 { cylinder, prism };
+
+struct JointPlaneSet {
+  double dip_deg = 60.0, dip_direction_deg = 0.0;  // deg
+  double spacing = 0.01, offset = 0.0;             // m, along the normal
+  std::array<double, 3> normal() const;            // theory::plane_axes(dip, dip direction).normal
+};
+
+struct SpecimenGeometry3 {
+  Shape3 shape = Shape3::cylinder;
+  double diameter = 0.05;             // m, the cylinder
+  double width = 0.05, depth = 0.05;  // m, the prism along x and y
+  double height = 0.10;               // m
+  bool joints = true;                 // the first set is there
+  JointPlaneSet set1;
+  bool second_set = false;  // the second set is there
+  JointPlaneSet set2{30.0, 90.0, 0.01, 0.0};
+
+  std::array<double, 3> centre() const;  // the centre of the specimen, m
+  // Half the specimen's extent along the unit vector n (its support function about the centre), m.
+  double half_extent(const std::array<double, 3>& n) const;
+  double volume() const;  // of the ideal solid, m^3
+};
+
+// One joint plane: the points x with n . (x - centre) = r.
+struct JointPlane {
+  std::array<double, 3> normal;
+  double r = 0;  // signed distance from the specimen's centre, m
+  int set = 0;   // 0: the first set, 1: the second
+};
+
+// The planes that cut the specimen, the first set's then the second's: offset + k spacing for every k whose plane
+// meets the solid. A plane that would cut off a cap thinner than `min_piece` (its distance to the solid's extreme
+// point along n) is left out and noted in `notes`: its cap would be a handful of flat tetrahedra.
+std::vector<JointPlane> joint_planes(const SpecimenGeometry3& g, double min_piece,
+                                     std::vector<std::string>* notes = nullptr);
+
+// Meshes the specimen with tetrahedra of target edge length h. Throws SceneError (naming the input and the fix) for
+// non-positive or non-finite sizes and for a spacing that holds fewer than two elements. The mesh is the same for
+// the same inputs, bit for bit (gmsh meshes on one thread). TetMesh::mesh_seconds holds the time gmsh took.
+TetMesh mesh_specimen3(const SpecimenGeometry3& g, double h);
+
+}  // namespace rbdem
