@@ -88,7 +88,7 @@ LayeredDisc layered_disc(const Scene& base, const std::vector<double>& layer_ang
   const theory::Plane plane = theory::plane_from_string(base.specimen.model);
   const compare::ComplianceFit fit = linear_constants(base, plane);
   LayeredDisc out;
-  out.constants = fit.constants, out.fit_residual = fit.residual;
+  out.constants = fit.constants, out.fit_residual = fit.residual, out.mesh_size = base.mesh.size;
   for (double angle : layer_angles_deg) {
     DiscAngle a;
     a.layer_angle_deg = angle, a.dip_deg = 90.0 - angle;

@@ -60,6 +60,7 @@ struct LayeredDisc {
   theory::TIConstants constants;  // the linear DEM's, from static virtual tests at dips 0, 45, 90
   double fit_residual = 0;
   std::vector<DiscAngle> angles;
+  double mesh_size = 0;                            // m, the scene's mesh.size
   std::size_t blocks = 0, bonds = 0, fe_dofs = 0;  // of the last angle's disc
   double fe_seconds = 0;                           // the FE discs' wall time, all angles
 };
