@@ -104,7 +104,7 @@ TEST(MeasureFe, InteriorStressMatchesTheFeTwin) {
 // every linear part held closed is the linear model that the FE disc (with the linear DEM's own constants) and
 // Claesson & Bohloli's closed form describe. Its mean principal tension over r <= R/5 is within 5 % of the FE's,
 // and its centre value within 5 % of the closed form's, at layer angles 0, 45 and 90 deg. Held closed, no linear
-// part is open; as it runs, some are, and the DEM's centre tension is below its linear self.
+// part is open; as it runs (reported beside it, not checked against the references), some are.
 TEST(MeasureFe, LinearDemDiscMatchesTheFeDiscAndTheClosedForm) {
   Scene base;
   base.mesh.size = 0.0025;
@@ -118,7 +118,6 @@ TEST(MeasureFe, LinearDemDiscMatchesTheFeDiscAndTheClosedForm) {
     EXPECT_LT(std::abs(a.dem_mean / a.fe_mean - 1), 0.05) << a.layer_angle_deg;
     EXPECT_LT(std::abs(a.dem_centre() / a.closed_form - 1), 0.05) << a.layer_angle_deg;
     EXPECT_GT(a.open_as_run, 0u);
-    EXPECT_LT(a.dem_as_run_mean, a.dem_mean) << a.layer_angle_deg;
   }
   EXPECT_LT(verify::like_for_like_error(d), 0.05);
 }
