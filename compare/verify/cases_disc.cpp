@@ -92,7 +92,7 @@ CaseResult disc_hondros_as_run(const Context&) { return hondros(true); }
 
 // The layered disc at layer angles 0, 45 and 90 deg (dips 90, 45, 0): DEM, FE with the linear DEM's constants, and
 // Claesson & Bohloli with the same constants. `soft`: joints ten times softer than the paper's at 2.5 mm spacing,
-// a strongly anisotropic disc (E/E' about 2) where the closed form's approximation is no longer exact. `quick`:
+// a strongly anisotropic disc (E/E' about 6.7) where the closed form's approximation is no longer exact. `quick`:
 // 2 mm blocks instead of the scene's 1 mm (about 1300 blocks).
 LayeredDisc measure(bool soft, bool quick) {
   Scene base;
