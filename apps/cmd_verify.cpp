@@ -1,6 +1,6 @@
 // rbdem verify: every check of this build against theory, with its error, tolerance and cost.
 //
-//   rbdem verify --quick --out runs/verify     # 24 cases, about 20 s on 2 cores (CI)
+//   rbdem verify --quick --out runs/verify     # 27 cases, about 25 s on 2 cores (CI)
 //   rbdem verify --out runs/verify-full        # adds finer meshes and the strength study (several minutes)
 //   rbdem verify --only 'fe\.' --out runs/v    # the cases whose name matches a regular expression
 // Writes verify.json and verify.md (with figures) into --out and prints the table. Exit status 3 when a case

@@ -185,6 +185,45 @@ StressTensor average_stress(const Simulation& sim, const Region& region, const S
   return out;
 }
 
+StressTensor static_stress(const Simulation& sim, const StaticResult& state, const Region& region) {
+  const Specimen& sp = sim.specimen();
+  const std::size_t nbond = sp.bonds.size_of();
+  if (sp.dim != 2 || state.dim != 2 || state.fn_lin.size() != nbond || state.fn_b.size() != nbond)
+    throw std::invalid_argument(fmt::format("static stress: the solution has {} bond forces for the {} bonds of this "
+                                            "{}D specimen; pass a 2D solution of this simulation's solve_static",
+                                            state.fn_lin.size(), nbond, sp.dim));
+  const std::vector<int> in_region = members(region, sp, sim.block_states());
+  if (in_region.empty())
+    throw std::invalid_argument(fmt::format("stress region ({}): it holds no block centroid; enlarge it or move it "
+                                            "onto the specimen",
+                                            region.describe()));
+  StressTensor out;
+  std::vector<char> inside(sp.num_blocks(), 0);
+  double measure = 0;
+  for (int b : in_region) inside[std::size_t(b)] = 1, measure += sp.blocks.measure[std::size_t(b)];
+  out.blocks = in_region.size();
+  out.volume = measure * sp.thickness;
+  double S[9] = {};
+  // Bond k pushes block j along its normal n by its compression and along t = (-n_y, n_x) by its shear; block i
+  // takes the opposite. Each term is (x_c - x_block) f, the bond's point the edge's midpoint.
+  const auto add = [&](int block, const double* point, double fx, double fy) {
+    if (!inside[std::size_t(block)]) return;
+    const double* x = &sp.blocks.centroid[2 * std::size_t(block)];
+    const double r[2] = {point[0] - x[0], point[1] - x[1]}, f[2] = {fx, fy};
+    for (int a = 0; a < 2; ++a)
+      for (int c = 0; c < 2; ++c) S[3 * a + c] += r[a] * f[c];
+  };
+  for (std::size_t k = 0; k < nbond; ++k) {  // a broken bond's forces are zero
+    const double nx = sp.bonds.normal[2 * k], ny = sp.bonds.normal[2 * k + 1];
+    const double fn = state.fn_b[k] + state.fn_lin[k], fs = state.fs_b[k] + state.fs_lin[k];
+    const double fx = fn * nx - fs * ny, fy = fn * ny + fs * nx;
+    add(sp.bonds.j[k], &sp.bonds.midpoint[2 * k], fx, fy);
+    add(sp.bonds.i[k], &sp.bonds.midpoint[2 * k], -fx, -fy);
+  }
+  symmetrised(S, 2, out.volume, out.s.data());
+  return out;
+}
+
 BlockStresses block_stresses(const Simulation& sim, const StressSources& sources) {
   const Specimen& sp = sim.specimen();
   const BlockStates blocks = sim.block_states();

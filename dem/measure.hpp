@@ -81,6 +81,15 @@ std::vector<int> region_blocks(const Simulation& sim, const Region& region);
 StressTensor average_stress(const Simulation& sim, const Region& region = Region::whole(),
                             const StressSources& sources = {});
 
+// The Love-Weber average stress of a static solution (Simulation::solve_static) over the region's blocks, from the
+// solution's own bond forces: the parallel bonds and the linear parts in the states the solve found, in the
+// reference configuration. Held closed (StaticOptions::linear_parts_always_closed), a linear part carries tension
+// too: this is the stress of the linear model the solve solved. average_stress above evaluates the laws as they
+// run on the state the engine holds (Simulation::apply_static), where an open linear part carries nothing; the two
+// agree wherever the linear parts' states agree. Bonds only (no contacts, no loads): keep the region clear of the
+// loaded blocks. 2D. Throws std::invalid_argument as average_stress, and for a solution of another specimen.
+StressTensor static_stress(const Simulation& sim, const StaticResult& state, const Region& region);
+
 // The Love-Weber stress of each block now: dim x dim components per block (row-major, symmetric; Pa, tension
 // positive) and its volume.
 struct BlockStresses {

@@ -39,6 +39,7 @@ struct StaticResult {
   std::vector<double> u;                   // per block, dof(dim) entries: in 2D u_x, u_y (m), theta (rad)
   std::vector<double> fn_b, fs_b, m_b;     // per bond: parallel bond force and moment (compression positive)
   std::vector<double> fs_lin;              // per bond: linear part shear force (stick: elastic; slip: -+ mu F_n)
+  std::vector<double> fn_lin;              // per bond: linear part normal force (compression positive; 0 open)
   std::vector<double> platen_fs;           // per block: platen shear force (sticking platens; 0 if frictionless)
   enum LinearState : std::uint8_t { open = 0, stick = 1, slip_positive = 2, slip_negative = 3 };
   std::vector<std::uint8_t> linear_state;  // per bond

@@ -346,6 +346,7 @@ void bond_results(const Engine<2>& e, const Stiffness& stiffness, const Eigen::V
   const auto& broken = e.state().broken;
   const std::size_t nbond = M.num_bonds();
   r.fn_b.resize(nbond), r.fs_b.resize(nbond), r.m_b.resize(nbond), r.fs_lin.assign(nbond, 0.0);
+  r.fn_lin.assign(nbond, 0.0);
   r.first_break_factor = std::numeric_limits<double>::infinity();
   for (std::size_t b = 0; b < nbond; ++b) {
     if (broken[b]) continue;
@@ -356,6 +357,7 @@ void bond_results(const Engine<2>& e, const Stiffness& stiffness, const Eigen::V
     const double fn = -k.kbnA * dn, fs = -k.kbsA * ds, m = -k.kbnI * dr;
     r.fn_b[b] = fn, r.fs_b[b] = fs, r.m_b[b] = m;
     r.fs_lin[b] = k.linear_shear(r.linear_state[b], dn, ds);
+    r.fn_lin[b] = r.linear_state[b] == StaticResult::open ? 0.0 : -k.knA * dn;
     BondStrength st = M.law[M.material[b]].bond.strength;
     st.sigma_c *= M.frame.strength_factor[b], st.cohesion *= M.frame.strength_factor[b];
     const double lam = st.first_break_factor(fn, fs, m, k.A, k.I, 0.5 * k.L);
@@ -503,7 +505,7 @@ StaticResult superpose(const StaticResult& a, double fa, const StaticResult& b, 
   };
   mix(r.u, a.u, b.u);
   mix(r.fn_b, a.fn_b, b.fn_b), mix(r.fs_b, a.fs_b, b.fs_b), mix(r.m_b, a.m_b, b.m_b);
-  mix(r.fs_lin, a.fs_lin, b.fs_lin), mix(r.platen_fs, a.platen_fs, b.platen_fs);
+  mix(r.fs_lin, a.fs_lin, b.fs_lin), mix(r.fn_lin, a.fn_lin, b.fn_lin), mix(r.platen_fs, a.platen_fs, b.platen_fs);
   r.top_force = fa * a.top_force + fb * b.top_force;
   r.bottom_force = fa * a.bottom_force + fb * b.bottom_force;
   r.platen_displacement = fa * a.platen_displacement + fb * b.platen_displacement;

@@ -152,6 +152,43 @@ TEST(Measure, InteriorRegionFromBondsAndContacts) {
   std::printf("interior circle (%zu blocks): yy/-p - 1 = %.3e, xx/p = %.3e\n", s.blocks, s.yy() / -p - 1, s.xx() / p);
 }
 
+// The stress of a static solution from its own forces (static_stress) against the engine's tables in the same
+// state (average_stress after apply_static), over the interior circle of a specimen of horizontal layers between
+// platens. As the laws run, the two must agree wherever the solve's linear-part states are the engine's (every
+// bond but the few the active set may hold, StaticResult::held_bonds), to the terms of the displaced geometry
+// (a 1e-6 strain, which the engine's laws see and the linearised forces do not): 1e-4 of the stress leaves room
+// for both, and a wrong sign of the shear moves sigma_xx by half of sigma_yy. Held closed, every linear part is
+// part of the linear model, and the circle carries the uniform platen stress.
+TEST(Measure, StaticStressIsTheEngineStressWhereTheLinearPartsAgree) {
+  const Scene scene = small_scene(0);
+  const auto sim = fixtures::with_platens(scene);
+  const Specimen& sp = sim->specimen();
+  const Region circle = Region::circle({0.5 * (sp.lo[0] + sp.hi[0]), 0.5 * (sp.lo[1] + sp.hi[1])}, 0.015);
+  StaticOptions closure;
+  closure.platen_displacement = 1e-6 * scene.specimen.height;
+  const StaticResult st = sim->solve_static(closure);
+  ASSERT_GT(st.open_bonds, 0u);  // the check must see open linear parts
+  const StressTensor own = static_stress(*sim, st, circle);
+  sim->apply_static({}, st, 1.0, 0.0);
+  const StressTensor engine = average_stress(*sim, circle, {true, true, false});
+  const double scale = std::abs(engine.yy());
+  EXPECT_EQ(own.blocks, engine.blocks);
+  EXPECT_NEAR(own.xx(), engine.xx(), 1e-4 * scale);
+  EXPECT_NEAR(own.yy(), engine.yy(), 1e-4 * scale);
+  EXPECT_NEAR(own.xy(), engine.xy(), 1e-4 * scale);
+
+  const auto linear = fixtures::with_platens(scene);
+  closure.linear_parts_always_closed = true;
+  const StaticResult closed = linear->solve_static(closure);
+  EXPECT_EQ(closed.open_bonds, 0u);
+  const StressTensor held = static_stress(*linear, closed, circle);
+  const double p = 0.5 * (closed.top_force + closed.bottom_force) / (scene.specimen.width * scene.specimen.thickness);
+  EXPECT_NEAR(held.yy() / -p, 1.0, 0.03);  // the uniform platen stress, as InteriorRegionFromBondsAndContacts
+  std::printf("static vs engine: xx %.6g / %.6g, yy %.6g / %.6g Pa (%zu open); held closed yy/-p - 1 = %.3e\n",
+              own.xx(), engine.xx(), own.yy(), engine.yy(), st.open_bonds, held.yy() / -p - 1);
+  EXPECT_THROW(static_stress(*linear, StaticResult{}, circle), std::invalid_argument);
+}
+
 // Groups: a force group presses the top row of blocks down with F in all, a fixed group holds the bottom row. The
 // fixed group's loads are its reactions now (a static state applied without a step has no last step): they sum to
 // F, and the whole specimen's sigma_yy is -F over the area times the lever between the two rows over the height,
