@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <fstream>
 #include <functional>
@@ -209,7 +210,10 @@ void assign_toml(Scene& scene, const Entry& e, const toml::node& node, std::stri
         std::string joined;
         for (const auto& item : *items) {
           if (!item.is_string() && !item.is_number()) wrong_type();
-          joined += (joined.empty() ? "" : ", ") + (item.is_string() ? *item.value<std::string>() : shown(item));
+          const std::string text = item.is_string()  ? *item.value<std::string>()
+                                   : item.is_integer() ? fmt::format("{}", *item.value<std::int64_t>())
+                                                       : fmt::format("{}", *item.value<double>());  // shortest exact
+          joined += (joined.empty() ? "" : ", ") + text;
         }
         assign(scene, e, joined);
         break;
