@@ -390,8 +390,8 @@ BedSequence bed_sequence(const Scene& scene) {
     return beds;
   }
   if (!thickness.empty() && thickness.size() != beds.rock2.size())
-    throw SceneError(fmt::format("beds.thickness lists {} thicknesses for the {} beds of beds.pattern: give one per "
-                                 "bed, or none for beds one joint_set.spacing ({} m) thick",
+    throw SceneError(fmt::format("beds.thickness and beds.pattern differ in length ({} thicknesses, {} beds): give "
+                                 "one thickness per bed, or none for beds one joint_set.spacing ({} m) thick",
                                  thickness.size(), beds.rock2.size(), fmt_real(scene.joint_set.spacing)));
   for (const std::string& t : thickness) {
     char* end = nullptr;

@@ -110,7 +110,7 @@ void expect_scene_error(const std::string& toml, const std::vector<std::string>&
 TEST(Beds, BadInputsNameTheKeyAndTheFix) {
   expect_scene_error("[beds]\npattern = [\"rock\", \"shale\"]\n", {"beds.pattern", "'shale'", "rock2"});
   expect_scene_error("[beds]\npattern = [\"rock\", \"rock2\"]\nthickness = [0.01]\n",
-                     {"beds.thickness", "1 thicknesses", "2 beds"});
+                     {"beds.thickness", "differ in length", "2 beds"});
   expect_scene_error("[beds]\npattern = [\"rock\", \"rock2\"]\nthickness = [0.01, -0.01]\n",
                      {"beds.thickness", "'-0.01'", "positive"});
   expect_scene_error("[beds]\nthickness = [0.01]\n", {"beds.thickness", "beds.pattern"});
