@@ -2,6 +2,7 @@
 //
 //   rbdem mesh --beta 30 --spacing 0.01 --out s.msh      # gmsh 4.1 file, one physical surface per layer
 //   rbdem mesh --set mesh.size=0.0005                    # statistics only
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -62,6 +63,15 @@ void print_statistics(const Scene& scene, const TriMesh& mesh, const Topology<2>
   for (std::size_t m = 0; m < material_count; ++m)
     if (per_material[m]) used += fmt::format("{}{} {}", used.empty() ? "" : ", ", material_name[m], per_material[m]);
   fmt::print("materials    bonds: {}\n", used);
+  if (uses_rock2(scene)) {  // which layers are rock2: by name, or by the beds' position at this dip
+    const std::vector<std::uint8_t> rock2 = rock2_layers(topo, scene);
+    std::string layers;
+    for (std::size_t l = 0; l < rock2.size(); ++l)
+      if (rock2[l])
+        layers += fmt::format("{}{}", layers.empty() ? "" : ", ",
+                              l < topo.layer_names.size() ? topo.layer_names[l] : std::to_string(l));
+    fmt::print("rock2        layers {} of {}: {}\n", std::count(rock2.begin(), rock2.end(), 1), rock2.size(), layers);
+  }
   if (!topo.interface_names.empty()) {
     std::string names;
     for (std::size_t f = 0; f < mesh.interfaces.size(); ++f)

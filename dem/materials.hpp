@@ -1,14 +1,15 @@
 // Which material each bond and block gets: the scene's rock, joint, joint2 and rock2 over the mesh's layers and
 // interfaces.
 //
-//   rock bond (inside one layer)   rock2 when its layer is listed in rock2.groups, else rock
+//   rock bond (inside one layer)   rock2 when its layer is rock2 (below), else rock
 //   joint bond                     joint2 when it lies on the second generated joint set (the interface
 //                                  "joint_set2") or on an interface listed in joint2.groups, else joint
-//   block                          rock2 when its layer is listed in rock2.groups, else rock (density)
+//   block                          rock2 when its layer is rock2, else rock (density)
 //
-// rock2.groups lists layer names or layer numbers (0-based layer ids, the order `rbdem mesh` prints);
-// joint2.groups lists interface (physical curve) names. A name the mesh lacks is a SceneError that lists what the
-// mesh has.
+// A layer is rock2 when rock2.groups lists it (layer names or layer numbers: 0-based layer ids, the order
+// `rbdem mesh` prints, which change with the dip) or, with beds.pattern, when the bed along the joint normal that
+// holds the layer's centroid is rock2 (the same physical beds at every dip). joint2.groups lists interface
+// (physical curve) names. A name the mesh lacks is a SceneError that lists what the mesh has and names the dip.
 #pragma once
 
 #include <array>
@@ -32,6 +33,9 @@ struct MaterialMap {
 };
 
 MaterialMap assign_materials(const Topology<2>& topo, const Scene& scene);
+
+// 1 for each layer id that is rock2, 0 for rock (rock2.groups or beds.pattern, as above).
+std::vector<std::uint8_t> rock2_layers(const Topology<2>& topo, const Scene& scene);
 
 // The scene's parameters of material `id`.
 const MaterialParams& material_params(const Scene& scene, std::size_t id);

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <numbers>
@@ -203,8 +205,21 @@ void assign_toml(Scene& scene, const Entry& e, const toml::node& node, std::stri
       *std::get<bool*>(e.ref(scene)) = b->get();
       break;
     }
-    case ParamKind::choice:
-    case ParamKind::text: {
+    case ParamKind::text:
+      if (const auto* items = node.as_array()) {  // a list key written as a TOML array: its items, comma separated
+        std::string joined;
+        for (const auto& item : *items) {
+          if (!item.is_string() && !item.is_number()) wrong_type();
+          const std::string text = item.is_string()  ? *item.value<std::string>()
+                                   : item.is_integer() ? fmt::format("{}", *item.value<std::int64_t>())
+                                                       : fmt::format("{}", *item.value<double>());  // shortest exact
+          joined += (joined.empty() ? "" : ", ") + text;
+        }
+        assign(scene, e, joined);
+        break;
+      }
+      [[fallthrough]];
+    case ParamKind::choice: {
       auto s = node.as_string();
       if (!s) wrong_type();
       assign(scene, e, s->get());
@@ -287,7 +302,7 @@ Scene parse_scene(std::string_view toml_text, std::string_view origin) {
     const auto* table = node.as_table();
     if (!table)
       throw SceneError(fmt::format("{}: top-level key '{}' must be a [section] table (sections: specimen, "
-                                   "joint_set, joint_set2, mesh, rock, joint, joint2, rock2, loading, numerics, elastic, "
+                                   "joint_set, joint_set2, mesh, rock, joint, joint2, rock2, beds, loading, numerics, elastic, "
                                    "output)",
                                    origin, section.str()));
     for (const auto& [name, value] : *table) {
@@ -323,7 +338,105 @@ double second_set_dip_deg(const Scene& scene, double first_dip_deg) {
   return dip < 0 ? dip + 180.0 : dip;
 }
 
+namespace {
+// The items of a comma separated list, trimmed; empty items dropped.
+std::vector<std::string> list_items(const std::string& list) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    const std::size_t comma = std::min(list.find(',', start), list.size());
+    std::string t = list.substr(start, comma - start);
+    const auto first = t.find_first_not_of(" \t"), last = t.find_last_not_of(" \t");
+    if (first != std::string::npos) out.push_back(t.substr(first, last - first + 1));
+    start = comma + 1;
+  }
+  return out;
+}
+}  // namespace
+
+double BedSequence::period() const {
+  double t = 0;
+  for (double h : thickness) t += h;
+  return t;
+}
+
+std::size_t BedSequence::bed_at(double s) const {
+  const double T = period();
+  double u = s - start;
+  u -= T * std::floor(u / T);  // in [0, T)
+  for (std::size_t k = 0; k + 1 < thickness.size(); ++k) {
+    if (u < thickness[k]) return k;
+    u -= thickness[k];
+  }
+  return thickness.size() - 1;
+}
+
+BedSequence bed_sequence(const Scene& scene) {
+  BedSequence beds;
+  for (const std::string& name : list_items(scene.beds.pattern)) {
+    if (name != "rock" && name != "rock2")
+      throw SceneError(fmt::format("beds.pattern names '{}', which is not a rock of the scene: list rock and rock2 "
+                                   "in the order of the beds along the joint normal, e.g. pattern = [\"rock\", "
+                                   "\"rock2\"]",
+                                   name));
+    beds.rock2.push_back(name == "rock2");
+  }
+  const std::vector<std::string> thickness = list_items(scene.beds.thickness);
+  if (beds.empty()) {
+    if (!thickness.empty())
+      throw SceneError(fmt::format("beds.thickness = \"{}\" is given without beds.pattern: name the rock of each "
+                                   "bed in beds.pattern, or remove beds.thickness",
+                                   scene.beds.thickness));
+    return beds;
+  }
+  if (!thickness.empty() && thickness.size() != beds.rock2.size())
+    throw SceneError(fmt::format("beds.thickness and beds.pattern differ in length ({} thicknesses, {} beds): give "
+                                 "one thickness per bed, or none for beds one joint_set.spacing ({} m) thick",
+                                 thickness.size(), beds.rock2.size(), fmt_real(scene.joint_set.spacing)));
+  for (const std::string& t : thickness) {
+    char* end = nullptr;
+    const double h = std::strtod(t.c_str(), &end);
+    if (end != t.c_str() + t.size() || !(h > 0) || !std::isfinite(h))
+      throw SceneError(fmt::format("beds.thickness has '{}', which is not a positive thickness in m: write one "
+                                   "positive number per bed, e.g. thickness = [0.005, 0.01]",
+                                   t));
+    beds.thickness.push_back(h);
+  }
+  if (thickness.empty()) beds.thickness.assign(beds.rock2.size(), scene.joint_set.spacing);
+  beds.start = scene.joint_set.offset + scene.beds.origin;
+  return beds;
+}
+
+bool uses_rock2(const Scene& scene) {
+  if (!scene.rock2.groups.empty()) return true;
+  for (const std::string& name : list_items(scene.beds.pattern))
+    if (name == "rock2") return true;
+  return false;
+}
+
+// The cross-key rules of [beds]: one way to place rock2, beds between the through-going joints of a generated
+// specimen.
+static void validate_beds(const Scene& scene) {
+  const BedSequence beds = bed_sequence(scene);
+  if (beds.empty()) return;
+  if (!scene.rock2.groups.empty())
+    throw SceneError(fmt::format("the scene places rock2 twice: by layer (rock2.groups = \"{}\") and by position "
+                                 "(beds.pattern = \"{}\"): keep one; beds.pattern gives the same beds at every dip",
+                                 scene.rock2.groups, scene.beds.pattern));
+  if (!scene.mesh.file.empty())
+    throw SceneError(fmt::format("beds.pattern places beds along the generated joint set's normal; a user mesh "
+                                 "(mesh.file = \"{}\") names its own layers: list the rock2 layers in rock2.groups "
+                                 "instead",
+                                 scene.mesh.file));
+  if (!scene.joint_set.enabled || scene.joint_set.persistence < 1.0)
+    throw SceneError(fmt::format("beds.pattern gives each layer between the joints of joint_set its rock, and needs "
+                                 "through-going joints (joint_set.enabled = {}, joint_set.persistence = {}): enable "
+                                 "the joint set with persistence 1, or remove [beds]",
+                                 scene.joint_set.enabled, fmt_real(scene.joint_set.persistence)));
+}
+
 void validate(const Scene& scene) {
+  validate_beds(scene);
   Scene copy = scene;
   for (const auto& e : registry()) {
     const ParamInfo& p = e.info;
@@ -432,7 +545,7 @@ void check_plausible(const Scene& scene) {
   };
   check("rock", scene.rock);
   check("joint", scene.joint);
-  if (!scene.rock2.groups.empty()) check("rock2", scene.rock2);
+  if (uses_rock2(scene)) check("rock2", scene.rock2);
   check("joint2", scene.joint2);
 }
 

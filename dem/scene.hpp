@@ -71,6 +71,14 @@ struct Joint2Params : MaterialParams {
   std::string groups;  // interfaces of this joint material besides the second generated set; empty = none
 };
 
+// Beds of rock and rock2 by position along the first joint set's normal, the same at every dip (dem/materials.hpp).
+// Lists are comma separated (a TOML array of strings works too).
+struct BedsParams {
+  std::string pattern;    // the rock of consecutive beds, repeated ("rock, rock2"); empty = no beds
+  std::string thickness;  // m, the thickness of each bed of the pattern; empty = joint_set.spacing each
+  double origin = 0.0;    // m, where bed 0 starts along the normal, from the joint at joint_set.offset
+};
+
 struct LoadingParams {
   double platen_velocity = 0.01;  // m/s, closing speed of the top platen (bottom fixed); quasi-static: docs/model.md
   double platen_friction = 0.0;   // -, Coulomb coefficient between platens and blocks
@@ -131,6 +139,7 @@ struct Scene {
   MaterialParams joint;
   Joint2Params joint2;  // the second set's joints, and any interface the scene names
   Rock2Params rock2;    // layers the scene names
+  BedsParams beds;      // or: rock and rock2 in beds along the joint normal
   LoadingParams loading;
   NumericsParams numerics;
   ElasticGateParams elastic;
@@ -178,6 +187,25 @@ void check_plausible(const Scene& scene);
 // The second joint set's dip from the horizontal in [0, 180) when the first set dips `first_dip_deg`
 // (joint_set2.follows_set1 resolved; a set at beta is the same as at beta + 180 deg).
 double second_set_dip_deg(const Scene& scene, double first_dip_deg);
+
+// The beds of [beds]: bed k of the pattern is rock2 (rock2[k]) or rock and `thickness[k]` m thick; the pattern
+// repeats along the first joint set's normal with the period sum(thickness), bed 0 starting at
+// joint_set.offset + beds.origin from the specimen centre. Empty when beds.pattern is empty. Throws SceneError
+// naming the key for a name that is not rock or rock2, a thickness that is not a positive number, or a count of
+// thicknesses that is not the pattern's.
+struct BedSequence {
+  std::vector<bool> rock2;
+  std::vector<double> thickness;  // m
+  double start = 0;               // m, along the normal from the specimen centre
+  bool empty() const { return rock2.empty(); }
+  double period() const;
+  // The bed that holds position s (m, along the normal from the specimen centre), 0 .. size - 1.
+  std::size_t bed_at(double s) const;
+};
+BedSequence bed_sequence(const Scene& scene);
+
+// Whether any layer can be made of rock2 (rock2.groups or a bed of the pattern).
+bool uses_rock2(const Scene& scene);
 
 // The value of one key as text (for printing and tables).
 std::string parameter_text(const Scene& scene, std::string_view key);

@@ -131,14 +131,14 @@ void declare_geometry(Keys& k) {
              [](Scene& s) -> std::string& { return s.mesh.file; }));
 }
 
-// --- [rock] [joint] [joint2] [rock2]: read by the model (dem/model.cpp) --------------------------------------------
+// --- [rock] [joint] [joint2] [rock2] [beds]: read by the model (dem/model.cpp) --------------------------------------------
 // The keys of one material; `section` is "rock", "joint", "joint2" or "rock2".
 void add_material(Keys& k, const std::string& section, std::function<MaterialParams&(Scene&)> m) {
   const std::string p = section + ".";
   const std::string what = section == "rock"    ? "bonds inside a layer"
                            : section == "joint"  ? "bonds across layers (joints)"
                            : section == "joint2" ? "joints of the second set and of the interfaces joint2.groups names"
-                                                 : "bonds inside the layers rock2.groups names";
+                                                 : "bonds inside the layers of rock2 (rock2.groups or beds.pattern)";
   k.add(positive(p + "effective_modulus", "Pa", 1e14,
                  "effective modulus E* of " + what + ": k_n = E*/d (linear part and parallel bond)",
                  [m](Scene& s) -> double& { return m(s).effective_modulus; }));
@@ -174,7 +174,8 @@ void add_material(Keys& k, const std::string& section, std::function<MaterialPar
                 [m](Scene& s) -> bool& { return m(s).slip_when_bonded; }));
 }
 
-// [rock], [joint], [joint2], [rock2]: the bond and contact laws of each material, and the block densities.
+// [rock], [joint], [joint2], [rock2], [beds]: the bond and contact laws of each material, the block densities and
+// where rock2 lies.
 void declare_materials(Keys& k) {
   add_material(k, "rock", [](Scene& s) -> MaterialParams& { return s.rock; });
   k.add(positive("rock.density", "kg/m^3", 1e5, "block density",
@@ -189,8 +190,23 @@ void declare_materials(Keys& k) {
   k.add(positive("rock2.density", "kg/m^3", 1e5, "block density of the layers of this rock",
                  [](Scene& s) -> double& { return s.rock2.density; }));
   k.add(text("rock2.groups",
-             "layers (physical surface names or layer numbers, comma separated) made of this rock; empty = none",
+             "layers (physical surface names or layer numbers, comma separated) made of this rock; empty = none. "
+             "Layer numbers change with the dip: for beds that stay put across a sweep use beds.pattern",
              [](Scene& s) -> std::string& { return s.rock2.groups; }));
+  // [beds]: rock2 by position along the joint normal (dem/materials.cpp), the same physical beds at every dip.
+  k.add(text("beds.pattern",
+             "the rock (rock or rock2) of consecutive beds along the normal of joint_set, repeated through the "
+             "specimen, e.g. [\"rock\", \"rock2\"]: every layer between two joints takes the bed that holds its "
+             "centroid, so the same physical beds result at every dip; empty = no beds (rock2.groups, if any)",
+             [](Scene& s) -> std::string& { return s.beds.pattern; }));
+  k.add(text("beds.thickness",
+             "thickness in m of each bed of beds.pattern (a list as long as it); empty = joint_set.spacing each, "
+             "one layer per bed",
+             [](Scene& s) -> std::string& { return s.beds.thickness; }));
+  k.add(real("beds.origin", "m", -10.0, 10.0,
+             "where bed 0 of beds.pattern starts along the joint normal (-sin dip, cos dip), measured from the "
+             "joint at joint_set.offset from the specimen centre: 0 puts bed 0 just above that joint",
+             [](Scene& s) -> double& { return s.beds.origin; }));
 }
 
 // --- [loading]: read by the tests between platens (dem/driver/platen_test.cpp) and rbdem shear --------------------

@@ -2,7 +2,7 @@
 // allowed range, default and doc string; dem/scene_keys.cpp declares every section through the builders below, and
 // dem/scene.cpp collects them in this order:
 //   [specimen] [joint_set] [joint_set2] [mesh]  declare_geometry   read by the meshing (dem/specimen_mesh.cpp)
-//   [rock] [joint] [joint2] [rock2]             declare_materials  read by the model (dem/model.cpp)
+//   [rock] [joint] [joint2] [rock2] [beds]      declare_materials  read by the model (dem/model.cpp)
 //   [loading]                                   declare_loading    read by the tests between platens
 //   [numerics]                                  declare_numerics   read by the engine and the driver
 //   [elastic]                                   declare_elastic    read by compare/gate

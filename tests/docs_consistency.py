@@ -22,8 +22,8 @@ import re
 import subprocess
 import sys
 
-SECTIONS = ["specimen", "joint_set2", "joint_set", "mesh", "rock2", "rock", "joint2", "joint", "loading", "numerics", "elastic",
-            "output"]
+SECTIONS = ["specimen", "joint_set2", "joint_set", "mesh", "rock2", "rock", "beds", "joint2", "joint", "loading",
+            "numerics", "elastic", "output"]
 # `elastic.json`, `mesh.msh`, ...: file names, not keys.
 FILE_EXTENSIONS = {"json", "md", "csv", "toml", "h5", "xdmf", "png", "msh", "py", "hpp", "cpp", "txt", "geo"}
 SKIP_KEY_CHECK = {"scene.md", "bad_inputs.md"}

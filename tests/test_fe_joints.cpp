@@ -285,6 +285,53 @@ TEST(FeJoints, FineSpacingTendsToGoodman) {
   }
 }
 
+// Interbedded rocks: the layers alternate between two rocks (even layer ids rock 1, odd rock 2), one joint between
+// every two layers. Salamon's medium (theory::interbedded: Backus' average of the two rocks plus the joints) is
+// exact where the stress or the strain is uniform: at dip 0 when neither rock has a Poisson effect (the layers in
+// series, nothing to restrain laterally), at dip 90 for any Poisson's ratios (the layers in parallel under one
+// axial strain, free to expand sideways). At 45 deg the free sides cut the layers and the FE model tends to it at
+// first order in s / W, as with one rock (FineSpacingTendsToGoodman).
+TEST(FeJoints, InterbeddedRocksTendToSalamon) {
+  const double E1 = 20e9, E2 = 10e9, W = 0.05;
+  const double kns = 1.0 * E1, kss = 0.4 * E1;
+  for (const auto& [nu1, nu2] : {std::pair{0.0, 0.0}, std::pair{0.25, 0.15}}) {
+    for (const double dip : {0.0, 90.0, 45.0}) {
+      const bool exact = dip == 90 || (dip == 0 && nu1 == 0 && nu2 == 0);
+      if (!exact && nu1 != 0) continue;
+      std::vector<double> ratio, error;
+      for (const int nx : {8, 16, 32}) {
+        if (exact && nx > 16) break;
+        const Grid g{nx, 2 * nx, W / nx, W / nx};
+        const int every = 2;
+        const double s = dip == 45 ? every * g.dx / std::sqrt(2.0) : every * g.dx;
+        const TriMesh m = jointed_mesh(g, dip, every);
+        std::vector<TIConstants> layers(m.num_layers());
+        for (std::size_t l = 0; l < layers.size(); ++l)
+          layers[l] = TIConstants::isotropic(l % 2 ? E2 : E1, l % 2 ? nu2 : nu1);
+        const JointedFeResult r = solve_elastic_jointed(m, layers, dip, interfaces(m, kns / s, kss / s), thickness,
+                                                        jointed(Plane::strain));
+        const double salamon = theory::apparent_modulus(
+            theory::interbedded(E1, nu1, s, E2, nu2, s, kns / s, kss / s, s), dip, Plane::strain);
+        ratio.push_back(s / W);
+        error.push_back(std::abs(r.apparent_modulus / salamon - 1));
+        std::printf("Salamon nu %.2f/%.2f dip %4.1f  s/W %.4f  E_app %.6e  Salamon %.6e  error %.3e\n", nu1, nu2, dip,
+                    s / W, r.apparent_modulus, salamon, error.back());
+      }
+      if (exact) {
+        for (const double e : error) EXPECT_LT(e, 1e-10) << "dip " << dip;
+      } else {
+        for (std::size_t k = 1; k < error.size(); ++k) {
+          EXPECT_LT(error[k], error[k - 1]);
+          const double order = std::log(error[k - 1] / error[k]) / std::log(ratio[k - 1] / ratio[k]);
+          EXPECT_GT(order, 0.8);
+          EXPECT_LT(order, 1.3);
+        }
+        EXPECT_LT(error.back(), 0.02);
+      }
+    }
+  }
+}
+
 // ---- Joints that end, joints that cross --------------------------------------------------------------------------
 
 TEST(FeJoints, JointEndingInsideTheSpecimenKeepsOneNode) {

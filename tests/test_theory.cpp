@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "theory/elasticity.hpp"
 #include "theory/elasticity3.hpp"
@@ -72,6 +73,43 @@ TEST(Backus, IdenticalLayersAreIsotropic) {
   EXPECT_NEAR(b.nu, 0.25, 1e-12);
   EXPECT_NEAR(b.nu_prime, 0.25, 1e-12);
   EXPECT_NEAR(b.G_prime, 16e9, 1e-3);
+}
+
+TEST(Salamon, JointsOnAnIsotropicRockAreGoodman) {
+  const TIConstants j = add_joints(TIConstants::isotropic(60e9, 0.2), 2e12, 0.8e12, 0.01);
+  const TIConstants g = goodman(60e9, 0.2, 2e12, 0.8e12, 0.01);
+  EXPECT_NEAR(j.E / g.E, 1.0, 1e-14);
+  EXPECT_NEAR(j.E_prime / g.E_prime, 1.0, 1e-14);
+  EXPECT_NEAR(j.nu_prime / g.nu_prime, 1.0, 1e-14);
+  EXPECT_NEAR(j.G_prime / g.G_prime, 1.0, 1e-14);
+}
+
+TEST(Salamon, EqualBedsAreTheSingleRockWithItsJoints) {
+  const TIConstants b = interbedded(40e9, 0.25, 0.005, 40e9, 0.25, 0.005, 3e12, 1e12, 0.005);
+  const TIConstants g = goodman(40e9, 0.25, 3e12, 1e12, 0.005);
+  EXPECT_NEAR(b.E / g.E, 1.0, 1e-12);
+  EXPECT_NEAR(b.nu, g.nu, 1e-12);
+  EXPECT_NEAR(b.E_prime / g.E_prime, 1.0, 1e-12);
+  EXPECT_NEAR(b.nu_prime, g.nu_prime, 1e-12);
+  EXPECT_NEAR(b.G_prime / g.G_prime, 1.0, 1e-12);
+}
+
+TEST(Salamon, UnjointedBedsWithoutPoissonEffectAreTheSeriesAndParallelLimits) {
+  // nu = 0 decouples the directions: the beds are springs in series normal to them (E_perp = 1 / <1/E>, G' = 1 /
+  // <1/G>) and in parallel along them (E_par = <E>).
+  const double E1 = 60e9, E2 = 20e9, h1 = 0.003, h2 = 0.007, f1 = h1 / (h1 + h2), f2 = h2 / (h1 + h2);
+  const double inf = std::numeric_limits<double>::infinity();
+  const TIConstants b = interbedded(E1, 0.0, h1, E2, 0.0, h2, inf, inf, 0.005);
+  EXPECT_NEAR(b.E_prime / (1.0 / (f1 / E1 + f2 / E2)), 1.0, 1e-12);
+  EXPECT_NEAR(b.E / (f1 * E1 + f2 * E2), 1.0, 1e-12);
+  EXPECT_NEAR(b.G_prime / (1.0 / (f1 / (0.5 * E1) + f2 / (0.5 * E2))), 1.0, 1e-12);
+  EXPECT_NEAR(b.nu, 0.0, 1e-15);
+  EXPECT_NEAR(b.nu_prime, 0.0, 1e-15);
+  // Joints add 1/(k_n s) to 1/E' and 1/(k_s s) to 1/G'.
+  const TIConstants j = interbedded(E1, 0.0, h1, E2, 0.0, h2, 4e12, 1e12, 0.005);
+  EXPECT_NEAR(1.0 / j.E_prime, f1 / E1 + f2 / E2 + 1.0 / (4e12 * 0.005), 1e-12 / j.E_prime);
+  EXPECT_NEAR(1.0 / j.G_prime, f1 / (0.5 * E1) + f2 / (0.5 * E2) + 1.0 / (1e12 * 0.005), 1e-12 / j.G_prime);
+  EXPECT_EQ(j.E, b.E);
 }
 
 TEST(Jaeger, MinimumAt45PlusHalfPhiWithClosedFormValue) {

@@ -131,6 +131,19 @@ TIConstants backus(double E1, double nu1, double h1, double E2, double nu2, doub
   return c;
 }
 
+TIConstants add_joints(const TIConstants& c, double k_n, double k_s, double spacing) {
+  TIConstants j = c;
+  j.E_prime = 1.0 / (1.0 / c.E_prime + 1.0 / (k_n * spacing));
+  j.nu_prime = c.nu_prime * j.E_prime / c.E_prime;  // S13 = -nu'/E' is not changed by the joints
+  j.G_prime = 1.0 / (1.0 / c.G_prime + 1.0 / (k_s * spacing));
+  return j;
+}
+
+TIConstants interbedded(double E1, double nu1, double h1, double E2, double nu2, double h2, double k_n, double k_s,
+                        double spacing) {
+  return add_joints(backus(E1, nu1, h1, E2, nu2, h2), k_n, k_s, spacing);
+}
+
 double jaeger_sliding_strength(const JaegerInput& in, double beta_deg) {
   const double mu = std::tan(in.friction_deg * deg);
   if (!(beta_deg > in.friction_deg) || !(beta_deg < 90.0)) return std::numeric_limits<double>::infinity();

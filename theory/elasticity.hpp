@@ -53,6 +53,18 @@ TIConstants goodman(double E_r, double nu_r, double k_n, double k_s, double spac
 // constants of the layered medium, for checking Goodman's formula with a thin soft layer.
 TIConstants backus(double E1, double nu1, double h1, double E2, double nu2, double h2);
 
+// A TI medium with the layering normal along 3 (the constants `c`) cut by one set of joints parallel to the
+// layering, of normal and shear stiffness per unit area k_n, k_s (Pa/m, +inf = no joints) at spacing s (m): the
+// joints deform in series with the medium normal to them and are not engaged along them (Amadei and Goodman, 1981):
+// 1/E' += 1/(k_n s), 1/G' += 1/(k_s s), nu'/E' and E, nu unchanged. goodman() is this on an isotropic rock.
+TIConstants add_joints(const TIConstants& c, double k_n, double k_s, double spacing);
+
+// Salamon's (1968) equivalent medium of interbedded rocks with joints: the Backus average of the periodic stack of
+// two isotropic rocks (E1, nu1) and (E2, nu2) of thicknesses h1, h2 per period, cut by joints at `spacing` parallel
+// to the beds (add_joints). Equal rocks give goodman(E1, nu1, ...).
+TIConstants interbedded(double E1, double nu1, double h1, double E2, double nu2, double h2, double k_n, double k_s,
+                        double spacing);
+
 // Jaeger's single plane of weakness (docs/theory.md, section 4). Angles in degrees; returns the axial strength in Pa.
 struct JaegerInput {
   double cohesion = 0;       // c_j, Pa

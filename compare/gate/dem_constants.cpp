@@ -177,11 +177,21 @@ namespace rbdem::compare {
 JointCompliance joint_compliance(const Scene& scene) { return joint_compliance(scene, scene.joint); }
 
 JointCompliance joint_compliance(const Scene& scene, const MaterialParams& j) {
-  const auto& r = scene.rock;
-  return {1.0 / (2.0 * j.effective_modulus) - 1.0 / (2.0 * r.effective_modulus),
-          j.stiffness_ratio / (2.0 * j.effective_modulus) - r.stiffness_ratio / (2.0 * r.effective_modulus),
-          1.0 / j.effective_modulus - 1.0 / (2.0 * r.effective_modulus),
-          j.stiffness_ratio / j.effective_modulus - r.stiffness_ratio / (2.0 * r.effective_modulus)};
+  return joint_compliance(j, scene.rock, scene.rock, 1.0);
+}
+
+JointCompliance joint_compliance(const MaterialParams& j, const MaterialParams& r1, const MaterialParams& r2,
+                                 double f1) {
+  // The compliance per area and per unit d of the rock bond a joint bond replaces: one rock's, or the two half
+  // chains from each centroid to the edge, each of its own rock.
+  const bool one = &r1 == &r2;
+  const double rn = one ? 1.0 / (2.0 * r1.effective_modulus)
+                        : f1 / (2.0 * r1.effective_modulus) + (1.0 - f1) / (2.0 * r2.effective_modulus);
+  const double rs = one ? r1.stiffness_ratio / (2.0 * r1.effective_modulus)
+                        : f1 * r1.stiffness_ratio / (2.0 * r1.effective_modulus) +
+                              (1.0 - f1) * r2.stiffness_ratio / (2.0 * r2.effective_modulus);
+  return {1.0 / (2.0 * j.effective_modulus) - rn, j.stiffness_ratio / (2.0 * j.effective_modulus) - rs,
+          1.0 / j.effective_modulus - rn, j.stiffness_ratio / j.effective_modulus - rs};
 }
 
 void JointInterfaces::merge(const JointInterfaces& o) {
@@ -205,7 +215,12 @@ JointInterfaces joint_interfaces(const Topology<2>& topo, const Scene& scene, do
   const auto& B = topo.bonds;
   for (std::size_t b = 0; b < B.size(); ++b) {
     if (B.kind[b] != BondKind::joint) continue;
-    const JointCompliance c = joint_compliance(scene, material_params(scene, materials.bond[b]));
+    // Each side's rock: the fraction f_i = n . (m - c_i) / d of the centroid distance lies in block i.
+    const auto i = std::size_t(B.i[b]), j = std::size_t(B.j[b]);
+    const double f_i = (B.nx[b] * (B.mx[b] - topo.blocks.cx[i]) + B.ny[b] * (B.my[b] - topo.blocks.cy[i])) / B.d[b];
+    const JointCompliance c = joint_compliance(material_params(scene, materials.bond[b]),
+                                               material_params(scene, materials.block[i]),
+                                               material_params(scene, materials.block[j]), f_i);
     JointInterface e;
     e.node_a = B.node_a[b], e.node_b = B.node_b[b], e.d = B.d[b], e.length = B.length[b];
     const bool rigid_n = !(c.c_n > 0), rigid_s = !(c.c_s > 0);

@@ -125,6 +125,11 @@ struct JointCompliance {
 JointCompliance joint_compliance(const Scene& scene);
 // The same for the joint material `joint` (joint or joint2) against scene.rock.
 JointCompliance joint_compliance(const Scene& scene, const MaterialParams& joint);
+// The same for a joint bond between blocks of the rocks r1 and r2 (rock or rock2), a fraction f1 of its centroid
+// distance d in r1's block: the rock bond it replaces has the compliance f1/(2 E*_1) + (1 - f1)/(2 E*_2) per area
+// and unit d (kappa/(2 E*) each in shear). With r1 and r2 the same object: joint_compliance(scene, joint).
+JointCompliance joint_compliance(const MaterialParams& joint, const MaterialParams& r1, const MaterialParams& r2,
+                                 double f1);
 
 // One joint bond as an interface of the FE model with the joints: its mesh edge, centroid distance and length, and
 // k_n = 1 / (d c_n), k_s = 1 / (d c_s) (Pa/m). A direction whose compliance is not positive is rigid: both

@@ -14,6 +14,7 @@
 #include <fmt/ranges.h>
 
 #include "common/parallel_map.hpp"
+#include "dem/materials.hpp"
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
 #include "mesh/trimesh.hpp"
@@ -38,6 +39,8 @@ struct DemJob {
   Topology<2> topo;         // kept for the gauge of the FE model with the joints and its interfaces
   VirtualTest test;
   VirtualTest rock_test;    // the same mesh with the joint bonds given the rock's bond parameters
+  VirtualTest rock2_test;   // the same with every bond given rock2's (with rock2 layers; on the intact job too)
+  std::vector<std::uint8_t> rock2_layer;  // 1 for each layer id of rock2 (dem/materials.hpp)
   JointBondStats joints;
   std::vector<double> ux, uy;  // block displacements (fields only)
 };
@@ -56,20 +59,29 @@ void track(double& max, double& where, double d, double beta) {
   if (std::isnan(a) || a > max) max = a, where = beta;
 }
 
+// The scene at one dip; the unjointed specimen (intact) is one layer of the rock.
 Scene dip_scene(const Scene& scene, double beta_deg, bool intact) {
   Scene s = scene;
   s.joint_set.dip_deg = beta_deg;
-  if (intact) s.joint_set.enabled = s.joint_set2.enabled = false;
+  if (intact) {
+    s.joint_set.enabled = s.joint_set2.enabled = false;
+    s.rock2.groups.clear();
+    s.beds = BedsParams{};
+  }
   return s;
 }
 
-// The rock of the layers: the same mesh with the joint bonds given the rock's bond parameters.
-Scene rock_joints_scene(const Scene& s) {
+// A rock of the layers: the same mesh with every bond (joints, and the layers of the other rock) given the bond
+// parameters of `rock` (the scene's rock or rock2).
+Scene layer_rock_scene(const Scene& s, const MaterialParams& rock) {
   Scene h = s;
-  static_cast<MaterialParams&>(h.joint) = static_cast<const MaterialParams&>(s.rock);
-  static_cast<MaterialParams&>(h.joint2) = static_cast<const MaterialParams&>(s.rock);
+  const MaterialParams m = rock;
+  for (MaterialParams* p : {static_cast<MaterialParams*>(&h.rock), static_cast<MaterialParams*>(&h.joint),
+                            static_cast<MaterialParams*>(&h.joint2), static_cast<MaterialParams*>(&h.rock2)})
+    *p = m;
   return h;
 }
+Scene rock_joints_scene(const Scene& s) { return layer_rock_scene(s, s.rock); }
 
 std::size_t find_angle(const std::vector<double>& betas, double beta) {
   for (std::size_t k = 0; k < betas.size(); ++k)
@@ -106,9 +118,9 @@ struct JointsSolve {
 
 constexpr int max_joint_state_solves = 20;
 
-JointsSolve solve_joints(const DemJob& job, const theory::TIConstants& rock, const JointInterfaces& f,
-                         theory::Plane plane, const ElasticGateOptions& o, bool gauge, int refinement,
-                         bool unilateral) {
+JointsSolve solve_joints(const DemJob& job, const theory::TIConstants& rock, const theory::TIConstants& rock2,
+                         const JointInterfaces& f, theory::Plane plane, const ElasticGateOptions& o, bool gauge,
+                         int refinement, bool unilateral) {
   int max_layer = 0;
   for (int l : job.mesh.layer) max_layer = std::max(max_layer, l);
   const std::size_t n_layers = std::max(job.mesh.num_layers(), std::size_t(max_layer) + 1);
@@ -122,7 +134,9 @@ JointsSolve solve_joints(const DemJob& job, const theory::TIConstants& rock, con
   jo.direct_dof_limit = o.joints_direct_dof_limit;
   jo.fields = gauge;
   jo.refinement = refinement;
-  const std::vector<theory::TIConstants> layers(n_layers, rock);
+  std::vector<theory::TIConstants> layers(n_layers, rock);  // each layer the constants of its rock
+  for (std::size_t l = 0; l < n_layers && l < job.rock2_layer.size(); ++l)
+    if (job.rock2_layer[l]) layers[l] = rock2;
   JointsSolve out;
   std::vector<char> open(edges.size(), 0);
   continuum::JointedFeResult r;
@@ -170,25 +184,30 @@ void linear_check(ElasticReport& rep, const std::vector<DemJob>& jobs, const std
   const auto t0 = Clock::now();
   const bool gauge = rep.gate.measure == GateMeasure::gauge;
   const bool same_mesh = options.layer_rock == ElasticGateOptions::LayerRock::same_mesh;
-  theory::TIConstants intact = rep.intact_constants;
-  if (!same_mesh) {
-    const Scene s = dip_scene(scene, 0, true);
-    intact = isotropic_constants(virtual_test(jobs.back().topo, s, 0, options.end_fraction, nullptr, true), rep.plane);
-  }
+  // A rock's constants, linear: on the dip's mesh (same_mesh) or on the unjointed specimen.
+  auto linear_rock = [&](const Topology<2>& topo, const Scene& s, const MaterialParams& rock, double beta) {
+    return isotropic_constants(virtual_test(topo, layer_rock_scene(s, rock), beta, options.end_fraction, nullptr,
+                                            true),
+                               rep.plane);
+  };
+  const Scene unjointed = dip_scene(scene, 0, true);
+  const theory::TIConstants intact =
+      same_mesh ? rep.intact_constants : linear_rock(jobs.back().topo, unjointed, unjointed.rock, 0);
+  const theory::TIConstants intact2 = same_mesh || !rep.two_rocks
+                                          ? rep.intact2_constants
+                                          : linear_rock(jobs.back().topo, unjointed, unjointed.rock2, 0);
   parallel_map(rep.angles.size(), threads, [&](std::size_t k) {
     ElasticAngle& a = rep.angles[k];
     const DemJob& job = jobs[k];
     const Scene s = dip_scene(scene, a.beta_deg, false);
     const VirtualTest dem = virtual_test(job.topo, s, a.beta_deg, options.end_fraction, nullptr, true);
     a.dem_linear = gauge ? dem.gauge_modulus : dem.platen_modulus;
-    const theory::TIConstants rock =
-        same_mesh ? isotropic_constants(virtual_test(job.topo, rock_joints_scene(s), a.beta_deg, options.end_fraction,
-                                                     nullptr, true),
-                                        rep.plane)
-                  : intact;
-    if (rock.admissible()) {
-      const JointsSolve fj =
-          solve_joints(job, rock, interfaces[k], rep.plane, options, gauge, options.joints_refinement, false);
+    const theory::TIConstants rock = same_mesh ? linear_rock(job.topo, s, s.rock, a.beta_deg) : intact;
+    const theory::TIConstants rock2 =
+        !rep.two_rocks ? rock : same_mesh ? linear_rock(job.topo, s, s.rock2, a.beta_deg) : intact2;
+    if (rock.admissible() && rock2.admissible()) {
+      const JointsSolve fj = solve_joints(job, rock, rock2, interfaces[k], rep.plane, options, gauge,
+                                          options.joints_refinement, false);
       a.fe_joints_linear = gauge ? fj.gauge_modulus : fj.platen_modulus;
     }
   });
@@ -256,23 +275,29 @@ void check_gate_inputs(const Scene& scene_in, const ElasticGateOptions& options)
 }
 
 // One dip (or, with job.intact, the unjointed specimen): its mesh, topology and virtual test, with the rock of its
-// layers (the joint bonds given the rock's bond parameters) when same_mesh_rock. Returns the progress line.
+// layers (the joint bonds given the rock's bond parameters) when same_mesh_rock, and rock2's (every bond rock2's)
+// when the scene has rock2 layers. Returns the progress line.
 std::string measure_dip(DemJob& job, const Scene& scene, const ElasticGateOptions& options, bool same_mesh_rock) {
   const Scene s = dip_scene(scene, job.beta_deg, job.intact);
+  const bool two_rocks = uses_rock2(scene);
   job.mesh = make_mesh(s);
   job.topo = build_topology(job.mesh, s.specimen.thickness, s.rock.density);
+  if (!job.intact) job.rock2_layer = rock2_layers(job.topo, s);
   StaticResult state;
   job.test = virtual_test(job.topo, s, job.beta_deg, options.end_fraction, options.fields ? &state : nullptr);
   job.joints.add(job.topo);
   if (same_mesh_rock && !job.intact)
     job.rock_test = virtual_test(job.topo, rock_joints_scene(s), job.beta_deg, options.end_fraction);
+  if (two_rocks && (same_mesh_rock || job.intact))
+    job.rock2_test = virtual_test(job.topo, layer_rock_scene(s, scene.rock2), job.beta_deg, options.end_fraction);
   if (options.fields && !job.intact) job.ux = state.component(0), job.uy = state.component(1);
-  return fmt::format("  DEM {:<10} {:>6} blocks, E_static {:7.2f} GPa, E_gauge {:7.2f} GPa, {:.2f} s{}",
+  const auto layer_rock = [](const char* name, const VirtualTest& t) {
+    return t.S22 != 0 ? fmt::format("; {} E_gauge {:7.2f} GPa", name, t.gauge_modulus / 1e9) : std::string();
+  };
+  return fmt::format("  DEM {:<10} {:>6} blocks, E_static {:7.2f} GPa, E_gauge {:7.2f} GPa, {:.2f} s{}{}",
                      job.intact ? "intact" : fmt::format("beta {:g}", job.beta_deg), job.test.blocks,
                      job.test.platen_modulus / 1e9, job.test.gauge_modulus / 1e9, job.test.solve_seconds,
-                     job.rock_test.S22 != 0
-                         ? fmt::format("; rock of the layers E_gauge {:7.2f} GPa", job.rock_test.gauge_modulus / 1e9)
-                         : "");
+                     layer_rock("rock of the layers", job.rock_test), layer_rock("rock2", job.rock2_test));
 }
 
 // Stage 1: mesh and solve the DEM at every angle, and the unjointed specimen (the last job; gmsh runs one mesh at a
@@ -297,6 +322,8 @@ void fit_constants(ElasticReport& rep, const std::vector<DemJob>& jobs, const Sc
   rep.fit_betas = options.fit_betas;
   rep.intact = jobs.back().test;
   rep.intact_constants = isotropic_constants(rep.intact, rep.plane);
+  rep.two_rocks = uses_rock2(scene);
+  if (rep.two_rocks) rep.intact2_constants = isotropic_constants(jobs.back().rock2_test, rep.plane);
   JointBondStats joints;
   for (std::size_t k = 0; k + 1 < jobs.size(); ++k) joints.merge(jobs[k].joints);
   rep.goodman = goodman_estimate(scene, rep.intact_constants, joints.mean_d());
@@ -330,10 +357,23 @@ std::vector<JointInterfaces> dip_interfaces(ElasticReport& rep, const std::vecto
   return interfaces;
 }
 
+// Salamon's interbedded medium (theory::interbedded) of the rocks `rock`, `rock2` in the beds' thickness fractions,
+// with the mean joint stiffness of one dip's interfaces: Amadei's apparent modulus at beta.
+double interbedded_modulus(const theory::TIConstants& rock, const theory::TIConstants& rock2, const BedSequence& beds,
+                           const JointInterfaces& joints, const Scene& scene, double beta_deg, theory::Plane plane) {
+  double h1 = 0, h2 = 0;
+  for (std::size_t k = 0; k < beds.rock2.size(); ++k) (beds.rock2[k] ? h2 : h1) += beds.thickness[k];
+  if (!rock.admissible() || !rock2.admissible()) return std::numeric_limits<double>::quiet_NaN();
+  const auto c = theory::interbedded(rock.E, rock.nu, h1, rock2.E, rock2.nu, h2, joints.mean_k_n(),
+                                     joints.mean_k_s(), scene.joint_set.spacing);
+  return theory::apparent_modulus(c, beta_deg, plane);
+}
+
 // The columns that need no FE: the DEM's moduli, Amadei's with the DEM-measured and with Goodman's constants, the
 // rock of the layers, the interfaces and Goodman's homogenized modulus of the same structure.
 void theory_columns(ElasticReport& rep, const std::vector<DemJob>& jobs,
                     const std::vector<JointInterfaces>& interfaces, const Scene& scene, bool same_mesh_rock) {
+  const BedSequence beds = bed_sequence(scene);
   rep.angles.resize(interfaces.size());
   for (std::size_t k = 0; k < interfaces.size(); ++k) {
     ElasticAngle& a = rep.angles[k];
@@ -346,15 +386,27 @@ void theory_columns(ElasticReport& rep, const std::vector<DemJob>& jobs,
     a.amadei_goodman = theory::apparent_modulus(rep.goodman.constants, a.beta_deg, rep.plane);
     a.rock_test = job.rock_test;
     a.rock_constants = same_mesh_rock ? isotropic_constants(job.rock_test, rep.plane) : rep.intact_constants;
+    a.rock2_test = job.rock2_test;
+    a.rock2_constants = !rep.two_rocks ? a.rock_constants
+                        : same_mesh_rock ? isotropic_constants(job.rock2_test, rep.plane)
+                                         : rep.intact2_constants;
     a.interface_edges = interfaces[k].edges.size();
     a.glued_edges = interfaces[k].glued;
     a.stiffened_edges = interfaces[k].stiffened;
     // Goodman with the intact rock and this dip's interfaces: the homogenized modulus of the same structure.
-    if (scene.joint_set.enabled && !interfaces[k].edges.empty())
+    // Beds of two rocks: Salamon's medium, with the intact rocks (homogenized) and the rocks of the layers.
+    const bool joints = scene.joint_set.enabled && !interfaces[k].edges.empty();
+    if (joints && !rep.two_rocks)
       a.homogenized = theory::apparent_modulus(
           theory::goodman(rep.intact_constants.E, rep.intact_constants.nu, interfaces[k].mean_k_n(),
                           interfaces[k].mean_k_s(), scene.joint_set.spacing),
           a.beta_deg, rep.plane);
+    if (joints && !beds.empty() && rep.two_rocks) {
+      a.homogenized = interbedded_modulus(rep.intact_constants, rep.intact2_constants, beds, interfaces[k], scene,
+                                          a.beta_deg, rep.plane);
+      a.interbedded = interbedded_modulus(a.rock_constants, a.rock2_constants, beds, interfaces[k], scene,
+                                          a.beta_deg, rep.plane);
+    }
   }
 }
 
@@ -394,9 +446,9 @@ void homogenized_fe(ElasticAngle& a, const DemJob& job, const ElasticReport& rep
 void jointed_fe(ElasticAngle& a, const DemJob& job, const JointInterfaces& interfaces, const ElasticReport& rep,
                 const ElasticGateOptions& options, bool dem_ok) {
   const auto tj = Clock::now();
-  if (a.rock_constants.admissible()) {
-    const JointsSolve fj = solve_joints(job, a.rock_constants, interfaces, rep.plane, options, true,
-                                        options.joints_refinement, true);
+  if (a.rock_constants.admissible() && a.rock2_constants.admissible()) {
+    const JointsSolve fj = solve_joints(job, a.rock_constants, a.rock2_constants, interfaces, rep.plane, options,
+                                        true, options.joints_refinement, true);
     a.fe_joints_open_edges = fj.open_edges, a.fe_joints_state_solves = fj.state_solves;
     a.fe_joints_states_settled = fj.states_settled;
     a.fe_joints = fj.gauge_modulus, a.fe_joints_platen = fj.platen_modulus;
@@ -411,9 +463,11 @@ void jointed_fe(ElasticAngle& a, const DemJob& job, const JointInterfaces& inter
       if (!dem_ok) f.dem_ux = std::move(dem_ux);  // the mean u_x removed, as relative_l2 does for the FE
     }
   }
-  if (rep.intact_constants.admissible() && std::isfinite(a.homogenized))
+  const theory::TIConstants& intact2 = rep.two_rocks ? rep.intact2_constants : rep.intact_constants;
+  if (rep.intact_constants.admissible() && intact2.admissible() && std::isfinite(a.homogenized))
     a.fe_joints_intact_platen =
-        solve_joints(job, rep.intact_constants, interfaces, rep.plane, options, false, 0, false).platen_modulus;
+        solve_joints(job, rep.intact_constants, intact2, interfaces, rep.plane, options, false, 0, false)
+            .platen_modulus;
   a.fe_joints_seconds = seconds_since(tj);
 }
 
@@ -449,7 +503,9 @@ std::string outside_goodman(const Scene& scene) {
   if ((scene.joint_set.enabled && scene.joint_set.persistence < 1.0) ||
       (scene.joint_set2.enabled && scene.joint_set2.persistence < 1.0))
     outside.push_back("joints with rock bridges (persistence < 1)");
-  if (!scene.rock2.groups.empty()) outside.push_back("layers of a second rock (rock2.groups)");
+  if (!scene.rock2.groups.empty()) outside.push_back("layers of a second rock named by rock2.groups");
+  if (!bed_sequence(scene).empty())
+    outside.push_back("beds of two rocks (Salamon's interbedded medium is the homog and interbedded columns)");
   if (outside.empty()) return {};
   return fmt::format("Goodman's one-set medium does not model {}", fmt::join(outside, ", "));
 }

@@ -95,8 +95,16 @@ struct ElasticAngle {
   // constants from it (E, nu from S22, S12), or the intact constants (ElasticGateOptions::LayerRock).
   VirtualTest rock_test;
   theory::TIConstants rock_constants;
+  // With rock2 layers (rock2.groups or beds.pattern), the same for rock2: the FE model with the joints gives each
+  // layer the constants of its rock.
+  VirtualTest rock2_test;
+  theory::TIConstants rock2_constants;
+  // Beds of two rocks (beds.pattern): Salamon's interbedded medium (theory::interbedded: Backus' average of the two
+  // rocks of the layers at the pattern's thickness fractions, with this dip's mean joint stiffness), Amadei's 1/S22.
+  double interbedded = nan;  // Pa
   // Homogenization measured: the FE model with the joints with the intact rock (platen modulus) against Goodman's
   // homogenized modulus with the same rock and this dip's mean interface stiffness (closed form, = homogenized FE).
+  // With beds of two rocks both use the intact constants of each rock and Salamon's medium.
   double fe_joints_intact_platen = nan;  // Pa
   double homogenized = nan;              // Pa
   // The linear check (ElasticGateOptions::linear_check, run only when the DEM misses fe_joints): the DEM and the FE
@@ -181,6 +189,8 @@ struct ElasticReport {
   std::vector<double> fit_betas;  // deg, the virtual tests behind them
   VirtualTest intact;           // the unjointed specimen's test
   theory::TIConstants intact_constants;
+  bool two_rocks = false;                 // layers of rock2 (rock2.groups or beds.pattern)
+  theory::TIConstants intact2_constants;  // rock2 on the unjointed specimen (two_rocks)
   GoodmanEstimate goodman;
   InterfaceSummary interfaces;
   Homogenization homogenization;

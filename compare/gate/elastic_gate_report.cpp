@@ -39,7 +39,9 @@ nlohmann::json constants_section(const ElasticReport& r) {
   auto intact = constants_json(r.intact_constants);
   intact["dem_static_pa"] = r.intact.platen_modulus;
   intact["dem_gauge_pa"] = r.intact.gauge_modulus;
-  return {{"dem", dem}, {"goodman", good}, {"intact", intact}};
+  nlohmann::json out = {{"dem", dem}, {"goodman", good}, {"intact", intact}};
+  if (r.two_rocks) out["intact_rock2"] = constants_json(r.intact2_constants);
+  return out;
 }
 
 // The joint interfaces, the homogenization indicator and Amadei's check: the structure the verdict rests on.
@@ -81,6 +83,10 @@ nlohmann::json angle_json(const ElasticAngle& a) {
       {"rock_E", a.rock_constants.E},
       {"rock_nu", a.rock_constants.nu},
       {"rock_open_linear_parts", a.rock_test.open_bonds},
+      {"rock2_E", a.rock2_constants.E},
+      {"rock2_nu", a.rock2_constants.nu},
+      {"interbedded_pa", number(a.interbedded)},
+      {"dem_gauge_vs_interbedded", number(a.dem_gauge / a.interbedded - 1.0)},
       {"fe_joints_intact_platen_pa", number(a.fe_joints_intact_platen)},
       {"homogenized_pa", number(a.homogenized)},
       {"homogenization_error", number(a.homogenization_error())},
@@ -151,6 +157,21 @@ nlohmann::json gate_json(const ElasticReport& r) {
            {"reason", g.reason}};
 }
 
+// Layers of two rocks: each dip's rocks of the layers (FEj gives each layer its rock's constants) and Salamon's
+// interbedded medium beside the DEM.
+std::string two_rocks_table(const ElasticReport& r) {
+  std::string s = "  two rocks: beta, rock and rock2 of the layers (E GPa, nu), Salamon + Amadei (interbedded, GPa), "
+                  "DEM gauge vs it (%), FEj vs it (%)\n";
+  for (const auto& a : r.angles)
+    s += fmt::format("  {:5g}  {} {:.3f}  {} {:.3f}  {}  {}  {}\n", a.beta_deg, gpa(a.rock_constants.E),
+                     a.rock_constants.nu, gpa(a.rock2_constants.E), a.rock2_constants.nu, gpa(a.interbedded),
+                     pct(a.dem_gauge / a.interbedded - 1.0), pct(a.fe_joints / a.interbedded - 1.0));
+  const auto& c2 = r.intact2_constants;
+  s += fmt::format("  intact rock2: E {:.2f} GPa, nu {:.3f} (intact rock E {:.2f} GPa, nu {:.3f})\n", c2.E / 1e9,
+                   c2.nu, r.intact_constants.E / 1e9, r.intact_constants.nu);
+  return s;
+}
+
 }  // namespace
 
 nlohmann::json elastic_json(const ElasticReport& r, const Scene& scene) {
@@ -202,6 +223,7 @@ std::string elastic_table(const ElasticReport& r) {
   }
   s += "  (rock: the DEM gauge modulus of the same mesh with rock bonds on the joints, the layers of FEj; homog: the "
        "FE model with the joints on the intact rock over Goodman's homogenized modulus, platens)\n";
+  if (r.two_rocks) s += two_rocks_table(r);
   const auto& c = r.dem.constants;
   s += fmt::format("DEM constants:     E {:.2f} GPa, nu {:.3f}, E' {:.2f} GPa, nu' {:.3f}, G' {:.2f} GPa "
                    "(virtual tests at {} deg, weighted fit residual {:.2f} %, condition {:.3g}{})\n",

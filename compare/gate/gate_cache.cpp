@@ -97,15 +97,6 @@ GateCheck check_elastic_gate(const Scene& scene, const ElasticGateOptions& optio
                          scene.mesh.file);
     return c;
   }
-  if (!scene.rock2.groups.empty() && (scene.rock2.effective_modulus != scene.rock.effective_modulus ||
-                                      scene.rock2.stiffness_ratio != scene.rock.stiffness_ratio)) {
-    c.note = fmt::format("elastic gate: not applicable to layers of two stiffnesses (rock2.effective_modulus = {:g} "
-                         "Pa, rock2.stiffness_ratio = {:g} against rock's {:g} Pa, {:g}): its FE model gives every "
-                         "layer the rock's constants",
-                         scene.rock2.effective_modulus, scene.rock2.stiffness_ratio, scene.rock.effective_modulus,
-                         scene.rock.stiffness_ratio);
-    return c;
-  }
   c.key = elastic_gate_key(scene);
   const auto dir = elastic_gate_cache_dir();
   if (!dir.empty()) {
