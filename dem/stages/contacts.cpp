@@ -61,9 +61,10 @@ bool pair_overlap(const Model<2>& m, const ModelState<2>& s, const Workspace<2>&
   const ContactPairs& C = s.contacts;
   const int i = C.i[p], j = C.j[p];
   const double ox = C.opening_x[p], oy = C.opening_y[p];  // block j moved back towards i by its opening
-  const double ex = s.x[std::size_t(j)] - ox - s.x[std::size_t(i)], ey = s.y[std::size_t(j)] - oy - s.y[std::size_t(i)];
-  const double rr = m.radius[std::size_t(i)] + m.radius[std::size_t(j)];
-  if (ex * ex + ey * ey >= rr * rr) return false;
+  const std::size_t a = std::size_t(i), b = std::size_t(j);
+  const double ex = s.x[b] - ox - s.x[a], ey = s.y[b] - oy - s.y[a];
+  const double rr = m.radius[a] + m.radius[b];
+  if (!(ex * ex + ey * ey < rr * rr)) return false;  // out of reach
   double vi[6], vj[6];
   block_vertices(m, s, w, i, vi);
   block_vertices(m, s, w, j, vj);
