@@ -72,14 +72,8 @@ ContactStates Engine<2>::contact_states() const {
   for (std::size_t p = 0; p < C.size(); ++p) {
     if (C.bond[p] >= 0 && !s.broken[std::size_t(C.bond[p])]) continue;  // still bonded: the bond is its contact
     const int i = C.i[p], j = C.j[p];
-    const double ex = s.x[std::size_t(j)] - s.x[std::size_t(i)], ey = s.y[std::size_t(j)] - s.y[std::size_t(i)];
-    const double rr = model_.radius[std::size_t(i)] + model_.radius[std::size_t(j)];
-    if (ex * ex + ey * ey >= rr * rr) continue;
-    double vi[6], vj[6];
-    stages::block_vertices(model_, s, work_, i, vi);
-    stages::block_vertices(model_, s, work_, j, vj);
     Overlap ov;
-    if (!overlap_polygons(vi, 3, vj, 3, ov)) continue;
+    if (!stages::pair_overlap(model_, s, work_, p, ov)) continue;
     const double nx = -ov.nx, ny = -ov.ny, tx = -ny, ty = nx;  // from i to j
     const double fn = C.law[p].normal_force(ov.area, ov.chord);
     double fs = C.fs[p];

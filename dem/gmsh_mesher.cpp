@@ -191,8 +191,37 @@ void group_sides(const SpecimenGeometry& g, const gmsh::vectorpair& surfaces) {
   }
 }
 
-// Meshes the surfaces with triangles of size h (Delaunay), the curves graded first when g.mesh_seed != 0.
+// Makes every surface of the current model a transfinite grid (mesh_specimen's `structured`): each piece of the
+// rectangle has four sides, two horizontal ones (the specimen's top or bottom, or a joint) and two vertical ones;
+// the horizontal curves get round(W / h) segments, the vertical ones round(their height / h), so that opposite
+// sides match and every cell is the same rectangle, split into two right triangles.
+void structure_surfaces(const SpecimenGeometry& g, double h) {
+  const double eps = 1e-9 * std::max(g.width, g.height);
+  const int columns = std::max(1, int(std::lround(g.width / h)));
+  gmsh::vectorpair curves, surfaces;
+  gmsh::model::getEntities(curves, 1);
+  for (const auto& [dim, tag] : curves) {
+    std::vector<double> lo, hi, a, b;  // the curve's end points (OCC's bounding boxes are padded)
+    gmsh::model::getParametrizationBounds(1, tag, lo, hi);
+    gmsh::model::getValue(1, tag, lo, a);
+    gmsh::model::getValue(1, tag, hi, b);
+    const double rise = std::abs(b.at(1) - a.at(1));
+    const bool horizontal = rise < eps;
+    const int segments = horizontal ? columns : std::max(1, int(std::lround(rise / h)));
+    gmsh::model::mesh::setTransfiniteCurve(tag, segments + 1);
+  }
+  gmsh::model::getEntities(surfaces, 2);
+  for (const auto& [dim, tag] : surfaces) gmsh::model::mesh::setTransfiniteSurface(tag, "Left");
+}
+
+// Meshes the surfaces with triangles of size h (Delaunay), the curves graded first when g.mesh_seed != 0; or as
+// structured grids when g.structured.
 void generate_mesh(const SpecimenGeometry& g, double h) {
+  if (g.structured) {
+    structure_surfaces(g, h);
+    gmsh::model::mesh::generate(2);
+    return;
+  }
   gmsh::option::setNumber("Mesh.MeshSizeMin", h);
   gmsh::option::setNumber("Mesh.MeshSizeMax", h);
   gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);

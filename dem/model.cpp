@@ -21,14 +21,16 @@ BondStiffness Model<2>::stiffness(int b) const {
 LinearContact Model<2>::pair_law(int i, int j, int bond) const {
   if (bond >= 0) {  // a broken bond: the very law its linear part had (the bond's K, K / kappa and L)
     const std::size_t k = std::size_t(bond);
-    return {frame.K[k], frame.Ks[k], law[material[k]].mu, frame.inv_L[k]};
+    return {frame.K[k], frame.Ks[k], law[material[k]].mu, frame.inv_L[k], law[material[k]].tan_dilation};
   }
   // Never neighbours: d and L_ref from the blocks' inradii (the bond's d and L for equilateral blocks).
   const bool same_layer = layer[std::size_t(i)] == layer[std::size_t(j)];
   const BondKindLaw& kl = law[same_layer ? block_material[std::size_t(i)] : std::uint8_t(material_joint)];
   const double r = inradius[std::size_t(i)] + inradius[std::size_t(j)];
   const double kn = kl.modulus / r;
-  return LinearContact::per_area(kn, kn / kl.kappa, kl.mu, std::sqrt(3.0) * r, thickness);
+  LinearContact c = LinearContact::per_area(kn, kn / kl.kappa, kl.mu, std::sqrt(3.0) * r, thickness);
+  c.tan_dilation = kl.tan_dilation;
+  return c;
 }
 
 bool Model<2>::has_intact_bond(int b, const std::vector<std::uint8_t>& broken) const {
@@ -86,6 +88,7 @@ void build_laws(const MaterialTable& mat, double thickness, Model<2>& m) {
     kl.kappa = mat[k]->stiffness_ratio;
     kl.mu = mat[k]->contact_friction;
     kl.slip_bonded = mat[k]->slip_when_bonded;
+    kl.tan_dilation = std::tan(mat[k]->dilation_deg * deg);
     kl.bond.inertia_divisor = fault_injected("bond_inertia") ? 6.0 : 12.0;
     kl.bond.inv_kappa = 1.0 / mat[k]->stiffness_ratio;
     kl.bond.inertia_factor = 1.0 / kl.bond.inertia_divisor;

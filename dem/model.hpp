@@ -55,6 +55,7 @@ struct BondKindLaw {
   double kappa = 1;           // k_n / k_s
   double mu = 0;              // Coulomb coefficient of the linear part and of later contacts of this kind
   bool slip_bonded = false;   // the linear part of an intact bond slides at mu F_n (else it sticks: mu = inf)
+  double tan_dilation = 0;    // tan(i) of its contacts after breakage (LinearContact::tan_dilation)
   ParallelBond bond;
   // The Coulomb coefficient of the linear part while the bond is intact.
   double bonded_mu() const { return slip_bonded ? mu : std::numeric_limits<double>::infinity(); }

@@ -42,6 +42,7 @@ struct MeshParams {
   std::string file;       // optional user mesh (.msh, physical surfaces = layers); empty = generate
   int seed = 0;           // mesh realization; 0 = the unperturbed mesh (dem/specimen_mesh.hpp, mesh_specimen)
   int strength_seed = 0;  // realization of the bond strength factors of materials with a weibull_modulus
+  bool structured = false;  // a structured grid of equal right triangles (rbdem shear; dem/specimen_mesh.hpp)
 };
 
 // Bond and contact parameters of one contact kind (rock inside a layer, joint across layers).
@@ -56,6 +57,7 @@ struct MaterialParams {
   double fracture_energy = 0;    // J/m^2, G_f of a softening bond (docs/model.md, "Softening bonds"); 0 = brittle
   bool slip_when_bonded = false; // linear part may slide while its parallel bond is intact (PFC's LPB)
   double weibull_modulus = 0;    // -, m of the bonds' Weibull strength factors (mean 1); 0 = every bond at the strength
+  double dilation_deg = 0;       // deg, dilation angle i of its contacts: sliding opens them by |slip| tan(i)
 };
 
 struct RockParams : MaterialParams {

@@ -127,6 +127,11 @@ void declare_geometry(Keys& k) {
                  "gives the same strengths on the same mesh); a study's realizations = N runs seeds 0 .. N-1 of "
                  "both this and mesh.seed",
                  [](Scene& s) -> int& { return s.mesh.strength_seed; }));
+  k.add(boolean("mesh.structured",
+                "true meshes a rectangle with horizontal through-going joints (or none) as a structured grid of equal "
+                "right triangles, so that every joint bond has the same stiffness; rbdem shear sets it (docs/model.md)"
+                "; not for a user mesh (mesh.file)",
+                [](Scene& s) -> bool& { return s.mesh.structured; }));
   k.add(text("mesh.file", "user mesh (.msh; physical surfaces = layers); empty = mesh the specimen",
              [](Scene& s) -> std::string& { return s.mesh.file; }));
 }
@@ -168,6 +173,10 @@ void add_material(Keys& k, const std::string& section, std::function<MaterialPar
              "0.36 at m = 3, 0.12 at m = 10); the fracture energy stays the same; 0 = every bond at the stated "
              "strength (mesh.strength_seed picks the realization)",
              [m](Scene& s) -> double& { return m(s).weibull_modulus; }));
+  k.add(real(p + "dilation_deg", "deg", 0.0, 45.0,
+             "dilation angle i of the contacts of " + what + " after breakage (Patton's asperities): while a contact "
+             "slides, its normal opening grows by |slip| tan(i), so a sliding joint dilates; 0 = a flat interface",
+             [m](Scene& s) -> double& { return m(s).dilation_deg; }));
   k.add(boolean(p + "slip_when_bonded",
                 "true: the linear part slides at mu F_n even while the parallel bond is intact (PFC's linear "
                 "parallel bond); false: a bonded interface sticks until its bond breaks, " + what,

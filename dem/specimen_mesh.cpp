@@ -30,6 +30,7 @@ SpecimenGeometry SpecimenGeometry::from_scene(const Scene& scene) {
   g.set2 = {second_set_dip_deg(scene, j.dip_deg), j2.spacing, j2.offset, j2.persistence, j2.joint_length,
             j2.stagger};
   g.mesh_seed = scene.mesh.seed;
+  g.structured = scene.mesh.structured;
   return g;
 }
 
@@ -133,7 +134,27 @@ std::vector<JointSegment> joint_segments(const SpecimenGeometry& g, double min_p
   return out;
 }
 
+namespace {
+// A structured grid needs four-sided pieces: a rectangle cut by horizontal through-going joints only.
+void check_structured(const SpecimenGeometry& g) {
+  if (!g.structured) return;
+  const auto refuse = [](const std::string& what, const std::string& fix) {
+    throw SceneError(fmt::format("mesh.structured = true meshes a rectangle cut by horizontal through-going joints, "
+                                 "and {}: {} (or set mesh.structured = false)",
+                                 what, fix));
+  };
+  if (g.disc) refuse("the specimen is a disc", "set specimen.shape = \"rectangle\"");
+  if (g.joints && g.dip_deg != 0.0) refuse(fmt::format("joint_set.dip_deg = {}", g.dip_deg), "set it to 0");
+  if (g.joints && g.persistence < 1.0)
+    refuse(fmt::format("joint_set.persistence = {}", g.persistence), "set it to 1");
+  if (g.second_set) refuse("the scene has a second joint set", "set joint_set2.enabled = false");
+  if (g.mesh_seed != 0)
+    refuse(fmt::format("mesh.seed = {} asks for a graded realization", g.mesh_seed), "set mesh.seed = 0");
+}
+}  // namespace
+
 TriMesh mesh_specimen(const SpecimenGeometry& g, double h, const std::filesystem::path& msh_out) {
+  check_structured(g);
   if (g.joints && g.spacing < 2.0 * h)
     throw SceneError(fmt::format("joint_set.spacing = {:.4g} m holds fewer than two elements of mesh.size = {:.4g} m:"
                                  " use mesh.size <= {:.4g} m or a wider spacing",

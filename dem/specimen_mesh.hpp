@@ -39,6 +39,7 @@ struct SpecimenGeometry {
   bool disc = false;                             // the disc inscribed in the width x height box
   double contact_arc_deg = 0.0;                  // a disc's flattened ends subtend 2 alpha (0: a full disc)
   int mesh_seed = 0;                             // mesh realization (mesh.seed); 0 = the unperturbed mesh
+  bool structured = false;                       // a structured grid of equal right triangles (mesh.structured)
 
   static SpecimenGeometry from_scene(const Scene& scene);
   // The first set's unit vectors along the joints and along their normal; exact at 0 and 90 degrees.
@@ -75,6 +76,13 @@ std::vector<JointSegment> joint_segments(const SpecimenGeometry& g, double min_p
 // number of segments gmsh gives it at size h, and its spacing varies by at most +-2.5 % about the mean L / n. That
 // moves nearly every node of the curves, and the mesher then lays a different interior of the same size and
 // quality. The same seed gives the same mesh, bit for bit; seed 0 is the mesh without any grading.
+//
+// Structured (g.structured, mesh.structured): each piece of the rectangle between its horizontal joints is a
+// transfinite grid of round(W / h) columns and round(H_piece / h) rows, every cell split into two right triangles.
+// Every triangle on a joint then has its centroid a third of its row's height from the joint, so every joint bond
+// has the same centroid distance d and the same stiffness E*/d (a direct shear test's joint breaks all at once, at
+// the envelope). SceneError unless the specimen is a rectangle whose joints (if any) are one horizontal set of
+// through-going joints and mesh.seed = 0.
 TriMesh mesh_specimen(const SpecimenGeometry& g, double h, const std::filesystem::path& msh_out = {});
 
 // Reads a user mesh: one physical surface group per layer, first-order triangles only, planar (z = 0), no volume

@@ -25,7 +25,8 @@ void check_state_fits(const ModelState<2>& s, std::size_t blocks, std::size_t bo
       const auto& C = field;
       const std::size_t n = C.key.size();
       if (C.i.size() != n || C.j.size() != n || C.bond.size() != n || C.law.size() != n || C.fs.size() != n ||
-          C.fn.size() != n || C.chord.size() != n)
+          C.fn.size() != n || C.chord.size() != n || C.opening_x.size() != n ||
+          C.opening_y.size() != n)
         bad += fmt::format(" {}: columns of unequal length;", name);
       if (!in_range(C.i, blocks) || !in_range(C.j, blocks))
         bad += fmt::format(" {}: a block index out of range;", name);
@@ -84,13 +85,15 @@ void save_state(const ModelState<2>& state, Snapshot& snap) {
       snap.add(n + "/i", extent, field.i);
       snap.add(n + "/j", extent, field.j);
       snap.add(n + "/bond", extent, field.bond);
-      std::vector<double> law;  // K, Ks, mu, 1 / L_ref of each pair: bit-exact
-      law.reserve(4 * field.law.size());
-      for (const LinearContact& c : field.law) law.insert(law.end(), {c.K, c.Ks, c.mu, c.inv_lref});
+      std::vector<double> law;  // K, Ks, mu, 1 / L_ref, tan(i) of each pair: bit-exact
+      law.reserve(5 * field.law.size());
+      for (const LinearContact& c : field.law) law.insert(law.end(), {c.K, c.Ks, c.mu, c.inv_lref, c.tan_dilation});
       snap.add(n + "/law", extent, std::move(law));
       snap.add(n + "/fs", extent, field.fs);
       snap.add(n + "/fn", extent, field.fn);
       snap.add(n + "/chord", extent, field.chord);
+      snap.add(n + "/opening_x", extent, field.opening_x);
+      snap.add(n + "/opening_y", extent, field.opening_y);
       snap.add(n + "/key", extent, field.key);
     } else if constexpr (std::is_same_v<T, std::vector<Crack>>) {
       write_columns(2, field, [&](const Field& f, const auto& column, bool stored) {
@@ -111,13 +114,15 @@ void load_state(const Snapshot& snap, ModelState<2>& state) {
       field.j = snap.get<std::vector<int>>(n + "/j");
       field.bond = snap.get<std::vector<int>>(n + "/bond");
       const auto& law = snap.get<std::vector<double>>(n + "/law");
-      if (law.size() % 4 != 0) throw std::invalid_argument("the snapshot's contact laws are not four numbers each");
-      field.law.resize(law.size() / 4);
+      if (law.size() % 5 != 0) throw std::invalid_argument("the snapshot's contact laws are not five numbers each");
+      field.law.resize(law.size() / 5);
       for (std::size_t k = 0; k < field.law.size(); ++k)
-        field.law[k] = {law[4 * k], law[4 * k + 1], law[4 * k + 2], law[4 * k + 3]};
+        field.law[k] = {law[5 * k], law[5 * k + 1], law[5 * k + 2], law[5 * k + 3], law[5 * k + 4]};
       field.fs = snap.get<std::vector<double>>(n + "/fs");
       field.fn = snap.get<std::vector<double>>(n + "/fn");
       field.chord = snap.get<std::vector<double>>(n + "/chord");
+      field.opening_x = snap.get<std::vector<double>>(n + "/opening_x");
+      field.opening_y = snap.get<std::vector<double>>(n + "/opening_y");
       field.key = snap.get<std::vector<std::uint64_t>>(n + "/key");
     } else if constexpr (std::is_same_v<T, std::vector<Crack>>) {
       field = read_columns<Crack>(2, [&](const Field& f, auto& column) {

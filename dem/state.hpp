@@ -27,6 +27,8 @@ struct ContactPairs {
                                                // (only with skip_bonded_pairs = false) makes the pair exert no force
   std::vector<LinearContact> law;
   std::vector<double> fs, fn, chord;           // shear history (N); normal force (N) and chord (m) of the last step
+  std::vector<double> opening_x, opening_y;    // dilation history (m): the opening LinearContact's sliding built
+                                               // up, along the normal from i to j (0 for a flat law)
   std::vector<std::uint64_t> key;
   std::size_t size() const { return key.size(); }
 };

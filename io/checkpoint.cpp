@@ -20,8 +20,9 @@ using namespace h5;
 
 namespace {
 
-constexpr int checkpoint_version = 7;  // 5: the snapshot of a Simulation (boundary components' own fields);
-                                        // 6: the frames' force networks; 7: TestRecord::platen_velocity
+constexpr int checkpoint_version = 8;  // 5: the snapshot of a Simulation (boundary components' own fields);
+                                        // 6: the frames' force networks; 7: TestRecord::platen_velocity;
+                                        // 8: the contacts' dilation (opening)
 
 std::string frame_name(std::size_t k) { return fmt::format("{:05d}", k); }
 

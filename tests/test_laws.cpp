@@ -181,6 +181,39 @@ TEST(LinearContact, SlidesExactlyAtMuFn) {
   EXPECT_NEAR(fs, 10.0, 1e-9);
 }
 
+// Patton's dilation: a closed edge slid under a constant normal force first takes mu F_n / K_s elastically and then
+// slides; every metre of slip opens it by tan(i), so after a tangential displacement D the opening is
+// (D - mu F_n / K_s) tan(i). With tan(i) = 0 the law is the flat one, bit for bit, and never opens.
+TEST(LinearContact, SlidingOpensTheContactBySlipTimesTanI) {
+  const double L = 1e-3, kn = 1e14, mu = 0.5, tan_i = std::tan(10.0 * std::numbers::pi / 180.0);
+  LinearContact law = LinearContact::per_area(kn, kn, mu, L, 1.0);  // K = K_s = 1e11 N/m
+  law.tan_dilation = tan_i;
+  const double fn = 100.0, ds = 1e-11;  // N, m per step
+  double fs = 0, opening = 0, slid = 0;
+  int slides = 0;
+  for (int step = 0; step < 1000; ++step) {
+    slides += law.update_shear(fn, L, -ds, 1.0, fs, opening);
+    slid += ds;
+  }
+  EXPECT_DOUBLE_EQ(fs, mu * fn);
+  EXPECT_GT(slides, 900);
+  EXPECT_NEAR(opening, (slid - mu * fn / law.Ks) * tan_i, 1e-9 * opening);
+  // Sticking opens nothing; nor does a contact without a normal force.
+  double stuck_fs = 0, stuck = 0;
+  law.update_shear(fn, L, -ds, 1.0, stuck_fs, stuck);
+  law.update_shear(0.0, L, -1.0, 1.0, stuck_fs, stuck);
+  EXPECT_EQ(stuck, 0.0);
+  // The flat law: the forces of the five-argument form, no opening.
+  LinearContact flat = law;
+  flat.tan_dilation = 0.0;
+  double fs_a = 0, fs_b = 0, flat_opening = 0;
+  for (int step = 0; step < 100; ++step) {
+    EXPECT_EQ(flat.update_shear(fn, L, -ds, 1.0, fs_a, flat_opening), flat.update_shear(fn, L, -ds, 1.0, fs_b));
+    EXPECT_EQ(fs_a, fs_b);
+  }
+  EXPECT_EQ(flat_opening, 0.0);
+}
+
 TEST(LinearContact, NormalForceIsTheGradientOfTheOverlapPotential) {
   // w(A) = k_n t A^2 / (2 L_ref); for a whole edge in contact (l_c = L_ref) F_n = dw/d(delta) = k_n t L delta.
   const LinearContact law = LinearContact::per_area(2e14, 1e14, 0.5, 1e-3, 1.0);

@@ -134,6 +134,42 @@ TEST(Mesh, HorizontalAndVerticalJointsAreExact) {
   }
 }
 
+// mesh.structured: each piece between horizontal joints a grid of round(W / h) x round(H_piece / h) cells of two
+// right triangles. Every triangle on a joint has its centroid a third of its row's height from the joint, so every
+// joint bond has d = (h_below + h_above) / 3 and the same stiffness E*/d. Specimens it cannot grid are refused with
+// the key to change.
+TEST(Mesh, StructuredMeshGivesEveryJointBondTheSameCentroidDistance) {
+  SpecimenGeometry g = geometry(0.0, 0.03, 0.01);  // joints at y - H/2 = -0.02, 0.01, 0.04: pieces 30, 30, 30, 10 mm
+  g.structured = true;
+  const double h = 0.0025;
+  const TriMesh mesh = mesh_specimen(g, h);
+  const Topology<2> topo = build_topology(mesh, 1.0, 2700.0);
+  expect_conforming(mesh, topo);
+  EXPECT_EQ(mesh.triangles.size(), std::size_t(2 * 20 * (12 + 12 + 12 + 4)));
+  EXPECT_EQ(topo.count(BondKind::joint), std::size_t(3 * 20));
+  for (std::size_t b = 0; b < topo.bonds.size(); ++b)
+    if (topo.bonds.kind[b] == BondKind::joint) EXPECT_NEAR(topo.bonds.d[b], 2.0 * h / 3.0, 1e-12);
+  const auto refused = [&](SpecimenGeometry bad, const std::string& key) {
+    try {
+      mesh_specimen(bad, h);
+    } catch (const SceneError& e) {
+      return std::string(e.what()).find(key) != std::string::npos;
+    }
+    return false;
+  };
+  SpecimenGeometry dipping = g, disc = g, seeded = g, two = g, bridged = g;
+  dipping.dip_deg = 30;
+  disc.disc = true, disc.height = disc.width;
+  seeded.mesh_seed = 3;
+  two.second_set = true, two.set2 = {90.0, 0.02, 0.0, 1.0, 0.02, 0.5};
+  bridged.persistence = 0.5;
+  EXPECT_TRUE(refused(dipping, "joint_set.dip_deg"));
+  EXPECT_TRUE(refused(disc, "specimen.shape"));
+  EXPECT_TRUE(refused(seeded, "mesh.seed"));
+  EXPECT_TRUE(refused(two, "joint_set2.enabled"));
+  EXPECT_TRUE(refused(bridged, "joint_set.persistence"));
+}
+
 // The same inputs give the same mesh, bit for bit, whatever the OpenMP default of the calling thread (gmsh meshes
 // with OpenMP threads, and a mesh made on two threads differs from run to run), and the mesher hands that default
 // back unchanged.
@@ -782,6 +818,10 @@ TEST(MeshCache, GivesBackTheSameMeshAndIgnoresDamagedFiles) {
   Scene other_dip = scene;
   other_dip.joint_set.dip_deg = 30.0;
   EXPECT_NE(mesh_cache_file(other_dip), file);
+  Scene structured = scene;  // another mesh; off, the key leaves it out (the files before it stay valid)
+  structured.mesh.structured = true;
+  EXPECT_NE(mesh_cache_file(structured), file);
+  EXPECT_EQ(mesh_cache_key_text(scene).find("mesh.structured"), std::string::npos);
 
   {  // one byte changed in the middle: the checksum fails, the mesh is made again and the file rewritten
     std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);

@@ -137,6 +137,7 @@ Scene gate_scene(const Scene& scene) {
   Scene s = scene;
   s.specimen.shape = "rectangle";
   s.loading.confining_pressure = 0.0;
+  s.mesh.structured = false;  // a structured grid takes horizontal joints only, and the gate turns them
   return s;
 }
 

@@ -49,7 +49,8 @@ std::filesystem::path store_elastic_gate(const Scene& scene, const ElasticReport
 
 // The scene the elastic gate checks for a test: the gate meshes rectangles at every dip, so a disc's materials are
 // checked on the rectangular specimen of the scene's other keys, without confinement (which does not change the
-// elastic moduli of the linear model).
+// elastic moduli of the linear model), and on the scene's Delaunay mesh (mesh.structured = false: a structured grid
+// holds horizontal joints only).
 Scene gate_scene(const Scene& scene);
 
 // For the command line: checks the gate and prints its message (which comparison decided and why) when it passes,

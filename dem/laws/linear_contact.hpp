@@ -14,6 +14,12 @@
 // Shear: incremental, dF_s = -k_s t l_c ds = -K_s (l_c / L_ref) ds (K_s = k_s t L_ref), Coulomb limit |F_s| <= mu F_n;
 // no shear force without a normal force. mu = +inf never slides (the linear part of a bond whose kind has
 // slip_when_bonded = false).
+// Dilation (tan_dilation = tan(i) > 0; Patton's sawtooth asperities of angle i): while the contact slides, its
+// asperities ride up and hold its faces further apart, by |slip| tan(i). The law gives that opening per step
+// (update_shear); the contact keeps the sum as history and its overlap is measured with the faces moved back
+// together by it (dem/stages/contacts.cpp, pair_overlap): over a whole edge F_n = K (delta + opening), so a
+// constant normal load lifts the faces apart by the opening. The Coulomb coefficient stays mu (the residual stays
+// mu F_n); the stiffnesses are unchanged. tan_dilation = 0 is the flat law, bit for bit.
 #pragma once
 
 #include <cmath>
@@ -54,6 +60,7 @@ struct LinearContact {
   double Ks = 0;        // N/m, shear stiffness of that edge (k_s t L_ref)
   double mu = 0;        // Coulomb coefficient (+inf: never slides)
   double inv_lref = 1;  // 1/m, 1 / L_ref
+  double tan_dilation = 0;  // tan(i), the dilation angle (0: a flat interface)
 
   // From stiffnesses per unit area k_n, k_s (Pa/m), the thickness t and the reference chord L_ref (m).
   static LinearContact per_area(double kn, double ks, double mu, double lref, double t) {
@@ -69,6 +76,16 @@ struct LinearContact {
     const double trial = trial_shear(chord, vt, dt, fs);
     fs = shear_force(fn, trial);
     return (fn > 0.0) & (std::abs(trial) > mu * fn);
+  }
+  // The same for a contact that dilates: a step that slides adds its slip times tan(i) to `opening` (m). The slip is
+  // the part of the step's tangential displacement the Coulomb limit did not let the spring take,
+  // |trial - F_s| / (K_s l_c / L_ref).
+  bool update_shear(double fn, double chord, double vt, double dt, double& fs, double& opening) const {
+    const double trial = trial_shear(chord, vt, dt, fs);
+    fs = shear_force(fn, trial);
+    const bool slides = (fn > 0.0) & (std::abs(trial) > mu * fn);
+    if (slides) opening += std::abs(trial - fs) / (Ks * chord * inv_lref) * tan_dilation;
+    return slides;
   }
   // The same without branches (the bond kernel vectorises it): the elastic trial from the old shear force, then
   // the new shear force (Coulomb-limited, zero without a normal force).

@@ -57,6 +57,21 @@ bool blocks_moved(const Model<2>& m, const ModelState<2>& s, int threads) {
 
 }  // namespace
 
+bool pair_overlap(const Model<2>& m, const ModelState<2>& s, const Workspace<2>& w, std::size_t p, Overlap& ov) {
+  const ContactPairs& C = s.contacts;
+  const int i = C.i[p], j = C.j[p];
+  const double ox = C.opening_x[p], oy = C.opening_y[p];  // block j moved back towards i by its opening
+  const std::size_t a = std::size_t(i), b = std::size_t(j);
+  const double ex = s.x[b] - ox - s.x[a], ey = s.y[b] - oy - s.y[a];
+  const double rr = m.radius[a] + m.radius[b];
+  if (!(ex * ex + ey * ey < rr * rr)) return false;  // out of reach
+  double vi[6], vj[6];
+  block_vertices(m, s, w, i, vi);
+  block_vertices(m, s, w, j, vj);
+  for (int k = 0; k < 3; ++k) vj[2 * k] -= ox, vj[2 * k + 1] -= oy;
+  return overlap_polygons(vi, 3, vj, 3, ov);
+}
+
 void block_vertices(const Model<2>& m, const ModelState<2>& s, const Workspace<2>& w, int b, double* out) {
   const std::size_t k = std::size_t(b);
   const auto& sh = m.shape[k];
@@ -132,16 +147,17 @@ void list_pair(const Model<2>& m, const ModelState<2>& s, const ContactPairs& ol
     const int bb = m.csr_entry[e] >> 1;
     if (m.bi[bb] == j || m.bj[bb] == j) bond = bb;
   }
-  double fs = 0.0;
-  if (at < old.key.size() && old.key[at] == key) fs = old.fs[at];
+  double fs = 0.0, ox = 0.0, oy = 0.0;
+  if (at < old.key.size() && old.key[at] == key) fs = old.fs[at], ox = old.opening_x[at], oy = old.opening_y[at];
   else if (bond >= 0) fs = s.fs_lin[std::size_t(bond)];  // a bond that just broke hands over its linear shear
   next.key[q] = key, next.i[q] = i, next.j[q] = j, next.bond[q] = bond, next.law[q] = m.pair_law(i, j, bond);
   next.fs[q] = fs, next.fn[q] = 0.0, next.chord[q] = 0.0;
+  next.opening_x[q] = ox, next.opening_y[q] = oy;
 }
 
 void resize(ContactPairs& C, std::size_t n) {
   C.key.resize(n), C.i.resize(n), C.j.resize(n), C.bond.resize(n), C.law.resize(n), C.fs.resize(n);
-  C.fn.resize(n), C.chord.resize(n);
+  C.fn.resize(n), C.chord.resize(n), C.opening_x.resize(n), C.opening_y.resize(n);
 }
 
 // The rebuild: every eligible block's reference position and cell, the components' candidates and the pair list.
@@ -288,6 +304,7 @@ bool update_after_breaks(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, c
     }
     next.key[q] = old.key[a], next.i[q] = old.i[a], next.j[q] = old.j[a], next.bond[q] = old.bond[a];
     next.law[q] = old.law[a], next.fs[q] = old.fs[a], next.fn[q] = old.fn[a], next.chord[q] = old.chord[a];
+    next.opening_x[q] = old.opening_x[a], next.opening_y[q] = old.opening_y[a];
     ++a;
   }
   s.contacts = std::move(next);
@@ -333,21 +350,13 @@ void contact_forces_share(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, 
   std::vector<int>& mine = w.in_contact[std::size_t(t)];
   for (int p = lo; p < hi; ++p) {
     const int i = C.i[p], j = C.j[p];
-    const double ex = s.x[j] - s.x[i], ey = s.y[j] - s.y[i];
-    const double rr = m.radius[i] + m.radius[j];
     Overlap ov;
-    double vi[6], vj[6];
-    bool touching = false;
-    if (ex * ex + ey * ey < rr * rr) {
-      block_vertices(m, s, w, i, vi);
-      block_vertices(m, s, w, j, vj);
-      touching = overlap_polygons(vi, 3, vj, 3, ov);
-    }
+    const bool touching = pair_overlap(m, s, w, std::size_t(p), ov);
     // A pair still joined by its bond (listed only with skip_bonded_pairs = false): the bond's linear part is its
     // contact, so the narrow phase above was the whole of its cost.
     const bool intact = C.bond[p] >= 0 && !s.broken[std::size_t(C.bond[p])];
     if (!touching || intact) {
-      if (advance) C.fs[p] = 0.0, C.fn[p] = 0.0, C.chord[p] = 0.0;
+      if (advance) C.fs[p] = 0.0, C.fn[p] = 0.0, C.chord[p] = 0.0, C.opening_x[p] = C.opening_y[p] = 0.0;
       out[p] = Workspace<2>::PairForce{0, 0, 0, 0, 0, false};
       continue;
     }
@@ -359,9 +368,13 @@ void contact_forces_share(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, 
     const double vrx = (s.vx[j] - s.omega[j] * cjy) - (s.vx[i] - s.omega[i] * ciy);
     const double vry = (s.vy[j] + s.omega[j] * cjx) - (s.vy[i] + s.omega[i] * cix);
     const double vt = vrx * tx + vry * ty;
-    double fs = C.fs[p];
-    const double friction = C.law[p].update_shear(fn, ov.chord, vt, dt, fs) ? std::abs(fs * vt * dt) : 0.0;
-    if (advance) C.fs[p] = fs, C.fn[p] = fn, C.chord[p] = ov.chord;
+    double fs = C.fs[p], opening = 0.0;
+    const double friction =
+        C.law[p].update_shear(fn, ov.chord, vt, dt, fs, opening) ? std::abs(fs * vt * dt) : 0.0;
+    if (advance) {
+      C.fs[p] = fs, C.fn[p] = fn, C.chord[p] = ov.chord;
+      if (opening != 0.0) C.opening_x[p] += opening * nx, C.opening_y[p] += opening * ny;  // along the normal
+    }
     const double fx = fn * nx + fs * tx, fy = fn * ny + fs * ty;  // on j
     out[p] = Workspace<2>::PairForce{fx, fy, cross(cix, ciy, fx, fy), cross(cjx, cjy, fx, fy), friction, true};
     mine.push_back(p);

@@ -23,6 +23,7 @@
 #include <functional>
 #include <vector>
 
+#include "dem/contact_geometry.hpp"
 #include "dem/model.hpp"
 #include "dem/state.hpp"
 
@@ -200,6 +201,10 @@ void gather_forces(const Model<2>& m, Workspace<2>& w, std::vector<double>& fx, 
 
 // The vertices of block b at its current position (x0, y0, x1, y1, x2, y2).
 void block_vertices(const Model<2>& m, const ModelState<2>& s, const Workspace<2>& w, int b, double* out);
+// The overlap of contact pair p, false when its blocks do not touch: their polygons clipped, block j's moved back
+// towards i by the pair's opening (its dilation, LinearContact::update_shear), so that faces its asperities hold
+// apart still press on each other. With no opening, the blocks' own overlap.
+bool pair_overlap(const Model<2>& m, const ModelState<2>& s, const Workspace<2>& w, std::size_t p, Overlap& ov);
 
 }  // namespace stages
 }  // namespace rbdem

@@ -5,7 +5,9 @@
 // every block above it as one rigid body, along the joint at loading.shear_velocity, across it under a servo to the
 // normal load, and holds it from turning. (Boxes that left the rock next to the joint free would load it in tension
 // through its inclined bonds, and its tensile strength is of the order of the joint's shear strength: the rock
-// would crack before the joint slid.)
+// would crack before the joint slid.) The specimen is meshed as a structured grid (mesh.structured, a scene
+// default of the command), so that every joint bond has the same stiffness, carries the mean traction and breaks in
+// the same step: the peak is the joint's envelope (docs/theory.md, section 9.6).
 //
 // The test has two stages, told apart by the upper box's speed along the joint (so that a resumed run goes on the
 // same): first the normal load comes on with the box held along the joint, until the normal stress is within 0.1 %
@@ -309,7 +311,11 @@ ProtocolInfo shear_protocol() {
   ProtocolInfo p;
   p.name = "shear";
   p.description = "one direct shear test of a joint: --normal-stress sets sigma_n, --normal-stiffness k for CNS";
-  p.scene_defaults = {{"joint_set.dip_deg", "0"}, {"joint_set.offset", "0"}, {"joint_set.spacing", "10"}};
+  // A structured mesh: every joint bond equally stiff, so the joint breaks all at once, at its envelope.
+  p.scene_defaults = {{"joint_set.dip_deg", "0"},
+                      {"joint_set.offset", "0"},
+                      {"joint_set.spacing", "10"},
+                      {"mesh.structured", "true"}};
   p.options = {{"--normal-stress", "loading.normal_stress",
                 "normal stress on the joint sigma_n [Pa] (loading.normal_stress), e.g. --normal-stress 5e6"},
                {"--normal-stiffness", "loading.normal_stiffness",
