@@ -13,6 +13,7 @@
 #include <map>
 #include <stdexcept>
 #include <tuple>
+#include <utility>
 
 #include "continuum/fe_3d.hpp"
 #include "dem/specimen_mesh3.hpp"
@@ -99,6 +100,188 @@ TEST(Static3, FaceBondMatrixIsSymmetricAndIgnoresRigidMotion) {
     for (int c = 0; c < 12; ++c) f += K[std::size_t(12 * r + c)] * q[c];
     EXPECT_LT(std::abs(f), 1e-12 * kmax * 1e-5) << "row " << r;
   }
+}
+
+
+// --- the network's elastic constants, measured on prisms ---------------------------------------------------------
+
+constexpr double dips[] = {0, 15, 30, 45, 60, 75, 90};
+
+// The specimen: 50 mm x 100 mm, joints `spacing` apart through the centre (the paper's: 10 mm; the tests' 8 mm
+// meshes take 25 mm, the widest spacing that leaves three joint planes).
+const TetMesh& specimen(Shape3 shape, bool joints, double dip, double h, double spacing) {
+  static std::map<std::tuple<int, bool, double, double, double>, TetMesh> cache;
+  const auto key = std::make_tuple(int(shape), joints, dip, h, spacing);
+  auto it = cache.find(key);
+  if (it == cache.end()) {
+    SpecimenGeometry3 g;
+    g.shape = shape, g.joints = joints;
+    g.set1 = {dip, 0.0, spacing, 0.0};
+    it = cache.emplace(key, mesh_specimen3(g, h)).first;
+  }
+  return it->second;
+}
+
+Static3Result solve(const TetMesh& m, const Static3Options& o = {}) { return solve_static3(m, o); }
+
+// Isotropic network (no joints): E and nu from a prism under uniaxial stress (the mean of the two lateral strains).
+struct Isotropic {
+  double E = 0, nu = 0;
+};
+Isotropic measure_isotropic(double h, double spacing, const Static3Options& o = {}) {
+  const Static3Result r = solve(specimen(Shape3::prism, false, 0.0, h, spacing), o);
+  return {r.fit_modulus, 0.5 * (r.poisson_strike + r.poisson_dip)};
+}
+
+// The jointed network's five constants: at dip 0 the load is along the joints' normal (E', nu'), at 90 along the
+// joints (E, nu from the strain along the strike, the in-plane direction), at 45 deg Amadei's
+// 1/E_45 = (1/E + 1/E' + 1/G' - 2 nu'/E') / 4 gives G'.
+theory::TIConstants measure_ti(double h, double spacing) {
+  static std::map<std::pair<double, double>, theory::TIConstants> cache;  // the tests share them
+  if (auto it = cache.find({h, spacing}); it != cache.end()) return it->second;
+  const Static3Result r0 = solve(specimen(Shape3::prism, true, 0.0, h, spacing));
+  const Static3Result r90 = solve(specimen(Shape3::prism, true, 90.0, h, spacing));
+  const Static3Result r45 = solve(specimen(Shape3::prism, true, 45.0, h, spacing));
+  theory::TIConstants c;
+  c.E_prime = r0.fit_modulus, c.nu_prime = 0.5 * (r0.poisson_strike + r0.poisson_dip);
+  c.E = r90.fit_modulus, c.nu = r90.poisson_strike;
+  c.G_prime = 1.0 / (4.0 / r45.fit_modulus - 1.0 / c.E - 1.0 / c.E_prime + 2.0 * c.nu_prime / c.E_prime);
+  return cache[{h, spacing}] = c;
+}
+
+// Goodman's constants (docs/theory.md, 3.1-3.2) of the isotropic network cut by the joints: k_n and k_s per unit
+// area from the joint bonds' extra compliance over the rock bonds', at the joint bonds' mean d.
+theory::TIConstants goodman_of(const Isotropic& rock, double d_mean, double spacing, const Static3Options& o = {}) {
+  const double kn = 1.0 / (d_mean * (1.0 / (2 * o.joint.modulus) - 1.0 / (2 * o.rock.modulus)));
+  const double ks = 1.0 / (d_mean * (o.joint.kappa / (2 * o.joint.modulus) - o.rock.kappa / (2 * o.rock.modulus)));
+  return theory::goodman(rock.E, rock.nu, kn, ks, spacing);
+}
+
+// Clapeyron: the platen's work 1/2 F delta equals the energy the bonds and the platen contacts store, and the two
+// platens carry the same force (no other support is loaded).
+TEST(Static3, PlatenWorkIsTheStoredEnergy) {
+  const Static3Result r = solve(specimen(Shape3::cylinder, true, 60.0, 0.008, 0.025));
+  EXPECT_NEAR(r.strain_energy / r.platen_work, 1.0, 1e-8);
+  EXPECT_NEAR(r.bottom_force / r.top_force, 1.0, 1e-8);
+  EXPECT_GT(r.joint_bonds, 0u);
+}
+
+
+// --- the network against the continuum (8 mm meshes, joints 25 mm apart: a few seconds in all) -------------------
+
+constexpr double h_test = 0.008, s_test = 0.025;
+
+// The unjointed network is isotropic: on the cylinder the two lateral strains agree, and the modulus and Poisson's
+// ratio are the prism's, up to the scatter of one coarse mesh realization against another (3 % and 0.01, what
+// the 8 mm meshes show; docs/continuum.md lists the 4 mm values).
+TEST(Static3, UnjointedNetworkIsIsotropic) {
+  const Isotropic prism = measure_isotropic(h_test, s_test);
+  const TetMesh& m = specimen(Shape3::cylinder, false, 0.0, h_test, s_test);
+  const Static3Result r = solve(m);
+  const continuum::Fe3Result fe = continuum::solve_elastic_3d(m, theory::TIConstants::isotropic(prism.E, prism.nu),
+                                                              0.0, 0.0);
+  EXPECT_NEAR(r.fit_modulus / fe.mean_strain_modulus, 1.0, 0.03);
+  EXPECT_NEAR(r.poisson_strike, fe.poisson_strike, 0.01);
+  EXPECT_NEAR(r.poisson_dip, fe.poisson_dip, 0.01);
+  EXPECT_NEAR(r.poisson_strike, r.poisson_dip, 0.01);
+}
+
+// The jointed cylinder at 0, 45 and 90 deg against the FE twin on the same tetrahedra with the five constants
+// measured on prisms (at 0 and 90 deg the prism's value is a constant itself, so the cylinder's is a check of a
+// different mesh; at 45 deg G' comes from the prism's 45 deg modulus). Within 5 %, the scatter at 8 mm.
+TEST(Static3, JointedModulusMatchesTheFeTwinWithTheMeasuredConstants) {
+  const theory::TIConstants c = measure_ti(h_test, s_test);
+  ASSERT_TRUE(c.admissible());
+  for (double dip : {0.0, 45.0, 90.0}) {
+    const TetMesh& m = specimen(Shape3::cylinder, true, dip, h_test, s_test);
+    const Static3Result r = solve(m);
+    const continuum::Fe3Result fe = continuum::solve_elastic_3d(m, c, dip, 0.0);
+    EXPECT_NEAR(r.fit_modulus / fe.mean_strain_modulus, 1.0, 0.05) << "dip " << dip;
+    EXPECT_NEAR(r.fit_modulus / theory::amadei_uniaxial_3d(c, dip).modulus, 1.0, 0.05) << "dip " << dip;
+  }
+}
+
+// The joints make the network transversely isotropic as Goodman's rock-plus-joint medium: the measured E' and G'
+// within 8 % of Goodman's with the joint stiffness of docs/theory.md 3.2 (the stiffness across a joint is d-
+// dependent bond by bond, and Goodman's uses one mean d), E and nu within 2 % and 0.01 of the unjointed prism's.
+TEST(Static3, JointedConstantsFollowGoodman) {
+  const Isotropic rock = measure_isotropic(h_test, s_test);
+  const theory::TIConstants c = measure_ti(h_test, s_test);
+  const Static3Result j0 = solve(specimen(Shape3::prism, true, 0.0, h_test, s_test));
+  const theory::TIConstants g = goodman_of(rock, j0.joint_d_mean, s_test);
+  EXPECT_NEAR(c.E / g.E, 1.0, 0.02);
+  EXPECT_NEAR(c.nu, g.nu, 0.01);
+  EXPECT_NEAR(c.E_prime / g.E_prime, 1.0, 0.08);
+  EXPECT_NEAR(c.G_prime / g.G_prime, 1.0, 0.08);
+  EXPECT_LT(c.E_prime, c.E);  // the joints soften the normal direction
+}
+
+// With k_s = k_n (kappa = 1) a face bond's translational spring is isotropic and the network has no Poisson
+// effect (the affine estimate (kappa - 1) / (4 kappa + 1) of a random spring network is 0 there); Poisson's ratio
+// grows with kappa.
+TEST(Static3, PoissonsRatioGrowsWithTheStiffnessRatio) {
+  double last = -1;
+  for (double kappa : {1.0, 1.5, 3.0}) {
+    Static3Options o;
+    o.rock.kappa = o.joint.kappa = kappa;
+    const Isotropic k = measure_isotropic(h_test, s_test, o);
+    if (kappa == 1.0) {
+      EXPECT_NEAR(k.nu, 0.0, 0.005);
+    }
+    EXPECT_GT(k.nu, last) << "kappa " << kappa;
+    last = k.nu;
+  }
+}
+
+TEST(Static3, BadInputIsRejectedByName) {
+  const TetMesh& m = specimen(Shape3::prism, false, 0.0, h_test, s_test);
+  Static3Options o;
+  o.platen_displacement = -1e-6;
+  EXPECT_THROW(solve_static3(m, o), std::invalid_argument);
+  o = {}, o.joint.kappa = 0;
+  EXPECT_THROW(solve_static3(m, o), std::invalid_argument);
+  EXPECT_THROW(solve_static3(TetMesh{}, {}), std::invalid_argument);
+}
+
+void print_table(double h, double spacing) {
+  const Isotropic iso = measure_isotropic(h, spacing);
+  const theory::TIConstants c = measure_ti(h, spacing);
+  const Static3Result j0 = solve(specimen(Shape3::prism, true, 0.0, h, spacing));
+  const theory::TIConstants g = goodman_of(iso, j0.joint_d_mean, spacing);
+  std::printf("h = %g mm: isotropic E %.2f GPa nu %.4f\n", h * 1e3, iso.E / 1e9, iso.nu);
+  std::printf("measured: E %.2f nu %.4f E' %.2f nu' %.4f G' %.2f\n", c.E / 1e9, c.nu, c.E_prime / 1e9, c.nu_prime,
+              c.G_prime / 1e9);
+  std::printf("goodman : E %.2f nu %.4f E' %.2f nu' %.4f G' %.2f (d_mean %.3f mm)\n", g.E / 1e9, g.nu,
+              g.E_prime / 1e9, g.nu_prime, g.G_prime / 1e9, j0.joint_d_mean * 1e3);
+  std::printf("dip | DEM fit | DEM platen | FE mean-strain | FE platen | Amadei | fit/Amadei-1 | platen/FE-1 | "
+              "nu_s DEM Amadei | nu_d DEM Amadei | blocks dofs asm solve | FE dofs solve\n");
+  for (double dip : dips) {
+    const TetMesh& m = specimen(Shape3::cylinder, true, dip, h, spacing);
+    const Static3Result r = solve(m);
+    const continuum::Fe3Result fe = continuum::solve_elastic_3d(m, c, dip, 0.0);
+    const theory::Uniaxial3 a = theory::amadei_uniaxial_3d(c, dip);
+    std::printf("%2.0f | %.2f | %.2f | %.2f | %.2f | %.2f | %+.4f | %+.4f | %.4f %.4f | %.4f %.4f | %zu %zu %.2f %.2f"
+                " | %zu %.2f\n",
+                dip, r.fit_modulus / 1e9, r.platen_modulus / 1e9, fe.mean_strain_modulus / 1e9,
+                fe.apparent_modulus / 1e9, a.modulus / 1e9, r.fit_modulus / a.modulus - 1,
+                r.platen_modulus / fe.apparent_modulus - 1, r.poisson_strike, a.poisson_strike, r.poisson_dip,
+                a.poisson_dip, r.blocks, r.dofs, r.assemble_seconds, r.solve_seconds, fe.dofs,
+                fe.setup_seconds + fe.assemble_seconds + fe.solve_seconds);
+  }
+  std::printf("nu against kappa (isotropic prism):\n");
+  for (double kappa : {1.0, 1.5, 2.0, 3.0, 5.0, 10.0}) {
+    Static3Options o;
+    o.rock.kappa = o.joint.kappa = kappa;
+    const Isotropic k = measure_isotropic(h, spacing, o);
+    std::printf("kappa %.1f: E %.2f GPa nu %.4f  (affine (k-1)/(4k+1) = %.4f)\n", kappa, k.E / 1e9, k.nu,
+                (kappa - 1) / (4 * kappa + 1));
+  }
+}
+
+TEST(Static3, DISABLED_Table) {
+  const char* env = std::getenv("RBDEM_STATIC3_H");
+  const char* s = std::getenv("RBDEM_STATIC3_SPACING");
+  print_table((env ? std::atof(env) : 4.0) * 1e-3, (s ? std::atof(s) : 10.0) * 1e-3);
 }
 
 }  // namespace
