@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include <Eigen/Dense>
+#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
@@ -153,7 +154,7 @@ Assembly assemble(const TetMesh& mesh, const Blocks& B, const std::vector<Platen
     const int p = map[std::size_t(gp)], q = map[std::size_t(gq)];
     if (p >= 0 && q >= 0 && v != 0.0) T.emplace_back(p, q, v);
   };
-  double joint_area = 0, joint_ad = 0;
+  double joint_area = 0, joint_ad = 0, joint_a_over_d = 0;
   for (const SharedFace& f : faces) {
     const FaceMaterial& mat = f.joint ? o.joint : o.rock;
     const std::size_t i = std::size_t(f.tets[0]), j = std::size_t(f.tets[1]);
@@ -167,17 +168,20 @@ Assembly assemble(const TetMesh& mesh, const Blocks& B, const std::vector<Platen
     a.bond_k.push_back(K), a.bond_blocks.push_back({int(i), int(j)});
     if (f.joint) {
       ++r.joint_bonds;
-      joint_area += fr.section.A, joint_ad += fr.section.A * dot(fr.axes.r[2], B.c[j] - B.c[i]);
+      const double d = dot(fr.axes.r[2], B.c[j] - B.c[i]);
+      joint_area += fr.section.A, joint_ad += fr.section.A * d, joint_a_over_d += fr.section.A / d;
     } else {
       ++r.rock_bonds;
     }
   }
   r.joint_d_mean = joint_area > 0 ? joint_ad / joint_area : 0.0;
+  r.joint_d_harmonic = joint_area > 0 ? joint_area / joint_a_over_d : 0.0;
   a.f = Eigen::VectorXd::Zero(long(std::count_if(map.begin(), map.end(), [](int k) { return k >= 0; })));
   for (const PlatenSpring& s : springs) {
     const auto row = s.row();
     for (int p = 0; p < 6; ++p) {
-      for (int q = 0; q < 6; ++q) add(6 * s.block + p, 6 * s.block + q, s.k * row[std::size_t(p)] * row[std::size_t(q)]);
+      for (int q = 0; q < 6; ++q)
+        add(6 * s.block + p, 6 * s.block + q, s.k * row[std::size_t(p)] * row[std::size_t(q)]);
       // The top platen at -delta: the spring's energy 1/2 k (u_zc + delta)^2 loads the dofs by -k delta row.
       const int gp = map[std::size_t(6 * s.block + p)];
       if (s.top && gp >= 0) a.f[gp] -= s.k * o.platen_displacement * row[std::size_t(p)];
@@ -186,6 +190,30 @@ Assembly assemble(const TetMesh& mesh, const Blocks& B, const std::vector<Platen
   a.K.resize(a.f.size(), a.f.size());
   a.K.setFromTriplets(T.begin(), T.end());
   return a;
+}
+
+// The sparse LDLT below options.direct_dof_limit; above it, its fill on tetrahedra costs minutes (about 100,000
+// dofs at 4 mm), and CG with an incomplete Cholesky preconditioner takes its place.
+Eigen::VectorXd solve_system(const Assembly& a, const Static3Options& o, Static3Result& r) {
+  using SpMat = Eigen::SparseMatrix<double>;
+  if (std::size_t(a.K.rows()) <= o.direct_dof_limit) {
+    Eigen::SimplicialLDLT<SpMat, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt(a.K);
+    if (ldlt.info() != Eigen::Success) throw std::runtime_error("solve_static3: the stiffness is singular");
+    r.direct = true;
+    return ldlt.solve(a.f);
+  }
+  Eigen::ConjugateGradient<SpMat, Eigen::Lower | Eigen::Upper,
+                           Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>>>
+      cg;
+  cg.setTolerance(o.cg_tolerance);
+  cg.setMaxIterations(long(a.K.rows()));
+  cg.compute(a.K);
+  if (cg.info() != Eigen::Success) throw std::runtime_error("solve_static3: the preconditioner failed");
+  Eigen::VectorXd x = cg.solve(a.f);
+  if (cg.info() != Eigen::Success)
+    throw std::runtime_error("solve_static3: CG did not converge; raise direct_dof_limit to use the direct solver");
+  r.iterations = int(cg.iterations());
+  return x;
 }
 
 std::vector<PlatenSpring> platen_springs(const TetMesh& mesh, const Blocks& B, const FaceMaterial& rock) {
@@ -226,9 +254,7 @@ Static3Result solve_static3(const TetMesh& mesh, const Static3Options& o) {
   r.assemble_seconds = seconds_since(t0);
 
   const auto t1 = Clock::now();
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt(a.K);
-  if (ldlt.info() != Eigen::Success) throw std::runtime_error("solve_static3: the stiffness is singular");
-  const Eigen::VectorXd x = ldlt.solve(a.f);
+  const Eigen::VectorXd x = solve_system(a, o, r);
   r.solve_seconds = seconds_since(t1);
 
   r.u.assign(map.size(), 0.0);

@@ -49,6 +49,10 @@ struct Static3Options {
   // The axes the lateral strains are read along: the strike (-sin dd, cos dd, 0) and the horizontal dip direction
   // (cos dd, sin dd, 0) of joints of dip direction dd (deg), as theory::plane_axes.
   double dip_direction_deg = 0;
+  // The sparse LDLT up to this many dofs, CG with an incomplete Cholesky preconditioner above (to a relative
+  // residual of cg_tolerance).
+  std::size_t direct_dof_limit = 30000;
+  double cg_tolerance = 1e-10;
 };
 
 // The response. The mean axial stress is <sigma_zz> = F H / V (F the mean of the two platens' forces), as the FE
@@ -67,9 +71,13 @@ struct Static3Result {
   double poisson_strike = 0, poisson_dip = 0;
   double volume = 0, height = 0;  // m^3, m
   std::size_t blocks = 0, rock_bonds = 0, joint_bonds = 0, platen_faces = 0, dofs = 0;
-  double joint_d_mean = 0;  // m, area-weighted mean centroid distance d of the joint bonds (0 without joints)
+  // m, the joint bonds' centroid distances d: area-weighted mean, and harmonic mean A / sum(A / d) (the d of the
+  // bonds' summed stiffness, the bonds of one joint plane acting side by side); 0 without joints
+  double joint_d_mean = 0, joint_d_harmonic = 0;
   std::vector<double> u;    // 6 per block
   double assemble_seconds = 0, solve_seconds = 0;
+  bool direct = false;  // the direct solver (else CG)
+  int iterations = 0;   // CG's
   double strain_energy = 0;  // J, 1/2 u^T K u
   double platen_work = 0;    // J, 1/2 F_top delta
 };

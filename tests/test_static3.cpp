@@ -233,6 +233,22 @@ TEST(Static3, PoissonsRatioGrowsWithTheStiffnessRatio) {
   }
 }
 
+// The iterative solver (CG with incomplete Cholesky, used above direct_dof_limit) gives the direct solver's
+// answer to its tolerance.
+TEST(Static3, IterativeSolveMatchesTheDirectOne) {
+  const TetMesh& m = specimen(Shape3::cylinder, true, 30.0, h_test, s_test);
+  Static3Options o;
+  const Static3Result direct = solve(m, o);
+  o.direct_dof_limit = 0;
+  const Static3Result cg = solve(m, o);
+  EXPECT_TRUE(direct.direct);
+  EXPECT_FALSE(cg.direct);
+  EXPECT_GT(cg.iterations, 0);
+  EXPECT_NEAR(cg.fit_modulus / direct.fit_modulus, 1.0, 1e-7);
+  EXPECT_NEAR(cg.platen_modulus / direct.platen_modulus, 1.0, 1e-7);
+  EXPECT_NEAR(cg.poisson_dip, direct.poisson_dip, 1e-7);
+}
+
 TEST(Static3, BadInputIsRejectedByName) {
   const TetMesh& m = specimen(Shape3::prism, false, 0.0, h_test, s_test);
   Static3Options o;
@@ -253,21 +269,30 @@ void print_table(double h, double spacing) {
               c.G_prime / 1e9);
   std::printf("goodman : E %.2f nu %.4f E' %.2f nu' %.4f G' %.2f (d_mean %.3f mm)\n", g.E / 1e9, g.nu,
               g.E_prime / 1e9, g.nu_prime, g.G_prime / 1e9, j0.joint_d_mean * 1e3);
+  const theory::TIConstants gh = goodman_of(iso, j0.joint_d_harmonic, spacing);
+  std::printf("goodman, harmonic d: E' %.2f nu' %.4f G' %.2f (d_harmonic %.3f mm)\n", gh.E_prime / 1e9,
+              gh.nu_prime, gh.G_prime / 1e9, j0.joint_d_harmonic * 1e3);
+  std::printf("prism at 0 deg: %zu blocks, %zu dofs, assembly %.2f s, solve %.2f s\n", j0.blocks, j0.dofs,
+              j0.assemble_seconds, j0.solve_seconds);
+  std::fflush(stdout);
   std::printf("dip | DEM fit | DEM platen | FE mean-strain | FE platen | Amadei | fit/Amadei-1 | platen/FE-1 | "
-              "nu_s DEM Amadei | nu_d DEM Amadei | blocks dofs asm solve | FE dofs solve\n");
+              "nu_s DEM Amadei | nu_d DEM Amadei | blocks dofs asm solve CG-it | FE dofs solve\n");
   for (double dip : dips) {
     const TetMesh& m = specimen(Shape3::cylinder, true, dip, h, spacing);
     const Static3Result r = solve(m);
     const continuum::Fe3Result fe = continuum::solve_elastic_3d(m, c, dip, 0.0);
     const theory::Uniaxial3 a = theory::amadei_uniaxial_3d(c, dip);
-    std::printf("%2.0f | %.2f | %.2f | %.2f | %.2f | %.2f | %+.4f | %+.4f | %.4f %.4f | %.4f %.4f | %zu %zu %.2f %.2f"
-                " | %zu %.2f\n",
+    std::printf("%2.0f | %.2f | %.2f | %.2f | %.2f | %.2f | %+.4f | %+.4f | %.4f %.4f | %.4f %.4f | "
+                "%zu %zu %.2f %.2f %d | %zu %.2f\n",
                 dip, r.fit_modulus / 1e9, r.platen_modulus / 1e9, fe.mean_strain_modulus / 1e9,
                 fe.apparent_modulus / 1e9, a.modulus / 1e9, r.fit_modulus / a.modulus - 1,
                 r.platen_modulus / fe.apparent_modulus - 1, r.poisson_strike, a.poisson_strike, r.poisson_dip,
-                a.poisson_dip, r.blocks, r.dofs, r.assemble_seconds, r.solve_seconds, fe.dofs,
+                a.poisson_dip, r.blocks, r.dofs, r.assemble_seconds, r.solve_seconds, r.iterations, fe.dofs,
                 fe.setup_seconds + fe.assemble_seconds + fe.solve_seconds);
+    std::fflush(stdout);
   }
+  std::fflush(stdout);
+  if (std::getenv("RBDEM_STATIC3_NO_KAPPA")) return;
   std::printf("nu against kappa (isotropic prism):\n");
   for (double kappa : {1.0, 1.5, 2.0, 3.0, 5.0, 10.0}) {
     Static3Options o;
