@@ -1,11 +1,13 @@
 // The static elastic solve of the 3D face-bond network. See static3.hpp.
 #include "dem/static3.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 
 #include <Eigen/Dense>
 #include <Eigen/IterativeLinearSolvers>
