@@ -1,0 +1,302 @@
+// The static elastic solve of the 3D face-bond network. See static3.hpp.
+#include "dem/static3.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Dense>
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+#include "dem/geometry3.hpp"
+
+namespace rbdem {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// Row k of [r]x, the matrix with [r]x phi = r x phi.
+Vec3 skew_row(Vec3 r, int k) {
+  if (k == 0) return {0.0, -r.z, r.y};
+  if (k == 1) return {r.z, 0.0, -r.x};
+  return {-r.y, r.x, 0.0};
+}
+
+}  // namespace
+
+FaceBondMatrix face_bond_stiffness(const stages::FaceBondFrame& b, bool linear_closed) {
+  // B (6 x 12): rows d1, d2, dn, t1, t2, tn. The gap g = -u_i + [r_i]x phi_i + u_j - [r_j]x phi_j (phi x r =
+  // -[r]x phi), resolved on the rest frame's axes; theta = phi_j - phi_i likewise.
+  double B[6][12] = {};
+  for (int a = 0; a < 3; ++a) {
+    const Vec3 e = b.axes.r[a];
+    for (int c = 0; c < 3; ++c) {
+      const double ec = e[c];
+      B[a][c] -= ec, B[a][6 + c] += ec;
+      B[3 + a][3 + c] -= ec, B[3 + a][9 + c] += ec;
+      const Vec3 si = skew_row(b.ri, c), sj = skew_row(b.rj, c);
+      for (int q = 0; q < 3; ++q) B[a][3 + q] += ec * si[q], B[a][9 + q] -= ec * sj[q];
+    }
+  }
+  const double lin = linear_closed ? 1.0 : 0.0;  // the linear part has the parallel bond's kb_n A and kb_s A
+  const double D[6] = {(1 + lin) * b.k.ks, (1 + lin) * b.k.ks, (1 + lin) * b.k.kn, b.k.kb1, b.k.kb2, b.k.kt};
+  FaceBondMatrix K{};
+  for (int p = 0; p < 12; ++p)
+    for (int q = p; q < 12; ++q) {
+      double s = 0;
+      for (int a = 0; a < 6; ++a) s += B[a][p] * D[a] * B[a][q];
+      K[std::size_t(12 * p + q)] = K[std::size_t(12 * q + p)] = s;  // exactly symmetric
+    }
+  return K;
+}
+
+namespace {
+
+Vec3 node(const TetMesh& m, int k) {
+  const auto& p = m.nodes[std::size_t(k)];
+  return {p[0], p[1], p[2]};
+}
+Tri tri_of(const TetMesh& m, const std::array<int, 3>& n) { return {node(m, n[0]), node(m, n[1]), node(m, n[2])}; }
+Tet tet_of(const TetMesh& m, std::size_t t) {
+  const auto& n = m.tets[t];
+  return {node(m, n[0]), node(m, n[1]), node(m, n[2]), node(m, n[3])};
+}
+
+// The blocks: centroid, volume and inradius 3 V / (surface area) of each tetrahedron.
+struct Blocks {
+  std::vector<Vec3> c;
+  std::vector<double> volume, inradius;
+};
+Blocks blocks_of(const TetMesh& m) {
+  Blocks b;
+  const std::size_t n = m.num_tets();
+  b.c.resize(n), b.volume.resize(n), b.inradius.resize(n);
+  for (std::size_t t = 0; t < n; ++t) {
+    const Tet T = tet_of(m, t);
+    b.c[t] = centroid(T), b.volume[t] = signed_volume(T);
+    if (!(b.volume[t] > 0)) throw std::invalid_argument("solve_static3: tetrahedron " + std::to_string(t) +
+                                                        " has a non-positive volume; remesh the specimen");
+    double surface = 0;
+    for (int f = 0; f < 4; ++f) surface += face_of({T[std::size_t(f)], T[std::size_t((f + 1) % 4)],
+                                                   T[std::size_t((f + 2) % 4)]}).area;
+    b.inradius[t] = 3.0 * b.volume[t] / surface;
+  }
+  return b;
+}
+
+// A platen contact: block, the lever arm to the face's centroid, its spring k_p A, top or bottom.
+struct PlatenSpring {
+  int block;
+  Vec3 r;
+  double k;
+  bool top;
+  // u_z + (phi x r)_z at the face's centroid as a functional of the block's six dofs.
+  std::array<double, 6> row() const { return {0.0, 0.0, 1.0, r.y, -r.x, 0.0}; }
+};
+
+// The dofs left after the three rigid constraints (u_x, u_y of one bottom block, u_y of the bottom block
+// farthest from it in x): index in the reduced system, -1 for a held dof.
+std::vector<int> free_dofs(std::size_t blocks, const std::vector<PlatenSpring>& springs, const Blocks& B) {
+  int first = -1, far = -1;
+  for (const PlatenSpring& s : springs)
+    if (!s.top && (first < 0 || s.block < first)) first = s.block;
+  for (const PlatenSpring& s : springs)
+    if (!s.top && (far < 0 || std::abs(B.c[std::size_t(s.block)].x - B.c[std::size_t(first)].x) >
+                                   std::abs(B.c[std::size_t(far)].x - B.c[std::size_t(first)].x)))
+      far = s.block;
+  std::vector<int> map(6 * blocks, 0);
+  map[std::size_t(6 * first)] = map[std::size_t(6 * first + 1)] = map[std::size_t(6 * far + 1)] = -1;
+  int next = 0;
+  for (int& k : map) k = k < 0 ? -1 : next++;
+  return map;
+}
+
+// The strain that fits the blocks' displacements best: u_b ~ c + G (x_b - x_mean), volume-weighted least
+// squares, G = R M^-1 with M = sum V (x - x_mean)(x - x_mean)^T and R = sum V u (x - x_mean)^T; eps = sym(G).
+std::array<double, 6> fitted_strain(const Blocks& B, const std::vector<double>& u) {
+  const std::size_t n = B.c.size();
+  Vec3 mean{};
+  double V = 0;
+  for (std::size_t b = 0; b < n; ++b) mean += B.volume[b] * B.c[b], V += B.volume[b];
+  mean = (1.0 / V) * mean;
+  Eigen::Matrix3d M = Eigen::Matrix3d::Zero(), R = Eigen::Matrix3d::Zero();
+  for (std::size_t b = 0; b < n; ++b) {
+    const Vec3 x = B.c[b] - mean;
+    const Eigen::Vector3d dx(x.x, x.y, x.z), ub(u[6 * b], u[6 * b + 1], u[6 * b + 2]);
+    M += B.volume[b] * dx * dx.transpose();
+    R += B.volume[b] * ub * dx.transpose();
+  }
+  const Eigen::Matrix3d G = R * M.inverse(), e = 0.5 * (G + G.transpose());
+  return {e(0, 0), e(1, 1), e(2, 2), e(1, 2), e(0, 2), e(0, 1)};
+}
+
+// What the assembly leaves: the reduced stiffness, its load, the bonds' matrices and dofs for the energy.
+struct Assembly {
+  Eigen::SparseMatrix<double> K;
+  Eigen::VectorXd f;
+  std::vector<FaceBondMatrix> bond_k;
+  std::vector<std::array<int, 2>> bond_blocks;
+};
+
+Assembly assemble(const TetMesh& mesh, const Blocks& B, const std::vector<PlatenSpring>& springs,
+                  const std::vector<int>& map, const Static3Options& o, Static3Result& r) {
+  Assembly a;
+  const std::vector<SharedFace> faces = shared_faces(mesh);
+  std::vector<Eigen::Triplet<double>> T;
+  T.reserve(faces.size() * 144 + springs.size() * 36);
+  auto add = [&](int gp, int gq, double v) {
+    const int p = map[std::size_t(gp)], q = map[std::size_t(gq)];
+    if (p >= 0 && q >= 0 && v != 0.0) T.emplace_back(p, q, v);
+  };
+  double joint_area = 0, joint_ad = 0, joint_a_over_d = 0;
+  for (const SharedFace& f : faces) {
+    const FaceMaterial& mat = f.joint ? o.joint : o.rock;
+    const std::size_t i = std::size_t(f.tets[0]), j = std::size_t(f.tets[1]);
+    const FaceBond law{1.0 / mat.kappa, {}, 0.0};
+    const stages::FaceBondFrame fr = stages::face_bond_frame(B.c[i], B.c[j], tri_of(mesh, f.nodes), law,
+                                                             mat.modulus, std::numeric_limits<double>::infinity());
+    const FaceBondMatrix K = face_bond_stiffness(fr, true);
+    const int dof[2] = {6 * int(i), 6 * int(j)};
+    for (int p = 0; p < 12; ++p)
+      for (int q = 0; q < 12; ++q) add(dof[p / 6] + p % 6, dof[q / 6] + q % 6, K[std::size_t(12 * p + q)]);
+    a.bond_k.push_back(K), a.bond_blocks.push_back({int(i), int(j)});
+    if (f.joint) {
+      ++r.joint_bonds;
+      const double d = dot(fr.axes.r[2], B.c[j] - B.c[i]);
+      joint_area += fr.section.A, joint_ad += fr.section.A * d, joint_a_over_d += fr.section.A / d;
+    } else {
+      ++r.rock_bonds;
+    }
+  }
+  r.joint_d_mean = joint_area > 0 ? joint_ad / joint_area : 0.0;
+  r.joint_d_harmonic = joint_area > 0 ? joint_area / joint_a_over_d : 0.0;
+  a.f = Eigen::VectorXd::Zero(long(std::count_if(map.begin(), map.end(), [](int k) { return k >= 0; })));
+  for (const PlatenSpring& s : springs) {
+    const auto row = s.row();
+    for (int p = 0; p < 6; ++p) {
+      for (int q = 0; q < 6; ++q)
+        add(6 * s.block + p, 6 * s.block + q, s.k * row[std::size_t(p)] * row[std::size_t(q)]);
+      // The top platen at -delta: the spring's energy 1/2 k (u_zc + delta)^2 loads the dofs by -k delta row.
+      const int gp = map[std::size_t(6 * s.block + p)];
+      if (s.top && gp >= 0) a.f[gp] -= s.k * o.platen_displacement * row[std::size_t(p)];
+    }
+  }
+  a.K.resize(a.f.size(), a.f.size());
+  a.K.setFromTriplets(T.begin(), T.end());
+  return a;
+}
+
+// The sparse LDLT below options.direct_dof_limit; above it, its fill on tetrahedra costs minutes (about 100,000
+// dofs at 4 mm), and CG with an incomplete Cholesky preconditioner takes its place.
+Eigen::VectorXd solve_system(const Assembly& a, const Static3Options& o, Static3Result& r) {
+  using SpMat = Eigen::SparseMatrix<double>;
+  if (std::size_t(a.K.rows()) <= o.direct_dof_limit) {
+    Eigen::SimplicialLDLT<SpMat, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt(a.K);
+    if (ldlt.info() != Eigen::Success) throw std::runtime_error("solve_static3: the stiffness is singular");
+    r.direct = true;
+    return ldlt.solve(a.f);
+  }
+  Eigen::ConjugateGradient<SpMat, Eigen::Lower | Eigen::Upper,
+                           Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>>>
+      cg;
+  cg.setTolerance(o.cg_tolerance);
+  cg.setMaxIterations(long(a.K.rows()));
+  cg.compute(a.K);
+  if (cg.info() != Eigen::Success) throw std::runtime_error("solve_static3: the preconditioner failed");
+  Eigen::VectorXd x = cg.solve(a.f);
+  if (cg.info() != Eigen::Success)
+    throw std::runtime_error("solve_static3: CG did not converge; raise direct_dof_limit to use the direct solver");
+  r.iterations = int(cg.iterations());
+  return x;
+}
+
+std::vector<PlatenSpring> platen_springs(const TetMesh& mesh, const Blocks& B, const FaceMaterial& rock) {
+  std::vector<PlatenSpring> s;
+  for (const BoundaryFace& bf : mesh.boundary) {
+    if (bf.tag == FaceTag::lateral) continue;
+    const Face f = face_of(tri_of(mesh, bf.nodes));
+    const std::size_t t = std::size_t(bf.tet);
+    s.push_back({bf.tet, f.centroid - B.c[t], rock.modulus / (2.0 * B.inradius[t]) * f.area, bf.tag == FaceTag::top});
+  }
+  return s;
+}
+
+void check(const TetMesh& mesh, const Static3Options& o) {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("solve_static3: " + what); };
+  if (mesh.num_tets() < 2) fail("the mesh has fewer than two tetrahedra; mesh the specimen first");
+  if (!(o.platen_displacement > 0) || !std::isfinite(o.platen_displacement))
+    fail("platen_displacement must be a positive length in m");
+  for (const FaceMaterial* m : {&o.rock, &o.joint})
+    if (!(m->modulus > 0) || !(m->kappa > 0) || !std::isfinite(m->modulus) || !std::isfinite(m->kappa))
+      fail("the rock's and the joint's effective modulus and stiffness ratio must be positive and finite");
+}
+
+}  // namespace
+
+Static3Result solve_static3(const TetMesh& mesh, const Static3Options& o) {
+  check(mesh, o);
+  Static3Result r;
+  const auto t0 = Clock::now();
+  const Blocks B = blocks_of(mesh);
+  const std::vector<PlatenSpring> springs = platen_springs(mesh, B, o.rock);
+  bool bottom = false, top = false;
+  for (const PlatenSpring& s : springs) (s.top ? top : bottom) = true;
+  if (!bottom || !top) throw std::invalid_argument("solve_static3: the mesh has no bottom or no top faces; "
+                                                   "tag its boundary (boundary_faces) before the solve");
+  const std::vector<int> map = free_dofs(mesh.num_tets(), springs, B);
+  const Assembly a = assemble(mesh, B, springs, map, o, r);
+  r.assemble_seconds = seconds_since(t0);
+
+  const auto t1 = Clock::now();
+  const Eigen::VectorXd x = solve_system(a, o, r);
+  r.solve_seconds = seconds_since(t1);
+
+  r.u.assign(map.size(), 0.0);
+  for (std::size_t k = 0; k < map.size(); ++k)
+    if (map[k] >= 0) r.u[k] = x[map[k]];
+  const double delta = o.platen_displacement;
+  for (const PlatenSpring& s : springs) {
+    const auto row = s.row();
+    double uz = 0;
+    for (int p = 0; p < 6; ++p) uz += row[std::size_t(p)] * r.u[std::size_t(6 * s.block + p)];
+    const double overlap = s.top ? uz + delta : -uz;  // into the platen
+    (s.top ? r.top_force : r.bottom_force) += s.k * overlap;
+    r.strain_energy += 0.5 * s.k * overlap * overlap;
+  }
+  for (std::size_t b = 0; b < a.bond_k.size(); ++b) {
+    double q[12];
+    for (int p = 0; p < 12; ++p) q[p] = r.u[std::size_t(6 * a.bond_blocks[b][std::size_t(p / 6)] + p % 6)];
+    for (int p = 0; p < 12; ++p)
+      for (int c = 0; c < 12; ++c) r.strain_energy += 0.5 * q[p] * a.bond_k[b][std::size_t(12 * p + c)] * q[c];
+  }
+  r.platen_work = 0.5 * r.top_force * delta;
+
+  double zmin = std::numeric_limits<double>::infinity(), zmax = -zmin;
+  for (const auto& p : mesh.nodes) zmin = std::min(zmin, p[2]), zmax = std::max(zmax, p[2]);
+  for (double v : B.volume) r.volume += v;
+  r.height = zmax - zmin;
+  r.blocks = mesh.num_tets(), r.platen_faces = springs.size(), r.dofs = std::size_t(a.f.size());
+  r.mean_stress = 0.5 * (r.top_force + r.bottom_force) * r.height / r.volume;
+  r.platen_modulus = r.mean_stress / (delta / r.height);
+  r.strain = fitted_strain(B, r.u);
+  r.fit_modulus = r.mean_stress / -r.strain[2];
+  const double dd = o.dip_direction_deg * std::numbers::pi / 180.0;
+  const Vec3 strike{-std::sin(dd), std::cos(dd), 0.0}, dip{std::cos(dd), std::sin(dd), 0.0};
+  auto normal_strain = [&](Vec3 n) {
+    const auto& e = r.strain;
+    return e[0] * n.x * n.x + e[1] * n.y * n.y + 2.0 * e[5] * n.x * n.y;  // horizontal n
+  };
+  r.strain_strike = normal_strain(strike), r.strain_dip = normal_strain(dip);
+  r.poisson_strike = -r.strain_strike / r.strain[2], r.poisson_dip = -r.strain_dip / r.strain[2];
+  return r;
+}
+
+}  // namespace rbdem

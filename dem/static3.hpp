@@ -1,0 +1,89 @@
+// The static elastic solve of the 3D face-bond network: one rigid tetrahedral block per tetrahedron of a TetMesh,
+// one face bond per shared face (dem/laws/face_bond.hpp), loaded in uniaxial compression between frictionless
+// platens; the 3D counterpart of the 2D static solve (dem/static_solve.hpp) in its like-for-like linear model,
+// every linear part closed and sticking. docs/theory.md, "The face bond's stiffness matrix"; docs/continuum.md,
+// "The 3D DEM's static moduli".
+//
+// Degrees of freedom: 6 per block, the translation u of its centroid and a small rotation phi (world axes), in the
+// order (u_x, u_y, u_z, phi_x, phi_y, phi_z).
+//
+// The platens are what the 2D static solve uses: a frictionless contact of each bottom or top boundary face with a
+// rigid plane, a normal spring k_p A at the face's centroid with k_p = E*_rock / (2 r_in) (r_in the block's
+// inradius, as dem/boundary/platens.cpp sets the 2D platen contact), on u_z + (phi x r)_z; no rotational or shear
+// stiffness. The top platen closes by delta, the bottom one stays. The three rigid modes the platens leave (the
+// horizontal translations and the rotation about z) are removed by holding u_x and u_y of one bottom block and u_y
+// of the bottom block farthest from it in x: rigid constraints only, no stress.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "dem/stages/face_bond_kernel.hpp"
+#include "mesh/tetmesh.hpp"
+
+namespace rbdem {
+
+// A 12 x 12 stiffness, row-major, on the dofs (u_i, phi_i, u_j, phi_j).
+using FaceBondMatrix = std::array<double, 144>;
+
+// The linearised stiffness of the face bond b at rest (no forces there, so no geometric terms): K = B^T D B, with
+// B the map from the two blocks' dofs to the relative motion in the face frame,
+//     g = u_j + phi_j x r_j - u_i - phi_i x r_i   (the gap at the bond point; d = [e1, e2, n] g),
+//     theta = phi_j - phi_i                       (t = [e1, e2, n] theta),
+// and D = diag(k_s', k_s', k_n', kb_1, kb_2, kb_t): the parallel bond's stiffnesses (FaceStiffness), plus the
+// linear part's k_n A and k_s A on the normal and the slip when `linear_closed` (a closed face puts the linear
+// part's force at the face's centroid, so it adds no bending or twist stiffness). Symmetric, positive
+// semi-definite, and zero on the six rigid motions of the pair.
+FaceBondMatrix face_bond_stiffness(const stages::FaceBondFrame& b, bool linear_closed = true);
+
+// A bond material: effective modulus E* (Pa) and stiffness ratio kappa = k_n / k_s.
+struct FaceMaterial {
+  double modulus = 0, kappa = 1;
+};
+
+struct Static3Options {
+  FaceMaterial rock{160e9, 1.5};   // the paper scene's rock (scenes/paper.toml)
+  FaceMaterial joint{50e9, 1.5};   // and joint
+  double platen_displacement = 1e-6;  // m, closure of the top platen (> 0)
+  // The axes the lateral strains are read along: the strike (-sin dd, cos dd, 0) and the horizontal dip direction
+  // (cos dd, sin dd, 0) of joints of dip direction dd (deg), as theory::plane_axes.
+  double dip_direction_deg = 0;
+  // The sparse LDLT up to this many dofs, CG with an incomplete Cholesky preconditioner above (to a relative
+  // residual of cg_tolerance).
+  std::size_t direct_dof_limit = 30000;
+  double cg_tolerance = 1e-10;
+};
+
+// The response. The mean axial stress is <sigma_zz> = F H / V (F the mean of the two platens' forces), as the FE
+// twin reads it (continuum/fe_3d.hpp). Two moduli:
+//   platen_modulus = <sigma_zz> / (delta / H): the platens' reading, the contact springs' compliance included;
+//   fit_modulus = <sigma_zz> / (-eps_zz) with eps the symmetric part of the displacement gradient that fits the
+//     blocks' centroid displacements best in the least-squares sense (volume-weighted): the body's own strain,
+//     free of the platen contacts, to compare with the continuum's mean-strain modulus.
+// The lateral strains (tension positive) and apparent Poisson's ratios are read from the same fitted strain.
+struct Static3Result {
+  double platen_modulus = 0, fit_modulus = 0;  // Pa
+  double mean_stress = 0;                      // Pa, compression positive
+  double top_force = 0, bottom_force = 0;      // N, compression positive
+  std::array<double, 6> strain{};              // fitted: xx, yy, zz, yz, xz, xy (tensor components)
+  double strain_strike = 0, strain_dip = 0;
+  double poisson_strike = 0, poisson_dip = 0;
+  double volume = 0, height = 0;  // m^3, m
+  std::size_t blocks = 0, rock_bonds = 0, joint_bonds = 0, platen_faces = 0, dofs = 0;
+  // m, the joint bonds' centroid distances d: area-weighted mean, and harmonic mean A / sum(A / d) (the d of the
+  // bonds' summed stiffness, the bonds of one joint plane acting side by side); 0 without joints
+  double joint_d_mean = 0, joint_d_harmonic = 0;
+  std::vector<double> u;    // 6 per block
+  double assemble_seconds = 0, solve_seconds = 0;
+  bool direct = false;  // the direct solver (else CG)
+  int iterations = 0;   // CG's
+  double strain_energy = 0;  // J, 1/2 u^T K u
+  double platen_work = 0;    // J, 1/2 F_top delta
+};
+
+// Throws std::invalid_argument for an empty mesh, a non-positive displacement or modulus, or a mesh without
+// bottom or top faces.
+Static3Result solve_static3(const TetMesh& mesh, const Static3Options& options = {});
+
+}  // namespace rbdem
