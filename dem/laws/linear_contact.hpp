@@ -84,7 +84,7 @@ struct LinearContact {
     const double trial = trial_shear(chord, vt, dt, fs);
     fs = shear_force(fn, trial);
     const bool slides = (fn > 0.0) & (std::abs(trial) > mu * fn);
-    if (slides) opening += std::abs(trial - fs) / (Ks * chord * inv_lref) * tan_dilation;
+    if (slides && tan_dilation > 0.0) opening += std::abs(trial - fs) / (Ks * chord * inv_lref) * tan_dilation;
     return slides;
   }
   // The same without branches (the bond kernel vectorises it): the elastic trial from the old shear force, then
