@@ -236,20 +236,14 @@ Fe3Result solve_elastic_3d(const TetMesh& mesh, const theory::TIConstants& c, do
   const Extent z = extent_of(mesh);
   Triangulation<dim> tria;
   make_triangulation(mesh, z, tria);
-  const FESystem<dim> fe(FE_SimplexP<dim>(options.degree), dim);
-  const MappingFE<dim> mapping(FE_SimplexP<dim>(1));
-  const QGaussSimplex<dim> quadrature(options.degree + 1);
-  DoFHandler<dim> dof(tria);
-  dof.distribute_dofs(fe);
+  internal::SimplexSpace<dim> space(tria, options.degree);
+  const auto& mapping = space.mapping;
+  const auto& quadrature = space.quadrature;
+  const auto& dof = space.dof;
+  const auto& pattern = space.pattern;
   const auto n_dofs = dof.n_dofs();
   result.dofs = n_dofs;
   result.cells = tria.n_active_cells();
-  SparsityPattern pattern;
-  {
-    DynamicSparsityPattern dsp(n_dofs, n_dofs);
-    DoFTools::make_sparsity_pattern(dof, dsp);
-    pattern.copy_from(dsp);
-  }
   const auto fixed = fixed_dofs(dof, mapping, z, options);
   result.setup_seconds = clock.lap();
 

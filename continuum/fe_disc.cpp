@@ -391,20 +391,15 @@ DiscResult solve_disc(const TriMesh& mesh, const theory::TIConstants& c, double 
 
   Triangulation<dim> tria;
   const std::vector<unsigned> vertex_of = make_triangulation(mesh, tria);
-  const FESystem<dim> fe(FE_SimplexP<dim>(options.degree), dim);
-  const MappingFE<dim> mapping(FE_SimplexP<dim>(1));
-  const QGaussSimplex<dim> quadrature(options.degree + 1);
-  DoFHandler<dim> dof(tria);
-  dof.distribute_dofs(fe);
+  internal::SimplexSpace<dim> space(tria, options.degree);
+  const auto& fe = space.fe;
+  const auto& mapping = space.mapping;
+  const auto& quadrature = space.quadrature;
+  const auto& dof = space.dof;
+  const auto& pattern = space.pattern;
   const auto n_dofs = dof.n_dofs();
   result.dofs = n_dofs;
   result.cells = tria.n_active_cells();
-  SparsityPattern pattern;
-  {
-    DynamicSparsityPattern dsp(n_dofs, n_dofs);
-    DoFTools::make_sparsity_pattern(dof, dsp);
-    pattern.copy_from(dsp);
-  }
 
   // Per unit thickness: the point forces are P / t.
   const SymmetricTensor<4, dim> C = internal::stiffness_tensor(stiffness_voigt(c, bedding_deg, plane));

@@ -6,10 +6,18 @@
 #include <chrono>
 
 #include <deal.II/base/quadrature.h>
+#include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/dofs/dof_handler.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_simplex_p.h>
+#include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/mapping.h>
+#include <deal.II/fe/mapping_fe.h>
+#include <deal.II/grid/tria.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
 
 #include "continuum/fe_model.hpp"
 
@@ -27,6 +35,25 @@ class Stopwatch {
 
  private:
   std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+// The displacement space of the simplex models (the plane, disc and 3D twins): vector FE_SimplexP of `degree` on
+// `tria`, the linear mapping, the Gauss rule of degree + 1, the DoFs distributed and the matrix's sparsity pattern.
+template <int dim>
+struct SimplexSpace {
+  SimplexSpace(const dealii::Triangulation<dim>& tria, unsigned degree)
+      : fe(dealii::FE_SimplexP<dim>(degree), dim), mapping(dealii::FE_SimplexP<dim>(1)), quadrature(degree + 1),
+        dof(tria) {
+    dof.distribute_dofs(fe);
+    dealii::DynamicSparsityPattern dsp(dof.n_dofs(), dof.n_dofs());
+    dealii::DoFTools::make_sparsity_pattern(dof, dsp);
+    pattern.copy_from(dsp);
+  }
+  const dealii::FESystem<dim> fe;
+  const dealii::MappingFE<dim> mapping;
+  const dealii::QGaussSimplex<dim> quadrature;
+  dealii::DoFHandler<dim> dof;
+  dealii::SparsityPattern pattern;
 };
 
 // Voigt [xx, yy, xy] with engineering shear -> the tensor with sigma = C : eps.
