@@ -2,7 +2,7 @@
 // summary, the writers, studies, the elastic gate, `rbdem verify`, the command line and the Python module see this
 // class and nothing of the engine below it, as MFEM's solvers see an Operator. It is implemented by
 // SimulationImpl<dim> (dem/simulation_impl.hpp) over the dimension's engine, model, state, stages and laws
-// (templates on dim, dem/dim.hpp); this build instantiates dim = 2.
+// (templates on dim, dem/dim.hpp): dim = 2 (triangular blocks) and dim = 3 (tetrahedral blocks).
 //
 // What a simulation offers:
 //   stepping      step(), the clock, the time step and the stability limits, the threads a step may use
@@ -33,6 +33,10 @@
 #include "mesh/trimesh.hpp"
 
 namespace rbdem {
+struct TetMesh;
+}
+
+namespace rbdem {
 
 // Thrown when the run blows up (positions no longer finite): the step is too large or the scene unphysical.
 class InstabilityError : public std::runtime_error {
@@ -59,6 +63,9 @@ class Simulation {
   virtual ~Simulation() = default;
   // The model of `mesh` with the scene's materials and numerics (the dimension follows the mesh).
   static std::unique_ptr<Simulation> create(const Scene& scene, const TriMesh& mesh,
+                                            const SimulationOptions& options = {});
+  // The 3D model of a tetrahedral mesh (which must outlive the simulation).
+  static std::unique_ptr<Simulation> create(const Scene& scene, const TetMesh& mesh,
                                             const SimulationOptions& options = {});
 
   virtual int dimension() const = 0;

@@ -232,8 +232,11 @@ TestResult run_test(LoadingProtocol& protocol, Simulation& sim, const Scene& sce
   return run.result(completed);
 }
 
-TestResult run_test(const std::string& test, const Scene& scene, const TriMesh& mesh, const RunOptions& options,
-                    const std::function<void(const Simulation&)>& ready) {
+namespace {
+
+template <class Mesh>
+TestResult run_test_on(const std::string& test, const Scene& scene, const Mesh& mesh, const RunOptions& options,
+                       const std::function<void(const Simulation&)>& ready) {
   const ProtocolInfo& info = protocol_info(test);
   info.check(scene);
   const auto protocol = info.make(scene, options.curve_points);
@@ -242,6 +245,18 @@ TestResult run_test(const std::string& test, const Scene& scene, const TriMesh& 
   const auto sim = Simulation::create(scene, mesh, so);
   if (ready) ready(*sim);
   return run_test(*protocol, *sim, scene, options);
+}
+
+}  // namespace
+
+TestResult run_test(const std::string& test, const Scene& scene, const TriMesh& mesh, const RunOptions& options,
+                    const std::function<void(const Simulation&)>& ready) {
+  return run_test_on(test, scene, mesh, options, ready);
+}
+
+TestResult run_test(const std::string& test, const Scene& scene, const TetMesh& mesh, const RunOptions& options,
+                    const std::function<void(const Simulation&)>& ready) {
+  return run_test_on(test, scene, mesh, options, ready);
 }
 
 }  // namespace rbdem

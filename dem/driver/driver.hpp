@@ -41,5 +41,8 @@ TestResult run_test(LoadingProtocol& protocol, Simulation& sim, const Scene& sce
 // before the run (a command prints its size).
 TestResult run_test(const std::string& test, const Scene& scene, const TriMesh& mesh, const RunOptions& options = {},
                     const std::function<void(const Simulation&)>& ready = nullptr);
+// The same on the 3D model of a tetrahedral mesh.
+TestResult run_test(const std::string& test, const Scene& scene, const TetMesh& mesh, const RunOptions& options = {},
+                    const std::function<void(const Simulation&)>& ready = nullptr);
 
 }  // namespace rbdem

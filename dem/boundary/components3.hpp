@@ -1,0 +1,85 @@
+// The boundary components of the 3D model: each implements its dimension-free interface (dem/boundary/boundary.hpp)
+// and the 3D engine's hooks (dem/boundary/hooks3.hpp), as components.hpp does in 2D.
+//
+//   PlatensImpl<3>   platens3.cpp   two rigid horizontal planes, the top one at top_z closing at its velocity (or
+//                                   under a servo), the bottom one fixed at the specimen's lowest point; each acts
+//                                   on every block that crosses it with the linear contact law on the overlap
+//                                   volume, k_n from the block's mirror image (d = 2 x inradius)
+//   JacketImpl<3>    jacket3.cpp    a confining pressure on the lateral faces (follower forces)
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "dem/boundary/boundary.hpp"
+#include "dem/boundary/hooks3.hpp"
+
+namespace rbdem {
+
+template <int dim>
+class PlatensImpl;
+template <int dim>
+class JacketImpl;
+
+// The part of a tetrahedron beyond a plane: the vertices' depths d_k past it (positive beyond) give the overlap's
+// volume, centroid and the area of its section by the plane. Exact for any depths (the clipped solid is a
+// tetrahedron or a prism, split into tetrahedra without cancellation).
+struct TetOverlap {
+  double volume = 0, area = 0;  // m^3, m^2
+  Vec3 centroid;                // m
+};
+TetOverlap tet_beyond_plane(const std::array<Vec3, 4>& v, const std::array<double, 4>& depth);
+
+template <>
+class PlatensImpl<3> : public Platens, public BoundaryHooks<3> {
+ public:
+  PlatensImpl(const Model<3>& model, const PlatenSettings& settings);
+
+  double top_force() const override { return top_force_; }
+  double bottom_force() const override { return bottom_force_; }
+  double closure() const override { return zmax_ - top_z_; }
+  double area() const override { return area_; }
+  double velocity() const override { return velocity_; }
+  void set_velocity(double v) override { velocity_ = v, servo_on_ = false; }
+  void set_servo(const PlatenServo& servo) override { servo_ = servo, servo_on_ = true; }
+  bool servo_active() const override { return servo_on_; }
+  double friction() const override { return friction_; }
+  double work() const override { return work_; }
+  double energy() const override { return energy_; }
+  std::vector<std::pair<std::string, double>> readings() const override;
+
+  double add_forces(const Model<3>& m, const ModelState<3>& s, std::vector<Vec3>& force, std::vector<Vec3>& moment,
+                    double dt, bool advance) override;
+  void after_step(const Model<3>&, ModelState<3>&, double dt) override { top_z_ -= velocity_ * dt; }
+  void loads(const Model<3>& m, const ModelState<3>& s, int component, BoundaryLoads& out) const override;
+  void add_stiffness(const Model<3>& m, std::vector<BlockStiffness3>& k) const override;
+  void static_rows(const Model<3>& m, std::vector<PlatenRow3>& rows) const override;
+  void apply_static(const Model<3>& m, const StaticResult& st, double factor) override;
+  double stored_energy() const override { return energy_; }
+  double work_done() const override { return work_; }
+  void save(Snapshot& s) const override;
+  void load(const Snapshot& s, const Model<3>& m) override;
+
+ private:
+  struct Contact {
+    Vec3 force, point;  // on the block, at the overlap's centroid
+    double fn = 0, energy = 0, friction = 0;
+    bool touching = false;
+  };
+  // Candidate k's contact (the top platen's candidates first) at the state s, its shear history `fs` updated.
+  Contact contact(const Model<3>& m, const ModelState<3>& s, int block, bool top, double dt, Vec3& fs) const;
+
+  double zmin_ = 0, zmax_ = 0, area_ = 0, friction_ = 0;
+  std::vector<double> kn_;  // Pa/m per block: E* / (2 inradius), the platen as the block's mirror image
+  std::vector<double> kappa_;
+  std::vector<int> top_candidates_, bottom_candidates_;  // blocks that can reach a platen, ascending
+  // state
+  double top_z_ = 0, velocity_ = 0;
+  bool servo_on_ = false;
+  PlatenServo servo_;
+  double top_force_ = 0, bottom_force_ = 0, energy_ = 0, work_ = 0;
+  std::vector<double> fs_;  // the shear history of each candidate (top first), x and y (N)
+};
+
+}  // namespace rbdem

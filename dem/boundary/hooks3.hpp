@@ -1,0 +1,53 @@
+// The engine's side of a boundary component of the 3D model (dem/boundary/boundary.hpp), as BoundaryHooks<2>
+// (dem/boundary/hooks.hpp) is in 2D: the engine holds the hooks of the installed components in their order and
+// calls each in turn, so their forces are summed in a fixed order and the results stay bit-identical at any thread
+// count.
+#pragma once
+
+#include <vector>
+
+#include "dem/boundary/hooks.hpp"
+#include "dem/model3.hpp"
+#include "dem/snapshot.hpp"
+#include "dem/state3.hpp"
+#include "dem/state_tables.hpp"
+
+namespace rbdem {
+
+// A platen's contact with a block's face as linear springs at the face's centroid (r from the block's centroid):
+// normal stiffness kn along z, and with sticking platens ks along x and y (the static solve, dem/static_start3.cpp);
+// kb (N m) bounds the rotational stiffness the contact on the overlap volume adds about the horizontal axes when the
+// face tilts (k_n per area times the face's polar moment), for the stability limit only.
+struct PlatenRow3 {
+  int block;
+  bool top;
+  double kn, ks;  // N/m
+  Vec3 r;         // m
+  double kb = 0;  // N m
+};
+
+template <>
+class BoundaryHooks<3> {
+ public:
+  virtual ~BoundaryHooks() = default;
+  // Adds the component's force and moment (about the centroid) on each block at the state `s` into `force` and
+  // `moment` (one per block), on the thread that runs the step's serial part. `advance` false: evaluate only (no
+  // history, no energy booked). Returns the work its friction dissipated in the step (J, not negative).
+  virtual double add_forces(const Model<3>& m, const ModelState<3>& s, std::vector<Vec3>& force,
+                            std::vector<Vec3>& moment, double dt, bool advance) = 0;
+  // After the integrator: the component's own motion (the top platen).
+  virtual void after_step(const Model<3>&, ModelState<3>&, double dt) { (void)dt; }
+  // The forces it puts on the blocks now, each at its point (Simulation::boundary_loads()).
+  virtual void loads(const Model<3>& m, const ModelState<3>& s, int component, BoundaryLoads& out) const = 0;
+  // The stiffness it adds to each block (the block-wise critical step) and its rows in the static solve.
+  virtual void add_stiffness(const Model<3>&, std::vector<BlockStiffness3>& k) const { (void)k; }
+  virtual void static_rows(const Model<3>&, std::vector<PlatenRow3>& rows) const { (void)rows; }
+  // The state of a static solution scaled by `factor` (the top platen's position).
+  virtual void apply_static(const Model<3>&, const StaticResult& st, double factor) { (void)st, (void)factor; }
+  virtual double stored_energy() const { return 0.0; }
+  virtual double work_done() const = 0;
+  virtual void save(Snapshot& s) const = 0;
+  virtual void load(const Snapshot& s, const Model<3>& m) = 0;
+};
+
+}  // namespace rbdem

@@ -1,0 +1,244 @@
+// The explicit engine of the 3D model. See engine3.hpp.
+#include "dem/engine3.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+
+#include <fmt/format.h>
+#include <omp.h>
+
+namespace rbdem {
+
+namespace {
+
+// The contiguous share [lo, hi) of n items for thread t of nt: the same split for the same nt, and the shares in
+// thread order are the items in order.
+std::array<std::size_t, 2> share(std::size_t n, int t, int nt) {
+  return {n * std::size_t(t) / std::size_t(nt), n * std::size_t(t + 1) / std::size_t(nt)};
+}
+
+stages::BlockKin3 kin(const ModelState<3>& s, std::size_t b) {
+  return {s.position(b), s.rotation(b), s.velocity(b), s.spin(b)};
+}
+
+}  // namespace
+
+Engine<3>::Engine(const TetMesh& mesh, const Scene& scene, const EngineOptions& options)
+    : options_(options), model_(build_model(mesh, scene, options.mass_scaling)) {
+  const std::size_t nb = model_.num_blocks(), nbond = model_.num_bonds();
+  ModelState<3>& s = state_;
+  s.x.resize(nb), s.y.resize(nb), s.z.resize(nb);
+  for (std::size_t b = 0; b < nb; ++b) s.x[b] = model_.x0[b].x, s.y[b] = model_.x0[b].y, s.z[b] = model_.x0[b].z;
+  s.qw.assign(nb, 1.0);
+  for (auto* v : {&s.qx, &s.qy, &s.qz, &s.vx, &s.vy, &s.vz, &s.wx, &s.wy, &s.wz, &s.fx, &s.fy, &s.fz, &s.mx, &s.my,
+                  &s.mz})
+    v->assign(nb, 0.0);
+  s.broken.assign(nbond, 0);
+  s.fs1.assign(nbond, 0.0), s.fs2.assign(nbond, 0.0), s.drive.assign(nbond, 0.0);
+  slot_.resize(nbond);
+  ext_f_.resize(nb), ext_m_.resize(nb), damping_work_.resize(nb);
+  nthreads_ = std::max(options_.threads > 0 ? options_.threads : omp_get_max_threads(), 1);
+  const char* adapt = std::getenv("RBDEM_ADAPT_THREADS");
+  team_ = TeamSize(nthreads_, options_.adapt_threads && !(adapt && std::string(adapt) == "0"));
+  breaks_.assign(std::size_t(nthreads_), {});
+  s.dt = critical_step();
+}
+
+int Engine<3>::threads() const {
+  const int n = team_.size();
+  return options_.thread_budget ? std::clamp(options_.thread_budget->load(std::memory_order_relaxed), 1, n) : n;
+}
+
+double Engine<3>::critical_step() const {
+  const Model<3>& m = model_;
+  std::vector<BlockStiffness3> k(m.num_blocks());
+  for (std::size_t b = 0; b < m.num_bonds(); ++b) {
+    const stages::FaceBondFrame& f = m.frame[b];
+    // The parallel bond and the linear part side by side (partly closed, the linear part bends and twists too).
+    const double kb = 2 * std::max({f.k.kb1, f.k.kb2, f.k.kt});
+    k[std::size_t(m.bi[b])].add(2 * f.k.kn, 2 * f.k.ks, kb, f.ri, f.axes.r[2]);
+    k[std::size_t(m.bj[b])].add(2 * f.k.kn, 2 * f.k.ks, kb, f.rj, f.axes.r[2]);
+  }
+  for (const BoundaryHooks<3>* h : hooks_) h->add_stiffness(m, k);
+  double dt = std::numeric_limits<double>::infinity();
+  for (std::size_t b = 0; b < m.num_blocks(); ++b) dt = std::min(dt, k[b].critical_step(m.body[b]));
+  return dt;
+}
+
+void Engine<3>::restore(const ModelState<3>& s) {
+  if (s.num_blocks() != model_.num_blocks() || s.num_bonds() != model_.num_bonds())
+    throw std::invalid_argument(fmt::format("the state has {} blocks and {} bonds, the model {} and {}: it was "
+                                            "written for another scene or mesh", s.num_blocks(), s.num_bonds(),
+                                            model_.num_blocks(), model_.num_bonds()));
+  state_ = s;
+}
+
+void Engine<3>::break_bond(int b) { state_.broken.at(std::size_t(b)) = 1; }
+
+void Engine<3>::fix_block(int b, bool fixed) {
+  model_.fixed.at(std::size_t(b)) = fixed ? 1 : 0;
+  if (fixed) {
+    const std::size_t k = std::size_t(b);
+    state_.vx[k] = state_.vy[k] = state_.vz[k] = state_.wx[k] = state_.wy[k] = state_.wz[k] = 0.0;
+  }
+}
+
+// --- the bond stage ------------------------------------------------------------------------------------------------
+
+void Engine<3>::bond_slot(std::size_t b, const ModelState<3>& s, double dt, double* drive, Slot& out) const {
+  const Model<3>& m = model_;
+  const bool broken = s.broken[b] != 0;
+  const std::size_t i = std::size_t(m.bi[b]), j = std::size_t(m.bj[b]);
+  out.keep = broken ? 0.0 : FaceBond::intact_fraction(s.drive[b], m.rupture[b]);
+  stages::FaceBondEval e;
+  if (broken) {  // the linear part goes on as a face contact with the material's friction
+    stages::FaceBondFrame f = m.frame[b];
+    f.mu = m.law[m.material[b]].mu;
+    e = stages::eval_face_bond(f, kin(s, i), kin(s, j), dt, s.fs1[b], s.fs2[b], 0.0);
+  } else {
+    e = stages::eval_face_bond(m.frame[b], kin(s, i), kin(s, j), dt, s.fs1[b], s.fs2[b], out.keep);
+  }
+  out.f = e.f, out.mi = e.mi, out.mj = e.mj, out.p = e.p, out.pb = e.pb, out.linear = e.linear;
+  out.broke = BreakMode::none;
+  if (broken) {
+    out.sigma = out.tau = out.index = 0.0;
+    return;
+  }
+  const FaceBond law = m.bond_law(b);
+  const BondLoad q = law.load(m.frame[b].section, e.pb);
+  const double A = m.frame[b].section.A;
+  out.sigma = q.tension / A, out.tau = q.shear / A;
+  bool tensile = false;
+  out.index = q.index(tensile);
+  if (drive) out.broke = law.advance(q, m.rupture[b], *drive);
+}
+
+void Engine<3>::bond_range(std::size_t b0, std::size_t b1, double dt, bool advance, std::vector<int>* breaks) {
+  ModelState<3>& s = state_;
+  const bool test = advance && s.breakage;
+  for (std::size_t b = b0; b < b1; ++b) {
+    Slot& out = slot_[b];
+    bond_slot(b, s, dt, test ? &s.drive[b] : nullptr, out);
+    if (!advance) continue;
+    s.fs1[b] = out.linear.fs1, s.fs2[b] = out.linear.fs2;
+    if (out.broke != BreakMode::none) breaks->push_back(int(b));
+  }
+}
+
+// The bonds broken this step, in bond order (the threads' lists in thread order): broken from the next step on,
+// each logged as a crack.
+void Engine<3>::log_breaks(const std::vector<std::vector<int>>& breaks) {
+  ModelState<3>& s = state_;
+  for (const std::vector<int>& list : breaks)
+    for (int bond : list) {
+      const std::size_t b = std::size_t(bond);
+      s.broken[b] = 1;
+      const Slot& sl = slot_[b];
+      Crack c;
+      c.time = s.time, c.strain = s.strain_for_log;
+      c.position = {sl.p.x, sl.p.y, sl.p.z};
+      const Vec3 n = model_.frame[b].axes.r[2];
+      c.normal = {n.x, n.y, n.z};
+      c.size = model_.frame[b].section.A;
+      c.bond = bond, c.kind = model_.kind[b], c.mode = sl.broke;
+      c.sigma = sl.sigma, c.tau = sl.tau;
+      s.cracks.push_back(c);
+      if (on_crack) on_crack(s.cracks.back());
+    }
+}
+
+// --- the block stage -----------------------------------------------------------------------------------------------
+
+void Engine<3>::gather(std::size_t b, Vec3& force, Vec3& moment) const {
+  const Model<3>& m = model_;
+  for (int o = m.offset[b]; o < m.offset[b + 1]; ++o) {
+    const int e = m.gather[std::size_t(o)];
+    const Slot& sl = slot_[std::size_t(e >> 1)];
+    if (e & 1) force += sl.f, moment += sl.mj;
+    else force -= sl.f, moment += sl.mi;
+  }
+  force += ext_f_[b], moment += ext_m_[b];
+}
+
+double Engine<3>::integrate(std::size_t b, Vec3 force, Vec3 moment) {
+  ModelState<3>& s = state_;
+  s.fx[b] = force.x, s.fy[b] = force.y, s.fz[b] = force.z;
+  s.mx[b] = moment.x, s.my[b] = moment.y, s.mz[b] = moment.z;
+  if (model_.fixed[b]) return 0.0;
+  RigidState3 r{s.position(b), s.velocity(b), s.rotation(b), s.spin(b)};
+  const double work = rigid_step(model_.body[b], r, force, moment, s.dt, options_.damping);
+  s.x[b] = r.x.x, s.y[b] = r.x.y, s.z[b] = r.x.z;
+  s.vx[b] = r.v.x, s.vy[b] = r.v.y, s.vz[b] = r.v.z;
+  s.qw[b] = r.q.w, s.qx[b] = r.q.x, s.qy[b] = r.q.y, s.qz[b] = r.q.z;
+  s.wx[b] = r.omega.x, s.wy[b] = r.omega.y, s.wz[b] = r.omega.z;
+  return work;
+}
+
+void Engine<3>::step() {
+  ModelState<3>& s = state_;
+  const Model<3>& m = model_;
+  const int nt_want = threads();
+  const double t_start = omp_get_wtime();
+  const bool sample = team_.begin(t_start, nt_want);
+  double mark[3] = {};
+  bool finite = true;
+  std::exception_ptr error;
+  for (auto& list : breaks_) list.clear();
+  if (breaks_.size() < std::size_t(nt_want)) breaks_.resize(std::size_t(nt_want));
+#pragma omp parallel num_threads(nt_want) reduction(&& : finite)
+  {
+    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+    if (sample) team_.read(t);
+    const auto bonds = share(m.num_bonds(), t, nt);
+    bond_range(bonds[0], bonds[1], s.dt, true, &breaks_[std::size_t(t)]);
+#pragma omp barrier
+#pragma omp master
+    {
+      mark[0] = omp_get_wtime();
+      try {
+        std::fill(ext_f_.begin(), ext_f_.end(), Vec3{}), std::fill(ext_m_.begin(), ext_m_.end(), Vec3{});
+        for (BoundaryHooks<3>* h : hooks_) s.e_friction += h->add_forces(m, s, ext_f_, ext_m_, s.dt, true);
+      } catch (...) {
+        error = std::current_exception();
+      }
+      mark[1] = omp_get_wtime();
+    }
+#pragma omp barrier
+    if (!error) {
+      const auto blocks = share(m.num_blocks(), t, nt);
+      for (std::size_t b = blocks[0]; b < blocks[1]; ++b) {
+        Vec3 force, moment;
+        gather(b, force, moment);
+        damping_work_[b] = integrate(b, force, moment);
+        finite = finite && std::isfinite(s.x[b] + s.y[b] + s.z[b] + s.qw[b] + s.vx[b] + s.vy[b] + s.vz[b]);
+      }
+    }
+  }
+  mark[2] = omp_get_wtime();
+  team_.end(mark[2]);
+  if (error) std::rethrow_exception(error);
+  times_.bonds += mark[0] - t_start, times_.serial += mark[1] - mark[0], times_.blocks += mark[2] - mark[1];
+  for (double w : damping_work_) s.e_damping -= w;
+  log_breaks(breaks_);
+  if (!finite)
+    throw InstabilityError(fmt::format("a block's position is no longer finite at step {}: the time step is too "
+                                       "large for this scene (lower numerics.dt_safety)", s.steps));
+  for (BoundaryHooks<3>* h : hooks_) h->after_step(m, s, s.dt);
+  s.time += s.dt;
+  ++s.steps;
+}
+
+void Engine<3>::evaluate_forces(std::vector<Vec3>& force, std::vector<Vec3>& moment) const {
+  const Model<3>& m = model_;
+  auto& self = const_cast<Engine<3>&>(*this);  // the slots are a workspace: no state is advanced
+  self.bond_range(0, m.num_bonds(), 0.0, false, nullptr);
+  std::fill(self.ext_f_.begin(), self.ext_f_.end(), Vec3{}), std::fill(self.ext_m_.begin(), self.ext_m_.end(), Vec3{});
+  for (BoundaryHooks<3>* h : hooks_) h->add_forces(m, state_, self.ext_f_, self.ext_m_, 0.0, false);
+  force.assign(m.num_blocks(), Vec3{}), moment.assign(m.num_blocks(), Vec3{});
+  for (std::size_t b = 0; b < m.num_blocks(); ++b) gather(b, force[b], moment[b]);
+}
+
+}  // namespace rbdem

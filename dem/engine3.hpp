@@ -1,0 +1,112 @@
+// The explicit RB-DEM engine of the 3D model: rigid tetrahedral blocks (centroid and unit quaternion), linear
+// parallel bonds on shared triangular faces (dem/laws/face_bond.hpp, dem/stages/face_bond_kernel.hpp) that go on
+// as compression-only Coulomb face contacts through their linear part once broken, the boundary components attached
+// to it (dem/boundary/hooks3.hpp), and the rigid-block step of dem/rigid3.hpp (leapfrog translation, the symplectic
+// splitting for the rotation, Cundall's local damping per component). docs/theory.md, section 11; docs/model.md.
+//
+// One step: the bond stage (each thread a contiguous range of bonds, each bond's forces into its own slot, its
+// failure test on its own history), the serial part (the crack log from the threads' lists in thread order, which
+// is bond order; the boundary components' forces), the block stage (each thread a contiguous range of blocks: the
+// gather of the block's bonds in bond order, then its step). Every sum is done in the same order at any thread
+// count, so results are bit-identical at any thread count. Contacts between blocks that were never neighbours are
+// not detected: a 3D run models the intact specimen, its cracks and the sliding and closing of broken faces.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "dem/boundary/hooks3.hpp"
+#include "dem/engine.hpp"
+#include "dem/model3.hpp"
+#include "dem/state3.hpp"
+#include "dem/state_tables.hpp"
+#include "dem/team.hpp"
+
+namespace rbdem {
+
+template <>
+class Engine<3> {
+ public:
+  // The model of `mesh` (which must outlive the engine) with the scene's materials.
+  Engine(const TetMesh& mesh, const Scene& scene, const EngineOptions& options);
+
+  // --- stepping ---
+  void step();
+  void run(long steps) {
+    for (long k = 0; k < steps; ++k) step();
+  }
+  void set_dt(double dt) { state_.dt = dt; }
+  double dt() const { return state_.dt; }
+  double time() const { return state_.time; }
+  long steps() const { return state_.steps; }
+  // The block-wise critical step (BlockStiffness3 over each block's bonds and components).
+  double critical_step() const;
+
+  // --- the model and its state ---
+  const Model<3>& model() const { return model_; }
+  const ModelState<3>& state() const { return state_; }
+  // Replaces the state (throws std::invalid_argument when it does not fit the model).
+  void restore(const ModelState<3>& s);
+  // Changes the state through `change` (placing blocks: the static start, tests).
+  void edit(const std::function<void(ModelState<3>&)>& change) { change(state_); }
+  void break_bond(int b);
+  void fix_block(int b, bool fixed = true);
+  void attach(BoundaryHooks<3>* hooks) { hooks_.push_back(hooks); }
+  const std::vector<BoundaryHooks<3>*>& hooks() const { return hooks_; }
+
+  // The force and moment on every block at the current state through the same stages as step(), without advancing
+  // anything (tests, the reference checks).
+  void evaluate_forces(std::vector<Vec3>& force, std::vector<Vec3>& moment) const;
+
+  // --- diagnostics ---
+  BlockStates block_states() const;
+  BondStates bond_states() const;
+  BoundaryLoads boundary_loads() const;
+  Energies energies() const;
+  const std::vector<Crack>& cracks() const { return state_.cracks; }
+  const EngineOptions& options() const { return options_; }
+  int max_threads() const { return nthreads_; }
+  int threads() const;
+  const TeamSize::Counts& team_counts() const { return team_.counts(); }
+  const StepTimes& step_times() const { return times_; }
+
+  void set_breakage(bool on) { state_.breakage = on; }
+  void set_strain_for_log(double strain) { state_.strain_for_log = strain; }
+  std::function<void(const Crack&)> on_crack;
+
+  // One bond's forces this step: the force on j (world; -f on i), the moments on i and j about their centroids,
+  // the bond point, the undamaged parallel bond's forces (face frame), the linear part.
+  struct Slot {
+    Vec3 f, mi, mj, p;
+    FaceForces pb;
+    FaceLinearPart linear;
+    double keep = 1;
+    BreakMode broke = BreakMode::none;
+    double sigma = 0, tau = 0, index = 0;
+  };
+
+ private:
+  // Bond b's slot at the state s (dt = 0: no history advanced); with `drive` (the bond's softening history, updated)
+  // its failure test.
+  void bond_slot(std::size_t b, const ModelState<3>& s, double dt, double* drive, Slot& out) const;
+  void bond_range(std::size_t b0, std::size_t b1, double dt, bool advance, std::vector<int>* breaks);
+  void log_breaks(const std::vector<std::vector<int>>& breaks);
+  void gather(std::size_t b, Vec3& force, Vec3& moment) const;
+  // Block b's step from its gathered force; returns the damping's work.
+  double integrate(std::size_t b, Vec3 force, Vec3 moment);
+
+  EngineOptions options_;
+  Model<3> model_;
+  ModelState<3> state_;
+  std::vector<BoundaryHooks<3>*> hooks_;
+  // workspace (derived, never stored)
+  std::vector<Slot> slot_;
+  std::vector<Vec3> ext_f_, ext_m_;
+  std::vector<double> damping_work_;
+  std::vector<std::vector<int>> breaks_;  // per thread, the bonds it broke this step, ascending
+  int nthreads_ = 1;
+  TeamSize team_{1, false};
+  StepTimes times_;
+};
+
+}  // namespace rbdem
