@@ -59,21 +59,20 @@ struct Dim<3> {
   }
 };
 
-// Whether this build's engine models dimension `dim`: 2. Dim<3> and the 3D kernels (the face bond,
-// dem/laws/face_bond.hpp; the rigid-block step, dem/rigid3.hpp) exist, the 3D engine does not yet, so the run-time
-// helpers below refuse 3 as they refuse any other number.
-constexpr bool engine_dimension(int dim) { return dim == 2; }
+// Whether this build's engine models dimension `dim`: 2 and 3.
+constexpr bool engine_dimension(int dim) { return dim == 2 || dim == 3; }
 
 // The same at run time, for code above the Simulation interface.
 inline void check_dimension(int dim) {
   if (!engine_dimension(dim))
-    throw std::invalid_argument("dimension " + std::to_string(dim) + ": this build models dimension 2");
+    throw std::invalid_argument("dimension " + std::to_string(dim) + ": this build models dimensions 2 and 3");
 }
 
 // f(Dim<dim>{}) for a dimension the engine models; throws (check_dimension) for any other.
 template <class F>
 decltype(auto) with_dimension(int dim, F&& f) {
   check_dimension(dim);
+  if (dim == 3) return f(Dim<3>{});
   return f(Dim<2>{});
 }
 
