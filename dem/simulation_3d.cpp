@@ -123,24 +123,28 @@ double SimulationImpl<3>::lateral_strain_of(const StaticResult& st) const {
   return n > 0 ? -sum / n : 0.0;
 }
 
-Platens& SimulationImpl<3>::add_platens(const PlatenSettings& settings) {
-  if (find<Platens>()) throw std::invalid_argument("the simulation has its platens already");
-  auto p = std::make_unique<PlatensImpl<3>>(engine_.model(), settings);
-  PlatensImpl<3>& ref = *p;
-  engine_.attach(&ref);
-  boundaries_.push_back(&ref);
-  components_.push_back(std::move(p));
-  return ref;
+template <class C>
+C& SimulationImpl<3>::install(std::unique_ptr<C> component) {
+  C& c = *component;
+  engine_.attach(&c);
+  boundaries_.push_back(&c);
+  components_.push_back(std::move(component));
+  return c;
 }
 
-Jacket& SimulationImpl<3>::add_jacket(double) {
-  throw SceneError("a confining pressure on a 3D specimen (the jacket) is not built: run rbdem ucs on a 3D scene, "
-                   "or the confined test on a 2D one (specimen.dimension = 2)");
+Platens& SimulationImpl<3>::add_platens(const PlatenSettings& settings) {
+  if (find<Platens>()) throw std::invalid_argument("the simulation has its platens already");
+  return install(std::make_unique<PlatensImpl<3>>(engine_.model(), settings));
+}
+
+Jacket& SimulationImpl<3>::add_jacket(double pressure) {
+  if (find<Jacket>()) throw std::invalid_argument("the simulation has its jacket already");
+  return install(std::make_unique<JacketImpl<3>>(engine_.model(), pressure));
 }
 
 BlockGroup& SimulationImpl<3>::add_group(const GroupSettings&) {
-  throw SceneError("block groups (rbdem shear, rbdem cyclic's holds, scripted groups) are not built for 3D "
-                   "specimens: use a 2D scene (specimen.dimension = 2)");
+  throw SceneError("block groups (rbdem shear's boxes, scripted groups) are not built for 3D specimens: use a 2D "
+                   "scene (specimen.dimension = 2)");
 }
 
 StaticResult SimulationImpl<3>::solve_static(const StaticOptions& options) const {
@@ -157,12 +161,13 @@ double SimulationImpl<3>::first_break_along(const StaticResult& base, const Stat
 
 void SimulationImpl<3>::apply_static(const StaticResult& base, const StaticResult& increment, double lambda,
                                      double velocity) {
-  if (!base.empty()) throw std::invalid_argument("a 3D static start from a loaded state is not built");
-  rbdem::apply_static(engine_, increment, lambda, velocity);
+  rbdem::apply_static(engine_, base, increment, lambda, velocity);
 }
 
-std::vector<double> SimulationImpl<3>::pressure_load(double) const {
-  throw SceneError("a confining pressure on a 3D specimen is not built: use a 2D scene (specimen.dimension = 2)");
+std::vector<double> SimulationImpl<3>::pressure_load(double pressure) const {
+  if (const auto* jacket = dynamic_cast<const JacketImpl<3>*>(find<Jacket>()))
+    return jacket->reference_load(engine_.model(), pressure);
+  return JacketImpl<3>(engine_.model(), pressure).reference_load(engine_.model(), pressure);
 }
 
 Snapshot SimulationImpl<3>::snapshot() const {

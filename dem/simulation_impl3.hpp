@@ -1,6 +1,6 @@
 // SimulationImpl<3>: the Simulation interface (dem/simulation.hpp) over the 3D engine (dem/engine3.hpp), its
-// platens and its static start (dem/static_start3.hpp). The jacket and block groups are not built in 3D: installing
-// them throws SceneError naming what is missing.
+// platens, its jacket and its static start (dem/static_start3.hpp). Block groups are not built in 3D: installing one
+// throws SceneError naming what is missing.
 #pragma once
 
 #include <memory>
@@ -72,6 +72,9 @@ class SimulationImpl<3> final : public Simulation {
   const Engine<3>& engine() const { return engine_; }
 
  private:
+  template <class C>
+  C& install(std::unique_ptr<C> component);
+
   Engine<3> engine_;
   Specimen specimen_;
   std::vector<int> lateral_;  // blocks with a face on the lateral surface, ascending

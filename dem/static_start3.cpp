@@ -185,26 +185,70 @@ StaticResult solve_static(const Engine<3>& e, const StaticOptions& o) {
   return r;
 }
 
+namespace {
+
+// The smallest lambda >= 0 at which g(lambda) >= 0, for g the larger of the tensile and shear margins of a bond on an
+// affine path: each is convex in lambda on either side of the point where the normal stress reaches sigma_c (the
+// cap of the shear limit), so the first crossing lies between the last sample below zero and the first one above on
+// a fine grid, and bisection finds it. +inf when g stays below zero up to 1e12.
+template <class G>
+double first_root(const G& g) {
+  if (g(0.0) >= 0) return 0.0;
+  double hi = 1.0;
+  while (g(hi) < 0) {
+    hi *= 2.0;
+    if (hi > 1e12) return std::numeric_limits<double>::infinity();
+  }
+  double lo = 0.0;
+  const int n = 64;
+  for (int k = 1; k <= n; ++k) {
+    const double x = hi * double(k) / double(n);
+    if (g(x) >= 0) {
+      hi = x;
+      break;
+    }
+    lo = x;
+  }
+  for (int it = 0; it < 60 && hi - lo > 1e-12 * hi; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (g(mid) >= 0 ? hi : lo) = mid;
+  }
+  return hi;
+}
+
+}  // namespace
+
 double first_break_along(const Engine<3>& e, const StaticResult& base, const StaticResult& st, int* bond) {
-  if (!base.empty()) throw std::invalid_argument("a 3D static start from a loaded state (a confined start) is not built");
   const Model<3>& m = e.model();
   double best = std::numeric_limits<double>::infinity();
   int which = -1;
   for (std::size_t b = 0; b < m.num_bonds(); ++b) {
+    if (e.state().broken[b]) continue;
     const FaceBond law = m.bond_law(b);
     const FaceSection& sec = m.frame[b].section;
-    const FaceForces pb = FaceBond::forces(m.frame[b].k, motion_of(m, b, st.u));
-    const BondLoad q = law.load(sec, pb);
-    // At lambda: tension lambda T <= sigma_c A; shear lambda S <= c A - min(lambda N, sigma_c A) tan(phi) with N
-    // the tensile normal force at lambda = 1 (-F_n): the pieces below and above lambda N = sigma_c A.
-    const double sA = law.strength.sigma_c * sec.A, cA = law.strength.cohesion * sec.A, tp = law.strength.tan_phi;
-    const double N = -pb.fn;
-    double lam = q.tension > 0 ? sA / q.tension : std::numeric_limits<double>::infinity();
-    const double den = q.shear + (tp > 0 ? N * tp : 0.0);
-    if (den > 0) {
-      const double l1 = cA / den;
-      if (!(tp > 0) || l1 * N <= sA) lam = std::min(lam, l1);
-      else if (q.shear > 0) lam = std::min(lam, (cA - sA * tp) / q.shear);
+    const FaceForces f1 = FaceBond::forces(m.frame[b].k, motion_of(m, b, st.u));
+    double lam = std::numeric_limits<double>::infinity();
+    if (base.empty()) {
+      // From rest the loads are homogeneous in lambda: tension lambda T <= sigma_c A; shear lambda S <= c A -
+      // min(lambda N, sigma_c A) tan(phi) with N = -F_n the tensile normal force at lambda = 1; solved exactly.
+      const BondLoad q = law.load(sec, f1);
+      const double sA = law.strength.sigma_c * sec.A, cA = law.strength.cohesion * sec.A, tp = law.strength.tan_phi;
+      const double N = -f1.fn;
+      if (q.tension > 0) lam = sA / q.tension;
+      const double den = q.shear + (tp > 0 ? N * tp : 0.0);
+      if (den > 0) {
+        const double l1 = cA / den;
+        if (!(tp > 0) || l1 * N <= sA) lam = std::min(lam, l1);
+        else if (q.shear > 0) lam = std::min(lam, (cA - sA * tp) / q.shear);
+      }
+    } else {
+      const FaceForces f0 = FaceBond::forces(m.frame[b].k, motion_of(m, b, base.u));
+      lam = first_root([&](double x) {
+        const FaceForces f{f0.fs1 + x * f1.fs1, f0.fs2 + x * f1.fs2, f0.fn + x * f1.fn,
+                           f0.m1 + x * f1.m1,   f0.m2 + x * f1.m2,   f0.mt + x * f1.mt};
+        const BondLoad q = law.load(sec, f);
+        return std::max(q.tension - q.tension_limit, q.shear - q.shear_limit);
+      });
     }
     if (lam < best) best = lam, which = int(b);
   }
@@ -212,27 +256,29 @@ double first_break_along(const Engine<3>& e, const StaticResult& base, const Sta
   return best;
 }
 
-void apply_static(Engine<3>& e, const StaticResult& st, double lambda, double velocity) {
+void apply_static(Engine<3>& e, const StaticResult& base, const StaticResult& st, double lambda, double velocity) {
   const Model<3>& m = e.model();
+  const StaticResult total = superpose(base.empty() ? st : base, base.empty() ? 0.0 : 1.0, st, lambda);
   const double rate = st.platen_displacement > 0 ? velocity / st.platen_displacement : 0.0;
   e.edit([&](ModelState<3>& s) {
     for (std::size_t b = 0; b < m.num_blocks(); ++b) {
-      const double* u = &st.u[6 * b];
-      s.x[b] = m.x0[b].x + lambda * u[0], s.y[b] = m.x0[b].y + lambda * u[1], s.z[b] = m.x0[b].z + lambda * u[2];
-      const Quat q = from_rotation_vector({lambda * u[3], lambda * u[4], lambda * u[5]});
+      const double* u = &total.u[6 * b];
+      const double* du = &st.u[6 * b];
+      s.x[b] = m.x0[b].x + u[0], s.y[b] = m.x0[b].y + u[1], s.z[b] = m.x0[b].z + u[2];
+      const Quat q = from_rotation_vector({u[3], u[4], u[5]});
       s.qw[b] = q.w, s.qx[b] = q.x, s.qy[b] = q.y, s.qz[b] = q.z;
-      s.vx[b] = rate * u[0], s.vy[b] = rate * u[1], s.vz[b] = rate * u[2];
-      s.wx[b] = rate * u[3], s.wy[b] = rate * u[4], s.wz[b] = rate * u[5];
+      s.vx[b] = rate * du[0], s.vy[b] = rate * du[1], s.vz[b] = rate * du[2];
+      s.wx[b] = rate * du[3], s.wy[b] = rate * du[4], s.wz[b] = rate * du[5];
     }
     for (std::size_t b = 0; b < m.num_bonds(); ++b) {
-      const FaceMotion d = motion_of(m, b, st.u);
+      const FaceMotion d = motion_of(m, b, total.u);
       const bool closed = st.linear_state.empty() || st.linear_state[b] != StaticResult::open;
-      s.fs1[b] = closed ? -lambda * m.frame[b].k.ks * d.d1 : 0.0;
-      s.fs2[b] = closed ? -lambda * m.frame[b].k.ks * d.d2 : 0.0;
+      s.fs1[b] = closed ? -m.frame[b].k.ks * d.d1 : 0.0;
+      s.fs2[b] = closed ? -m.frame[b].k.ks * d.d2 : 0.0;
     }
     s.time = velocity > 0 ? lambda * st.platen_displacement / velocity : 0.0;
   });
-  for (BoundaryHooks<3>* h : e.hooks()) h->apply_static(m, st, lambda);
+  for (BoundaryHooks<3>* h : e.hooks()) h->apply_static(m, total, 1.0);
 }
 
 double stability_limit(const Engine<3>& e, int iterations) {

@@ -19,16 +19,18 @@ namespace rbdem {
 
 StaticResult solve_static(const Engine<3>& engine, const StaticOptions& options);
 
-// The smallest lambda >= 0 at which some bond reaches its strength under lambda x increment from rest (FaceBond's
-// failure test on the parallel bond's forces, exact: the tensile and shear loads are piecewise linear in lambda),
-// and that bond; +inf when none does. A non-empty base (a confined start) is refused: std::invalid_argument.
+// The smallest lambda >= 0 at which some intact bond reaches its strength under base + lambda x increment (an
+// empty base: the unloaded specimen) by FaceBond's failure test on the parallel bond's forces, and that bond; +inf
+// when none does. From rest the loads are homogeneous in lambda and solved exactly; from a base (a confined start)
+// the margins are convex on either side of the normal stress's cap and their first root is bracketed and bisected.
 double first_break_along(const Engine<3>& engine, const StaticResult& base, const StaticResult& increment,
                          int* bond);
 
-// Puts the model into lambda x st from rest: the blocks displaced and turned, moving with the velocity field of the
-// increment whose top platen closes at `velocity`, the linear parts' shear histories and the platens' position
-// set, the clock at the time the platen needs for lambda x st.
-void apply_static(Engine<3>& engine, const StaticResult& st, double lambda, double velocity);
+// Puts the model into base + lambda x st (an empty base: the unloaded specimen): the blocks displaced and turned,
+// moving with the velocity field of the increment whose top platen closes at `velocity`, the linear parts' shear
+// histories and the platens' position set, the clock at the time the platen needs for lambda x st.
+void apply_static(Engine<3>& engine, const StaticResult& base, const StaticResult& st, double lambda,
+                  double velocity);
 
 // 2 / sqrt(lambda_max(M^-1 K)) of the intact model with every linear part closed and the installed platens (power
 // iteration, serial: the same to the last bit at any thread count).

@@ -48,14 +48,14 @@ TEST(Platens3, TetBeyondPlaneMatchesClosedForms) {
   EXPECT_NEAR(f.area, 0.5, 1e-6);
 }
 
-// A jointed cylinder, 8 mm tets (a few thousand blocks), memoised per dip.
+// A jointed cylinder, 10 mm tets (about two thousand blocks), memoised per dip.
 const TetMesh& cylinder(double dip) {
   static std::map<double, TetMesh> cache;
   auto it = cache.find(dip);
   if (it == cache.end()) {
     SpecimenGeometry3 g;
     g.set1.dip_deg = dip;
-    it = cache.emplace(dip, mesh_specimen3(g, 0.008)).first;
+    it = cache.emplace(dip, mesh_specimen3(g, 0.01)).first;
   }
   return it->second;
 }
@@ -101,23 +101,28 @@ TEST(Engine3, ExplicitStateAtTheStaticSolutionStaysAtRest) {
   EXPECT_LT(sim.energies().kinetic, 1e-5 * sim.energies().strain);
 }
 
-// The block-wise estimate stays below the limit, and an undamped run whose blocks vibrate in and out of contact
-// with each other and the platens stays bounded at 0.7 and 0.9 x the limit and blows up at 1.5 x: the limit bounds
-// the explicit law's stiffness (static_start3.hpp) without being far below the true one. The energy of partly
-// closed linear parts is read as if they were closed, so the ratio is a bound, not a balance.
+// The block-wise estimate stays below the limit; a loaded cylinder (the static state at half the first break) shaken
+// by a random velocity field calms down under the default local damping at 0.7 and 0.9 x the limit and blows up at
+// 1.5 x: the limit bounds the explicit law's stiffness (static_start3.hpp) without being far below the true one.
+// Without damping a lattice whose linear parts sit at the open/closed boundary gains energy even below the limit
+// (docs/model.md, "The 3D model": the incremental shear of a linear part whose closed area changes within a
+// vibration is not conservative), so the check is of the damped scheme that runs use.
 TEST(Engine3, StabilityLimitIsTheExplicitSchemesLimit) {
   const Scene scene = scene3(60);
   auto run_at = [&](double factor) {
-    SimulationImpl<3> sim(scene, cylinder(60), {}, [](EngineOptions& o) { o.damping = 0.0; });
+    SimulationImpl<3> sim(scene, cylinder(60));
     sim.add_platens({0.0, 0.0});
     const double limit = sim.stability_limit(300);
     EXPECT_LT(sim.block_step_estimate(), limit);
     EXPECT_GT(sim.block_step_estimate(), 0.2 * limit);
+    StaticOptions so;
+    so.platen_displacement = 1e-6 * sim.specimen().height();
+    const StaticResult st = sim.solve_static(so);
+    sim.apply_static({}, st, 0.5 * st.first_break_factor, 0.0);
     sim.set_dt(factor * limit);
     sim.set_breakage(false);
-    // A small random-looking velocity field excites every mode.
     sim.engine().edit([](ModelState<3>& s) {
-      for (std::size_t b = 0; b < s.num_blocks(); ++b) s.vz[b] = 1e-3 * std::sin(1.7 * double(b));
+      for (std::size_t b = 0; b < s.num_blocks(); ++b) s.vz[b] += 1e-3 * std::sin(1.7 * double(b));
     });
     const double e0 = sim.energies().kinetic;
     try {
@@ -125,11 +130,10 @@ TEST(Engine3, StabilityLimitIsTheExplicitSchemesLimit) {
     } catch (const InstabilityError&) {
       return 1e300;
     }
-    const Energies e = sim.energies();
-    return (e.kinetic + e.strain) / e0;
+    return sim.energies().kinetic / e0;
   };
-  EXPECT_LT(run_at(0.7), 1.5);  // numerics.dt_safety's default
-  EXPECT_LT(run_at(0.9), 2.0);
+  EXPECT_LT(run_at(0.7), 0.1);  // numerics.dt_safety's default
+  EXPECT_LT(run_at(0.9), 0.1);
   EXPECT_GT(run_at(1.5), 1e3);
 }
 
@@ -155,6 +159,45 @@ TEST(Engine3, UniaxialCylinderFailsAndIsDeterministic) {
   EXPECT_EQ(one.peak_stress, two.peak_stress);
   EXPECT_EQ(one.steps, two.steps);
   EXPECT_EQ(one.cracks.size(), two.cracks.size());
+}
+
+// The jacket's load at rest: -p A n on every lateral face, whose resultant force and moment vanish (the lateral
+// surface of a cylinder is closed around its axis), and whose radial part is p times the lateral area.
+TEST(Jacket3, ReferenceLoadIsBalanced) {
+  const Scene scene = scene3(60);
+  SimulationImpl<3> sim(scene, cylinder(60));
+  sim.add_platens({0.0, 0.0});
+  const double p = 1e6;
+  const std::vector<double> load = sim.pressure_load(p);
+  const Model<3>& m = sim.engine().model();
+  Vec3 F, M;
+  double radial = 0, lateral_area = 0;
+  for (std::size_t b = 0; b < m.num_blocks(); ++b) {
+    const Vec3 f{load[6 * b], load[6 * b + 1], load[6 * b + 2]};
+    F += f, M += Vec3{load[6 * b + 3], load[6 * b + 4], load[6 * b + 5]} + cross(m.x0[b], f);
+  }
+  for (const SurfaceFace& f : m.surface) {
+    if (f.tag != FaceTag::lateral) continue;
+    const Vec3 c = m.x0[std::size_t(f.block)] + f.r, er = Vec3{c.x - m.axis[0], c.y - m.axis[1], 0.0};
+    radial += p * f.area * dot(f.normal, (1.0 / norm(er)) * er), lateral_area += f.area;
+  }
+  EXPECT_LT(norm(F), 1e-9 * p * lateral_area);
+  EXPECT_LT(norm(M), 1e-9 * p * lateral_area * 0.1);
+  EXPECT_NEAR(radial / (p * lateral_area), 1.0, 0.01);  // the faces' normals are radial to the facets' tilt
+}
+
+// The confined test of the cylinder (the jacket's pressure, the isotropic static state, the axial start from it):
+// it completes and its peak rises by more than the pressure.
+TEST(Engine3, ConfinedCylinderIsStrongerThanUnconfined) {
+  Scene scene = scene3(60);
+  scene.loading.confining_pressure = 10e6;
+  RunOptions ro;
+  ro.curve_points = 200;
+  const TestResult confined = run_test("triaxial", scene, cylinder(60), ro);
+  ASSERT_TRUE(confined.completed) << confined.watchdog_message;
+  EXPECT_EQ(confined.confining_pressure, 10e6);
+  const TestResult unconfined = ucs(1);
+  EXPECT_GT(confined.peak_stress, unconfined.peak_stress + 10e6);
 }
 
 // A snapshot taken mid-run and restored into a fresh simulation continues bit for bit.

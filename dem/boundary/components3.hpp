@@ -82,4 +82,33 @@ class PlatensImpl<3> : public Platens, public BoundaryHooks<3> {
   std::vector<double> fs_;  // the shear history of each candidate (top first), x and y (N)
 };
 
+template <>
+class JacketImpl<3> : public Jacket, public BoundaryHooks<3> {
+ public:
+  JacketImpl(const Model<3>& model, double pressure);
+
+  double pressure() const override { return pressure_; }
+  void set_pressure(double p) override { pressure_ = p; }
+  int faces_lost() const override { return lost_; }
+  int faces_lost_max() const override { return lost_max_; }
+  double work() const override { return work_; }
+  std::vector<std::pair<std::string, double>> readings() const override;
+  // The load of a pressure p in the reference configuration, 6 entries per block (StaticOptions::load).
+  std::vector<double> reference_load(const Model<3>& m, double p) const;
+
+  double add_forces(const Model<3>& m, const ModelState<3>& s, std::vector<Vec3>& force, std::vector<Vec3>& moment,
+                    double dt, bool advance) override;
+  void loads(const Model<3>& m, const ModelState<3>& s, int component, BoundaryLoads& out) const override;
+  double work_done() const override { return work_; }
+  void save(Snapshot& s) const override;
+  void load(const Snapshot& s, const Model<3>& m) override;
+
+ private:
+  // The pressure's force -p A n on lateral face k of a block at rotation q, and its point from the centroid.
+  std::pair<Vec3, Vec3> face_force(const Model<3>& m, std::size_t k, Quat q) const;
+  std::vector<std::size_t> faces_;  // the lateral faces (indices into Model<3>::surface)
+  double pressure_ = 0, work_ = 0;
+  int lost_ = 0, lost_max_ = 0;
+};
+
 }  // namespace rbdem
