@@ -13,10 +13,15 @@ namespace {
 
 // Tolerances, in units of the pair's extent (every coordinate below is in [-1, 1]): a signed distance below
 // kSnap is zero (round-off of unit-sized coordinates is 1e-16, so this is 1e4 times it and still 1e-12 of the
-// blocks); an axis replaces the best one only when it is shallower by more than kPrefer, so that round-off never
-// decides between a face normal and an edge cross product along the same direction; edges closer to parallel than
-// a sine of 1e-9 (and faces whose edges are) give no axis, since their cross product's direction is round-off.
+// blocks); a face whose vertices are within kCoplanar of a plane of the other body lies in that plane (which
+// moves the volume by at most kCoplanar times the face's area; a face crossing a plane at a smaller angle than
+// that would be clipped along a line whose position is round-off over the angle, in each of the two faces a
+// different one: sqrt(eps) balances the two errors at about 1e-8 of the extent cubed); an axis replaces the best one only when it is
+// shallower by more than kPrefer, so that round-off never decides between a face normal and an edge cross product
+// along the same direction; edges closer to parallel than a sine of 1e-9 (and faces whose edges are) give no
+// axis, since their cross product's direction is round-off.
 constexpr double kSnap = 1e-12;
+constexpr double kCoplanar = 1e-8;
 constexpr double kPrefer = 1e-9;
 constexpr double kParallelSin2 = 1e-18;
 constexpr double kFlat = 1e-9;
@@ -26,6 +31,8 @@ constexpr int kMaxVertices = 12;      // a triangle clipped by four planes has a
 // The faces of a positive tetrahedron, outward (counter-clockwise seen from outside), opposite vertex k; its edges.
 constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
 constexpr int kEdge[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+// Face k's two edges from its first vertex, in its order (so that their cross product is the outward normal).
+constexpr int kFaceEdge[4][2] = {{3, 4}, {2, 1}, {0, 2}, {1, 0}};
 
 // The half-space m . x <= h of a face (m the unit outward normal); `valid` is false for a face with no direction.
 struct Plane {
@@ -38,28 +45,48 @@ struct Body {
   Tet p;  // positive vertex order, in the pair's unit coordinates
   Plane face[4];
   Vec3 c;
+  Vec3 edge[6];       // the edges kEdge, scaled
   bool flat = false;  // no volume of its own: its half-spaces do not bound it
 };
 
-bool parallel(Vec3 a, Vec3 b, Vec3 axb) { return dot(axb, axb) <= kParallelSin2 * dot(a, a) * dot(b, b); }
+// v / max_k |v_k|: the same direction with components in [-1, 1], so that products of two of them neither
+// underflow nor lose their digits (the unit coordinates of a pair may hold values down to the subnormal range).
+// Zero for a zero (or non-finite) vector.
+Vec3 scaled(Vec3 v) {
+  const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+  return m > 0.0 && m <= 1e300 ? Vec3{v.x / m, v.y / m, v.z / m} : Vec3{};
+}
+
+// The unit normal of two directions given scaled, false where they are closer to parallel than a sine of 1e-9
+// (the cross product's direction would be round-off).
+bool unit_cross(Vec3 a, Vec3 b, Vec3& u) {
+  const Vec3 c = cross(a, b);
+  if (!(dot(c, c) > kParallelSin2 * dot(a, a) * dot(b, b))) return false;
+  u = (1.0 / norm(c)) * c;
+  return true;
+}
 
 Body make_body(const Tet& t) {
   Body b;
   b.p = t;
-  if (signed_volume(t) < 0) std::swap(b.p[1], b.p[2]);
+  const double volume = signed_volume(t);
+  if (volume < 0) std::swap(b.p[1], b.p[2]);
+  double l2 = 0.0;
+  for (int e = 0; e < 6; ++e) {
+    const Vec3 d = b.p[kEdge[e][1]] - b.p[kEdge[e][0]];
+    b.edge[e] = scaled(d), l2 = std::max(l2, dot(d, d));
+  }
+  bool all_valid = true;
   for (int k = 0; k < 4; ++k) {
-    const Vec3 a = b.p[kFace[k][0]], e1 = b.p[kFace[k][1]] - a, e2 = b.p[kFace[k][2]] - a, n = cross(e1, e2);
     Plane& f = b.face[k];
-    f.valid = !parallel(e1, e2, n) && dot(n, n) > 0.0;
-    if (f.valid) f.m = (1.0 / norm(n)) * n, f.h = dot(f.m, a);
+    f.valid = unit_cross(b.edge[kFaceEdge[k][0]], b.edge[kFaceEdge[k][1]], f.m);
+    if (f.valid) f.h = dot(f.m, b.p[kFace[k][0]]);
+    all_valid = all_valid && f.valid;
   }
   b.c = centroid(b.p);
   // Flat: a face with no direction, or a volume below kFlat of the longest edge cubed (a face whose edges are
   // parallel to a sine of 1e-9 makes the volume that small too).
-  double l2 = 0.0;
-  for (const auto& e : kEdge) l2 = std::max(l2, dot(b.p[e[1]] - b.p[e[0]], b.p[e[1]] - b.p[e[0]]));
-  b.flat = !(b.face[0].valid && b.face[1].valid && b.face[2].valid && b.face[3].valid) ||
-           !(6.0 * signed_volume(b.p) > kFlat * l2 * std::sqrt(l2));
+  b.flat = !all_valid || !(6.0 * std::abs(volume) > kFlat * l2 * std::sqrt(l2));
   return b;
 }
 
@@ -108,11 +135,10 @@ bool least_penetration(const Body& a, const Body& b, Axis& best) {
   for (int k = 0; k < 4; ++k)
     if (b.face[k].valid && !try_axis(a, b, -b.face[k].m, ContactAxis::face_j, k, best)) return false;
   for (int ea = 0; ea < 6; ++ea) {
-    const Vec3 da = a.p[kEdge[ea][1]] - a.p[kEdge[ea][0]];
     for (int eb = 0; eb < 6; ++eb) {
-      const Vec3 db = b.p[kEdge[eb][1]] - b.p[kEdge[eb][0]], c = cross(da, db);
-      if (parallel(da, db, c) || !(dot(c, c) > 0.0)) continue;
-      if (!try_axis(a, b, (1.0 / norm(c)) * c, ContactAxis::edge_edge, 6 * ea + eb, best)) return false;
+      Vec3 u;
+      if (!unit_cross(a.edge[ea], b.edge[eb], u)) continue;
+      if (!try_axis(a, b, u, ContactAxis::edge_edge, 6 * ea + eb, best)) return false;
     }
   }
   return true;
@@ -146,33 +172,41 @@ struct Piece {
   double s_sign = 0;
 };
 
-// Whether face k of x lies in a plane of y with the same outward normal.
-bool shares_plane(const Body& x, int k, const Body& y) {
-  for (const Plane& g : y.face) {
-    if (!g.valid || dot(g.m, x.face[k].m) <= 0.0) continue;
-    bool on = true;
-    for (int v = 0; v < 3; ++v) on = on && snapped_distance(g, x.p[kFace[k][v]]) == 0.0;
-    if (on) return true;
-  }
-  return false;
+// Whether face k of x lies in plane g, to kCoplanar.
+bool on_plane(const Body& x, int k, const Plane& g) {
+  bool on = g.valid;
+  for (int v = 0; v < 3; ++v) on = on && std::abs(dot(g.m, x.p[kFace[k][v]]) - g.h) <= kCoplanar;
+  return on;
 }
 
-// The faces of x (s = +1: i, -1: j) clipped by y's half-spaces, appended to `pieces`.
+// The faces of x (s = +1: i, -1: j) clipped by y's half-spaces, appended to `pieces`. A face in a plane of y is
+// not clipped by that plane: it is on it, and where the two planes cross inside the face at a small angle the
+// crossing would be round-off divided by that angle, a different line in each face.
 void clip_faces(const Body& x, const Body& y, double s, Piece* pieces, int& count) {
   for (int k = 0; k < 4; ++k) {
     if (!x.face[k].valid) continue;  // no area
-    const bool shared = shares_plane(x, k, y);
-    if (shared && s < 0) continue;  // counted once, from i
-    Polygon a, b;
-    a.n = 3;
-    for (int v = 0; v < 3; ++v) a.v[v] = x.p[kFace[k][v]];
-    for (const Plane& g : y.face) {
-      if (!g.valid) continue;
-      clip(a, g, b);
-      std::swap(a, b);
-      if (a.n < 3) break;
+    bool on[4], shared = false;
+    for (int g = 0; g < 4; ++g) {
+      on[g] = on_plane(x, k, y.face[g]);
+      shared = shared || (on[g] && dot(y.face[g].m, x.face[k].m) > 0.0);
     }
-    if (a.n >= 3) pieces[count++] = {a, shared ? 0.0 : s};
+    if (shared && s < 0) continue;  // counted once, from i
+    // Clipped back and forth between the piece's own polygon and a scratch one, ending in the piece.
+    Piece& piece = pieces[count];
+    Polygon scratch;
+    Polygon* from = &piece.poly;
+    Polygon* to = &scratch;
+    from->n = 3;
+    for (int v = 0; v < 3; ++v) from->v[v] = x.p[kFace[k][v]];
+    for (int g = 0; g < 4 && from->n >= 3; ++g) {
+      if (!y.face[g].valid || on[g]) continue;
+      clip(*from, y.face[g], *to);
+      std::swap(from, to);
+    }
+    if (from->n < 3) continue;
+    if (from != &piece.poly) piece.poly = *from;
+    piece.s_sign = shared ? 0.0 : s;
+    ++count;
   }
 }
 
@@ -204,21 +238,25 @@ Integrals integrate(const Piece* pieces, int count) {
   return I;
 }
 
+Vec3 over(Vec3 v, double d) { return {v.x / d, v.y / d, v.z / d}; }
+
 // The contact from the pieces, in unit coordinates about the origin o (a point inside the overlap).
 void contact_of(const Integrals& I, const Axis& axis, TetContact& out) {
   out.volume = std::max(0.0, I.v6 / 6.0);
   // The volume centroid while the fan from o (inside the overlap) is of one sign; the area centroid of the pieces
   // where the volume is round-off (two faces touching), to which it tends.
-  if (I.v6 > 0.5 * I.v6_abs && I.v6 > 0.0) out.centroid = (1.0 / (4.0 * I.v6)) * I.cv;
-  else if (I.area > 0.0) out.centroid = (1.0 / (3.0 * I.area)) * I.ca;
+  // (Divisions, not products with a reciprocal: a subnormal volume or area has no finite reciprocal.)
+  if (I.v6 > 0.5 * I.v6_abs && I.v6 > 0.0) out.centroid = over(I.cv, 4.0 * I.v6);
+  else if (I.area > 0.0) out.centroid = over(I.ca, 3.0 * I.area);
   const Vec3 S = 0.5 * I.s, M = 0.5 * I.m;
   const double s = norm(S);
   out.area = s;
   out.normal = axis.u, out.point = out.centroid;
   if (!(s > 1e-8 * I.area)) return;  // S is round-off: one body inside the other, or no area
-  out.normal = (1.0 / s) * S;
+  out.normal = over(S, s);
+  if (!(std::abs(norm(out.normal) - 1.0) < 1e-12)) out.normal = over(scaled(S), norm(scaled(S)));
   // The point on the wrench's axis nearest the centroid c: p x S = M up to the twist along S.
-  const Vec3 c = out.centroid, offset = (1.0 / (s * s)) * cross(S, M - cross(c, S));
+  const Vec3 c = out.centroid, offset = cross(out.normal, over(M - cross(c, S), s));
   // Where the axis passes outside the overlap's bounding sphere (|S| small against the moments: a deep, nearly
   // engulfing overlap), the centroid: a point far off would carry the potential's moments but not be a contact.
   if (dot(c + offset, c + offset) <= I.r2) out.point = c + offset;
