@@ -239,6 +239,11 @@ Integrals integrate(const Piece* pieces, int count) {
 }
 
 Vec3 over(Vec3 v, double d) { return {v.x / d, v.y / d, v.z / d}; }
+// v / |v| for v not zero, by way of `scaled` (a subnormal |v|^2 would lose the digits of |v|).
+Vec3 unit(Vec3 v) {
+  v = scaled(v);
+  return over(v, norm(v));
+}
 
 // The contact from the pieces, in unit coordinates about the origin o (a point inside the overlap).
 void contact_of(const Integrals& I, const Axis& axis, TetContact& out) {
@@ -253,8 +258,7 @@ void contact_of(const Integrals& I, const Axis& axis, TetContact& out) {
   out.area = s;
   out.normal = axis.u, out.point = out.centroid;
   if (!(s > 1e-8 * I.area)) return;  // S is round-off: one body inside the other, or no area
-  out.normal = over(S, s);
-  if (!(std::abs(norm(out.normal) - 1.0) < 1e-12)) out.normal = over(scaled(S), norm(scaled(S)));
+  out.normal = unit(S);
   // The point on the wrench's axis nearest the centroid c: p x S = M up to the twist along S.
   const Vec3 c = out.centroid, offset = cross(out.normal, over(M - cross(c, S), s));
   // Where the axis passes outside the overlap's bounding sphere (|S| small against the moments: a deep, nearly
@@ -300,7 +304,7 @@ bool contact_tets(const Tet& i, const Tet& j, TetContact& out) {
   if (!least_penetration(a, b, axis)) return false;
   if (axis.kind == ContactAxis::none) {  // no valid axis (both bodies degenerate): the line of centroids
     const Vec3 d = b.c - a.c;
-    axis.u = dot(d, d) > 0.0 ? (1.0 / norm(d)) * d : Vec3{0, 0, 1}, axis.pen = 0.0;
+    axis.u = dot(scaled(d), scaled(d)) > 0.0 ? unit(d) : Vec3{0, 0, 1}, axis.pen = 0.0;
   }
 
   if (a.flat || b.flat) {  // touching, but no volume to clip: no area, no force
