@@ -202,6 +202,30 @@ TEST(ContactTets, CrossedEdgesOverlapInAPyramidPair) {
   EXPECT_FALSE(contact_tets(i, j, c));
 }
 
+// The unit cube as six Kuhn tetrahedra (0, e_a, e_a + e_b, (1, 1, 1) for each order a, b, c of the axes). They tile
+// the cube, so two of them overlap in no volume, and the overlaps of the tetrahedra of the cube and of its
+// translate by t sum to the cubes' overlap (1 - t_x)(1 - t_y)(1 - t_z). A translate along an axis puts many faces
+// of the two cubes in one plane, with the same or the opposite outward side.
+TEST(ContactTets, KuhnTetrahedraOfTwoUnitCubesOverlapAsTheCubes) {
+  std::vector<Tet> cube;
+  const int order[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  for (const auto& o : order) {
+    Vec3 a, b;
+    a[o[0]] = 1;
+    b = a;
+    b[o[1]] = 1;
+    cube.push_back({Vec3{0, 0, 0}, a, b, Vec3{1, 1, 1}});
+  }
+  for (std::size_t a = 0; a < 6; ++a)
+    for (std::size_t b = a + 1; b < 6; ++b) EXPECT_NEAR(overlap_volume(cube[a], cube[b]), 0.0, 1e-16);
+  for (const Vec3 t : {Vec3{0.3, 0.2, 0.1}, Vec3{0.3, 0, 0}, Vec3{0, 0.5, 0.25}, Vec3{0, 0, 0}}) {
+    double sum = 0;
+    for (const Tet& i : cube)
+      for (const Tet& j : cube) sum += overlap_volume(i, moved(j, t));
+    EXPECT_NEAR(sum, (1 - t.x) * (1 - t.y) * (1 - t.z), 1e-14) << t.x << " " << t.y << " " << t.z;
+  }
+}
+
 // Two faces touching: no volume, the contact area is the face's, the normal the face's from i to j.
 TEST(ContactTets, CoincidentFacesTouchOverTheWholeFace) {
   const Tet j{{{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {0, 0, -1}}};  // the corner tetrahedron mirrored in z = 0
