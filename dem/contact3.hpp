@@ -64,7 +64,8 @@ struct TetContact {
 
 // Returns true when tetrahedra i and j touch or overlap (no separating axis with a gap above round-off: 1e-12 of
 // the pair's extent), and fills `out`; false leaves `out` as it was. Either vertex order (positive or negative
-// signed volume) is accepted; a flat tetrahedron is a flat polyhedron (no volume of its own).
+// signed volume) is accepted. A flat tetrahedron (a volume below 1e-9 of its longest edge cubed) has no volume to
+// clip: it touches by the separating axes alone, with no volume and no area.
 bool contact_tets(const Tet& i, const Tet& j, TetContact& out);
 
 }  // namespace rbdem
