@@ -14,7 +14,7 @@ build=${1:-build}
 out=${2:-runs/benchmarks}
 reps=${REPETITIONS:-3}
 mkdir -p "$out"
-for b in bench_engine bench_bonds bench_mesh bench_fe; do
+for b in bench_engine bench_bonds bench_contacts bench_mesh bench_fe; do
   exe="$build/benchmarks/$b"
   [ -x "$exe" ] || { echo "run_all: $exe not built, skipped"; continue; }
   echo "run_all: $b ($reps repetitions)"

@@ -18,7 +18,7 @@ mkdir -p "$build"
 CXX=${FUZZ_CXX:-clang++} cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRBDEM_FUZZ=ON \
   -DRBDEM_WITH_DEALII=OFF -DRBDEM_BUILD_TESTS=OFF -DRBDEM_BUILD_BENCHMARKS=OFF \
   -DCMAKE_CXX_FLAGS="$flags" >"$build/configure.log" 2>&1 || { cat "$build/configure.log"; exit 1; }
-cmake --build "$build" -j "$jobs" --target fuzz_scene fuzz_msh fuzz_mesh_checks
+cmake --build "$build" -j "$jobs" --target fuzz_scene fuzz_msh fuzz_mesh_checks fuzz_contact3
 
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:allocator_may_return_null=0}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
@@ -27,7 +27,7 @@ export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/tests/lsan.supp:print_supp
 mkdir -p "$build/artifacts"
 status=0
 summary=()
-for target in fuzz_scene fuzz_msh fuzz_mesh_checks; do
+for target in fuzz_scene fuzz_msh fuzz_mesh_checks fuzz_contact3; do
   seeds=tests/fuzz/corpus_${target#fuzz_}
   work="$build/corpus_${target#fuzz_}"
   mkdir -p "$work"
