@@ -59,6 +59,10 @@ SimulationImpl<3>::SimulationImpl(const Scene& scene, const TetMesh& mesh, const
                                   const std::function<void(EngineOptions&)>& engine)
     : engine_(mesh, scene, engine_options(scene, options, engine)),
       specimen_(describe(engine_.model(), mesh, scene.rock.density)) {
+  if (engine_.options().contacts) {
+    contacts_ = std::make_unique<BlockContacts3>(engine_.model());
+    engine_.attach(contacts_.get());
+  }
   engine_.on_crack = [this](const Crack& c) {
     if (on_crack) on_crack(c);
   };
@@ -73,6 +77,7 @@ double SimulationImpl<3>::stability_limit(int iterations, int) const {
 }
 
 ContactStates SimulationImpl<3>::contact_states() const {
+  if (contacts_) return contacts_->states(engine_.model(), engine_.state());
   ContactStates c;
   c.dim = 3;
   return c;

@@ -76,6 +76,7 @@ class SimulationImpl<3> final : public Simulation {
   C& install(std::unique_ptr<C> component);
 
   Engine<3> engine_;
+  std::unique_ptr<BlockContacts3> contacts_;  // attached first: its forces are summed before the components'
   Specimen specimen_;
   std::vector<int> lateral_;  // blocks with a face on the lateral surface, ascending
   std::vector<std::unique_ptr<Boundary>> components_;

@@ -6,6 +6,9 @@
 //                                   on every block that crosses it with the linear contact law on the overlap
 //                                   volume, k_n from the block's mirror image (d = 2 x inradius)
 //   JacketImpl<3>    jacket3.cpp    a confining pressure on the lateral faces (follower forces)
+//   BlockContacts3   contacts3.cpp  contacts between blocks that were never neighbours (installed by the
+//                                   simulation itself, first): the tetrahedron-tetrahedron narrow phase
+//                                   (dem/contact3.hpp) and the linear contact law on the overlap volume
 #pragma once
 
 #include <string>
@@ -109,6 +112,52 @@ class JacketImpl<3> : public Jacket, public BoundaryHooks<3> {
   std::vector<std::size_t> faces_;  // the lateral faces (indices into Model<3>::surface)
   double pressure_ = 0, work_ = 0;
   int lost_ = 0, lost_max_ = 0;
+};
+
+// Contacts between blocks that share no face (a broken bond's pair is the bond's: its linear part goes on), among
+// the blocks that have lost a bond or never had one. The broad phase: each such block's box grown by a skin, the pairs whose boxes
+// overlap, rebuilt when a block moved half a skin from where it was at the last rebuild or a bond broke. The
+// narrow phase: contact_tets; the law: the potential k_n V^2 / (2 A) on the overlap volume, F_n = k_n V A_c / A
+// along the contact normal (k_n = E* / (r_i + r_j), r the inradii; A the smaller of the two blocks' mean face
+// areas), the incremental shear -(k_n / kappa) A_c v_s dt Coulomb-limited to mu F_n (the joint's mu across
+// layers, else the rock's), at the contact's point. Serial, in pair order: the same at any thread count.
+class BlockContacts3 : public BoundaryHooks<3> {
+ public:
+  explicit BlockContacts3(const Model<3>& model);
+
+  double add_forces(const Model<3>& m, const ModelState<3>& s, std::vector<Vec3>& force, std::vector<Vec3>& moment,
+                    double dt, bool advance) override;
+  void loads(const Model<3>& m, const ModelState<3>& s, int component, BoundaryLoads& out) const override;
+  double stored_energy() const override { return energy_; }
+  double work_done() const override { return 0.0; }
+  void save(Snapshot& s) const override;
+  void load(const Snapshot& s, const Model<3>& m) override;
+  // The pairs in contact now (the last step's), as the state tables give them.
+  ContactStates states(const Model<3>& m, const ModelState<3>& s) const;
+  std::size_t pairs() const { return pi_.size(); }
+  long rebuilds() const { return rebuilds_; }
+
+ private:
+  struct Force {
+    Vec3 force, point;  // on j (-force on i), at the point
+    double fn = 0, energy = 0, friction = 0;
+    bool touching = false;
+  };
+  void rebuild(const Model<3>& m, const ModelState<3>& s);
+  bool rebuild_due(const Model<3>& m, const ModelState<3>& s) const;
+  Force contact(const Model<3>& m, const ModelState<3>& s, std::size_t k, double dt, Vec3& fs) const;
+
+  double skin_ = 0;
+  std::vector<double> mean_face_;                 // m^2 per block
+  std::vector<std::vector<int>> neighbours_;      // per block, the blocks it shares a face with, ascending
+  // state (the snapshot): the pairs, their shear histories (world, N), the blocks searched and where they were
+  std::vector<int> pi_, pj_;
+  std::vector<double> fs_;
+  std::vector<int> eligible_;
+  std::vector<double> ref_;                       // 3 per eligible block
+  long broken_seen_ = -1;                         // the crack count at the last rebuild (-1: none yet)
+  long rebuilds_ = 0;
+  double energy_ = 0;
 };
 
 }  // namespace rbdem
