@@ -124,6 +124,7 @@ CASES = [
     ("a 3D scene with non-persistent joints", "mesh --set specimen.dimension=3 --set joint_set.persistence=0.5",
      "joint_set.persistence"),
     ("a 3D scene with a user mesh", "mesh --set specimen.dimension=3 --mesh good_square.msh", "mesh.file"),
+    ("`mesh --out` of a 3D scene", "mesh --set specimen.dimension=3 --out cylinder.msh", "--out"),
     ("a dip direction in 2D", "mesh --set joint_set.dip_direction_deg=30", "joint_set.dip_direction_deg"),
     ("dimension 4", "mesh --set specimen.dimension=4", "specimen.dimension"),
     # --- the direct shear test: one horizontal joint

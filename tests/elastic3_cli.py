@@ -63,6 +63,11 @@ def main():
     for k in ("total_seconds", "constants_seconds", "dem_seconds", "fe_seconds"):
         if not j["timing"].get(k, -1) >= 0:
             fail(f"timing.{k}")
+    # rbdem mesh on the same scene: the tetrahedral mesh's statistics.
+    mesh = subprocess.run([a.rbdem, "mesh", "-q", "--set", "specimen.dimension=3"] +
+                          [x for s in a.set for x in ("--set", s)], capture_output=True, text=True, timeout=60)
+    if mesh.returncode != 0 or "tetrahedra" not in mesh.stdout:
+        fail(f"rbdem mesh on the 3D scene: status {mesh.returncode}: {mesh.stdout[-500:]} {mesh.stderr[-500:]}")
     print(f"ok: max |dem_static / fe - 1| = {100 * worst:.2f} % (tolerance {100 * tol:.2f} %), "
           f"{j['timing']['total_seconds']:.1f} s")
 
