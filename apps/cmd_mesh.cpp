@@ -95,18 +95,32 @@ int run_mesh3(const Scene& scene, const MeshOptions& opt) {
   const SpecimenGeometry3 g = specimen_geometry3(scene);
   const TetMesh mesh = mesh_scene3(scene);
   const TetMeshReport r = report(mesh);
-  if (g.shape == Shape3::cylinder)
+  if (!scene.mesh.file.empty())
+    fmt::print("specimen     user mesh {}, {} layers: ", scene.mesh.file, mesh.num_layers());
+  if (!scene.mesh.file.empty())
+    for (std::size_t l = 0; l < mesh.num_layers(); ++l)
+      fmt::print("{}{}", l ? ", " : "", mesh.layer_names[l]);
+  else if (g.shape == Shape3::cylinder)
     fmt::print("specimen     cylinder {:.4g} m x {:.4g} m", g.diameter, g.height);
   else
     fmt::print("specimen     prism {:.4g} m x {:.4g} m x {:.4g} m", g.width, g.depth, g.height);
-  if (g.joints)
+  if (!scene.mesh.file.empty())
+    fmt::print("\n");
+  else if (g.joints)
     fmt::print(", joints dip {:.4g} deg, dip direction {:.4g} deg, spacing {:.4g} m\n", g.set1.dip_deg,
                g.set1.dip_direction_deg, g.set1.spacing);
   else
     fmt::print(", no joints\n");
-  fmt::print("mesh         {} nodes, {} tetrahedra, {} layers, target size {:.4g} m, meshed in {:.3f} s\n", r.nodes,
-             r.tets, r.layers, scene.mesh.size, r.mesh_seconds);
-  fmt::print("blocks       {} (volume {:.6g} m^3 of {:.6g} m^3 ideal)\n", r.tets, r.volume, g.volume());
+  if (scene.mesh.file.empty())
+    fmt::print("mesh         {} nodes, {} tetrahedra, {} layers, target size {:.4g} m, meshed in {:.3f} s\n",
+               r.nodes, r.tets, r.layers, scene.mesh.size, r.mesh_seconds);
+  else
+    fmt::print("mesh         {} nodes, {} tetrahedra, {} layers, read in {:.3f} s\n", r.nodes, r.tets, r.layers,
+               r.mesh_seconds);
+  if (scene.mesh.file.empty())
+    fmt::print("blocks       {} (volume {:.6g} m^3 of {:.6g} m^3 ideal)\n", r.tets, r.volume, g.volume());
+  else
+    fmt::print("blocks       {} (volume {:.6g} m^3)\n", r.tets, r.volume);
   fmt::print("bonds        {} ({} rock, {} joint faces)\n", r.rock_faces + r.joint_faces, r.rock_faces,
              r.joint_faces);
   fmt::print("boundary     {} faces (bottom {}, top {}, side {})\n", r.bottom_faces + r.top_faces + r.lateral_faces,

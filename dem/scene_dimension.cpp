@@ -56,7 +56,7 @@ void validate_3d_specimen(const Scene& s) {
   const bool prism = s.specimen.shape == "prism";
   const double least = prism ? std::min({s.specimen.width, s.specimen.depth, s.specimen.height})
                              : std::min(s.specimen.diameter, s.specimen.height);
-  if (s.mesh.size > 0.25 * least)
+  if (s.mesh.file.empty() && s.mesh.size > 0.25 * least)
     throw SceneError(fmt::format("mesh.size = {} m is too coarse for the 3D {} (smallest extent {} m): use at most a "
                                  "quarter of it ({} m)",
                                  real_text(s.mesh.size), s.specimen.shape, real_text(least), real_text(0.25 * least)));
@@ -64,9 +64,6 @@ void validate_3d_specimen(const Scene& s) {
 
 void validate_3d_others(const Scene& s) {
   const MeshParams m{};
-  if (!s.mesh.file.empty())
-    unused("mesh.file", "\"" + s.mesh.file + "\"", 3,
-           "a user mesh is read in 2D only; remove mesh.file to mesh the cylinder or prism with gmsh");
   if (s.mesh.structured != m.structured)
     unused("mesh.structured", "true", 3, "the structured grid is of right triangles: remove the key");
   if (s.mesh.seed != m.seed)

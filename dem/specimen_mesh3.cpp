@@ -138,11 +138,21 @@ SpecimenGeometry3 specimen_geometry3(const Scene& scene) {
   return g;
 }
 
+TetMesh read_msh3(const std::filesystem::path& path) {
+  if (!std::filesystem::is_regular_file(path))
+    throw SceneError(fmt::format("mesh file '{}' does not exist: check --mesh / mesh.file", path.string()));
+  TetMesh mesh = gmsh_io::read3_with_gmsh(path);
+  std::size_t bottom = 0, top = 0;
+  for (const auto& f : mesh.boundary) bottom += f.tag == FaceTag::bottom, top += f.tag == FaceTag::top;
+  if (bottom == 0 || top == 0)
+    throw SceneError(fmt::format("mesh file '{}' has no flat {} face: the platens load the faces at the mesh's lowest "
+                                 "and highest z; give the specimen flat horizontal ends",
+                                 path.string(), bottom == 0 ? "bottom" : "top"));
+  return mesh;
+}
+
 TetMesh mesh_scene3(const Scene& scene) {
-  if (!scene.mesh.file.empty())
-    throw SceneError(fmt::format("mesh.file = \"{}\": a user mesh is read in 2D only; remove mesh.file to mesh the "
-                                 "3D specimen",
-                                 scene.mesh.file));
+  if (!scene.mesh.file.empty()) return read_msh3(scene.mesh.file);
   return mesh_specimen3(specimen_geometry3(scene), scene.mesh.size);
 }
 

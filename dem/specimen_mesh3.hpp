@@ -14,6 +14,7 @@
 #pragma once
 
 #include <array>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -69,8 +70,14 @@ TetMesh mesh_specimen3(const SpecimenGeometry3& g, double h);
 // same plane as 180 - dip at the opposite dip direction); dip directions modulo 360, in [0, 360). Throws SceneError
 // for a scene that is not 3D.
 SpecimenGeometry3 specimen_geometry3(const Scene& scene);
-// The scene's tetrahedral mesh: mesh_specimen3(specimen_geometry3(scene), mesh.size). A user mesh (mesh.file) is
-// refused in 3D (validate() says so).
+// A user mesh in 3D: a gmsh .msh file (any version gmsh reads) of first-order tetrahedra, one physical volume per
+// layer (the layer names are the physical names; a face between two layers is a joint face). The specimen stands
+// on its lowest z and is loaded at its highest (boundary_faces). Throws SceneError naming the file for a missing
+// file, no physical volume, a volume in two physical volumes, other 3D elements, no tetrahedra or a degenerate one;
+// tetrahedra of negative volume are turned (noted in TetMesh::notes).
+TetMesh read_msh3(const std::filesystem::path& path);
+// The scene's tetrahedral mesh: read_msh3(mesh.file) when the scene names one, else
+// mesh_specimen3(specimen_geometry3(scene), mesh.size).
 TetMesh mesh_scene3(const Scene& scene);
 
 }  // namespace rbdem

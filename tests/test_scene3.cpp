@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <string>
 
@@ -12,6 +15,12 @@
 
 namespace rbdem {
 namespace {
+
+std::string fmt_node(int tag, double x, double y, double z) {
+  char line[128];
+  std::snprintf(line, sizeof line, "%d %.17g %.17g %.17g\n", tag, x, y, z);
+  return line;
+}
 
 Scene solid(const std::string& more = "") { return parse_scene("[specimen]\ndimension = 3\n" + more, "3d"); }
 
@@ -79,7 +88,6 @@ TEST(Scene3, KeysWithoutMeaningInThreeDimensionsAreRefused) {
       {d3 + "model = \"plane_stress\"\n", "specimen.model"},
       {d3 + "thickness = 0.05\n", "specimen.thickness"},
       {d3 + "contact_arc_deg = 0\n", "specimen.contact_arc_deg"},
-      {d3 + "[mesh]\nfile = \"my.msh\"\n", "mesh.file"},
       {d3 + "[mesh]\nstructured = true\n", "mesh.structured"},
       {d3 + "[mesh]\nseed = 3\n", "mesh.seed"},
       {d3 + "[joint_set]\npersistence = 0.5\n", "joint_set.persistence"},
@@ -137,9 +145,13 @@ TEST(Scene3, GeometryIsTheScenes) {
   EXPECT_FALSE(c.joints);
   EXPECT_FALSE(c.second_set);
   EXPECT_THROW(specimen_geometry3(Scene{}), SceneError);
-  Scene user = solid();
-  user.mesh.file = "my.msh";  // past validate(): mesh_scene3 still refuses it
-  EXPECT_THROW(mesh_scene3(user), SceneError);
+  const Scene user = solid("[mesh]\nfile = \"no_such_file.msh\"\n");
+  try {
+    mesh_scene3(user);
+    ADD_FAILURE() << "a missing mesh file was read";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("no_such_file.msh"), std::string::npos) << e.what();
+  }
 }
 
 // The scene's mesh: a coarse prism of the scene's size, joints as the scene's dip gives them (a joint face has
@@ -154,6 +166,75 @@ TEST(Scene3, MeshIsTheScenesSpecimen) {
   EXPECT_NEAR(zmax, 0.10, 1e-12);
   // Horizontal planes through the centre, 25 mm apart, in a 100 mm prism: z = 25, 50, 75 mm, four layers.
   EXPECT_EQ(m.num_layers(), 4u);
+}
+
+// Two stacked cubes of side a, each cut into the six tetrahedra of Kuhn's subdivision (the same diagonal on the
+// shared face from both sides), as a gmsh MSH 2.2 file with the physical volumes "lower" and "upper".
+std::string two_cubes_msh(double a) {
+  std::string s = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n3 1 \"lower\"\n3 2 \"upper\"\n"
+                  "$EndPhysicalNames\n$Nodes\n12\n";
+  auto node = [](int i, int j, int k) { return 1 + i + 2 * j + 4 * k; };  // gmsh node tags from 1
+  for (int k = 0; k < 3; ++k)
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) s += fmt_node(node(i, j, k), a * i, a * j, a * k);
+  s += "$EndNodes\n$Elements\n12\n";
+  const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  int id = 1;
+  for (int cube = 0; cube < 2; ++cube)
+    for (const auto& p : perms) {
+      int x[3] = {0, 0, cube};
+      std::string line = std::to_string(id++) + " 4 2 " + std::to_string(cube + 1) + " " + std::to_string(cube + 1);
+      line += " " + std::to_string(node(x[0], x[1], x[2]));
+      for (int step = 0; step < 3; ++step) {
+        ++x[p[step]];
+        line += " " + std::to_string(node(x[0], x[1], x[2]));
+      }
+      s += line + "\n";
+    }
+  return s + "$EndElements\n";
+}
+
+// A user mesh in 3D: one layer per physical volume, named as the file names them, the faces between the layers
+// joints, the surface tagged for the platens; Kuhn's tetrahedra of either orientation turned positive.
+TEST(Scene3, UserMeshWithTetrahedra) {
+  const double a = 0.02;
+  const auto dir = std::filesystem::temp_directory_path() / "rbdem_test_scene3";
+  std::filesystem::create_directories(dir);
+  const auto file = dir / "two_cubes.msh";
+  std::ofstream(file) << two_cubes_msh(a);
+  const Scene s = solid("[mesh]\nfile = \"" + file.string() + "\"\n");
+  const TetMesh m = mesh_scene3(s);
+  ASSERT_EQ(m.num_tets(), 12u);
+  EXPECT_EQ(m.num_nodes(), 12u);
+  ASSERT_EQ(m.num_layers(), 2u);
+  EXPECT_EQ(m.layer_names[0], "lower");
+  EXPECT_EQ(m.layer_names[1], "upper");
+  double vol = 0;
+  for (std::size_t t = 0; t < m.num_tets(); ++t) {
+    EXPECT_GT(tet_volume(m, t), 0.0) << "tet " << t;
+    vol += tet_volume(m, t);
+  }
+  EXPECT_NEAR(vol, 2 * a * a * a, 1e-15);
+  const TetMeshReport r = report(m);
+  EXPECT_EQ(r.joint_faces, 2u);  // the shared square, two triangles
+  EXPECT_EQ(r.rock_faces, 12u);  // six inner faces in each cube's Kuhn subdivision
+  EXPECT_EQ(r.bottom_faces, 2u);
+  EXPECT_EQ(r.top_faces, 2u);
+  EXPECT_EQ(r.lateral_faces, 16u);
+
+  // No physical volume: refused, naming the file.
+  const auto bare = dir / "no_volumes.msh";
+  std::string text = two_cubes_msh(a);
+  text.replace(text.find("$PhysicalNames"), text.find("$Nodes") - text.find("$PhysicalNames"), "");
+  for (std::size_t at = text.find(" 4 2 "); at != std::string::npos; at = text.find(" 4 2 ", at + 1))
+    text.replace(at + 5, 1, "0");  // physical tag 0: none
+  std::ofstream(bare) << text;
+  try {
+    mesh_scene3(solid("[mesh]\nfile = \"" + bare.string() + "\"\n"));
+    ADD_FAILURE() << "a mesh without physical volumes was read";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("physical volume"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "compare/gate/dem_constants3.hpp"
+#include "compare/gate/elastic_gate3.hpp"
 #include "continuum/fe_3d.hpp"
 #include "dem/specimen_mesh3.hpp"
 #include "dem/static3.hpp"
@@ -265,6 +266,22 @@ TEST(Static3, BadInputIsRejectedByName) {
   o = {}, o.joint.kappa = 0;
   EXPECT_THROW(solve_static3(m, o), std::invalid_argument);
   EXPECT_THROW(solve_static3(TetMesh{}, {}), std::invalid_argument);
+}
+
+// The 3D elastic gate refuses, before any solve, what it cannot measure: a 2D scene, a second joint set (the five
+// constants are of one set) and a user mesh (it meshes every dip).
+TEST(ElasticGate3, RefusesWhatItCannotMeasure) {
+  const std::string d3 = "[specimen]\ndimension = 3\n";
+  for (const auto& [toml, key] : {std::pair<std::string, std::string>{"", "specimen.dimension"},
+                                  {d3 + "[joint_set2]\nenabled = true\nspacing = 0.02\n", "joint_set2.enabled"},
+                                  {d3 + "[mesh]\nfile = \"user.msh\"\n", "mesh.file"}}) {
+    try {
+      compare::run_elastic_gate3(parse_scene(toml, "gate3"));
+      ADD_FAILURE() << toml;
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  }
 }
 
 void print_table(double h, double spacing) {

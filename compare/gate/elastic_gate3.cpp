@@ -30,6 +30,10 @@ void check_scene(const Scene& scene) {
   if (scene.specimen.dimension != 3)
     throw SceneError(fmt::format("the 3D elastic gate was given a {}D scene: set specimen.dimension = 3",
                                  scene.specimen.dimension));
+  if (!scene.mesh.file.empty())
+    throw SceneError(fmt::format("mesh.file = \"{}\": the 3D elastic gate meshes the specimen at every dip, which a "
+                                 "user mesh cannot follow; remove mesh.file (rbdem mesh reads it)",
+                                 scene.mesh.file));
   if (scene.joint_set2.enabled)
     throw SceneError("joint_set2.enabled = true: rbdem elastic in 3D measures the five constants of one joint set "
                      "(transverse isotropy); set joint_set2.enabled = false");
