@@ -2,6 +2,10 @@
 #include "compare/gate/dem_constants3.hpp"
 
 #include <chrono>
+#include <thread>
+#include <utility>
+
+#include "common/parallel_map.hpp"
 
 namespace rbdem::compare {
 
@@ -53,24 +57,37 @@ SpecimenGeometry3 constants_prism(const Scene& scene) {
   return g;
 }
 
-DemConstants3 measure_dem_constants3(const Scene& scene) {
+DemConstants3 measure_dem_constants3(const Scene& scene, int threads) {
   const auto t0 = std::chrono::steady_clock::now();
   DemConstants3 out;
   out.prism = constants_prism(scene);
   const Static3Options o = static3_options(scene);
-  auto run = [&](bool joints, double dip) {
+  // The unjointed prism, then the jointed ones at 0, 45 and 90 deg.
+  std::vector<std::pair<bool, double>> cases{{false, 0.0}};
+  if (out.prism.joints)
+    for (double dip : {0.0, 45.0, 90.0}) cases.push_back({true, dip});
+  std::vector<TetMesh> meshes;
+  std::vector<double> seconds;
+  for (const auto& [joints, dip] : cases) {
     const auto t = std::chrono::steady_clock::now();
     SpecimenGeometry3 g = out.prism;
     g.joints = joints, g.set1.dip_deg = dip;
-    const Static3Result r = solve_static3(mesh_specimen3(g, scene.mesh.size), o);
-    return virtual_test3(r, dip, since(t));
-  };
-  out.intact = run(false, 0.0);
+    meshes.push_back(mesh_specimen3(g, scene.mesh.size));
+    seconds.push_back(since(t));
+  }
+  std::vector<VirtualTest3> tests(cases.size());
+  const int workers = threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  parallel_map(cases.size(), workers, [&](std::size_t k) {
+    const auto t = std::chrono::steady_clock::now();
+    const Static3Result r = solve_static3(meshes[k], o);
+    tests[k] = virtual_test3(r, cases[k].second, seconds[k] + since(t));
+  });
+  out.intact = tests[0];
   const theory::TIConstants rock = isotropic_constants3(out.intact);
   out.dem = rock;
   double d_mean = 0;
   if (out.prism.joints) {
-    for (double dip : {0.0, 45.0, 90.0}) out.tests.push_back(run(true, dip));
+    out.tests.assign(tests.begin() + 1, tests.end());
     out.dem = ti_constants3(out.tests[0], out.tests[1], out.tests[2]);
     d_mean = out.tests[0].joint_d_mean;
   }

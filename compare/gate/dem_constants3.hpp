@@ -52,8 +52,10 @@ struct DemConstants3 {
 // The prism the constants are measured on: the scene's prism, or a cylinder's bounding prism (diameter x diameter
 // x height), with the scene's first joint set at dip direction 0 (the prism's faces along the strike).
 SpecimenGeometry3 constants_prism(const Scene& scene);
-// Meshes the prisms at mesh.size and measures (one joint set: the scene's joint_set; joint_set2 is refused by the
-// caller). Throws SceneError for a scene that is not 3D.
-DemConstants3 measure_dem_constants3(const Scene& scene);
+// Meshes the prisms at mesh.size (one after the other: gmsh is one global model) and solves them on up to `threads`
+// threads side by side (0 = the hardware's; each solve is independent, so the numbers do not depend on it). One
+// joint set: the scene's joint_set (joint_set2 is refused by the caller). Throws SceneError for a scene that is not
+// 3D.
+DemConstants3 measure_dem_constants3(const Scene& scene, int threads = 1);
 
 }  // namespace rbdem::compare

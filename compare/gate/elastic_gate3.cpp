@@ -1,12 +1,17 @@
 // The elastic gate in 3D: measurements and verdict. See elastic_gate3.hpp.
 #include "compare/gate/elastic_gate3.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 #include <stdexcept>
+#include <thread>
+#include <vector>
 
 #include <fmt/format.h>
 
+#include "common/parallel_map.hpp"
 #include "dem/static3.hpp"
 #include "theory/elasticity3.hpp"
 
@@ -59,16 +64,22 @@ void fe_columns(Elastic3Angle& a, const TetMesh& mesh, const Elastic3Report& rep
 #endif
 }
 
-Elastic3Angle measure_angle(const Scene& scene, double beta, const Elastic3Report& rep, bool with_fe) {
-  Elastic3Angle a;
+// The scene's specimen at dip beta (meshing is serial: gmsh holds one global model).
+TetMesh mesh_angle(const Scene& scene, double beta, Elastic3Angle& a) {
   a.beta_deg = beta;
   SpecimenGeometry3 g = specimen_geometry3(scene);
   g.set1.dip_deg = beta;
-  const double dd = g.set1.dip_direction_deg;
-  auto t = Clock::now();
-  const TetMesh mesh = mesh_specimen3(g, scene.mesh.size);
+  const auto t = Clock::now();
+  TetMesh mesh = mesh_specimen3(g, scene.mesh.size);
   a.mesh_seconds = since(t);
-  t = Clock::now();
+  return mesh;
+}
+
+// The DEM's static solve, Amadei and the FE twins on one dip's mesh (thread-safe: no shared state).
+void measure_angle(const Scene& scene, const TetMesh& mesh, const Elastic3Report& rep, bool with_fe,
+                   Elastic3Angle& a) {
+  const double beta = a.beta_deg, dd = rep.dip_direction_deg;
+  const auto t = Clock::now();
   Static3Options o = static3_options(scene);
   o.dip_direction_deg = dd;
   const Static3Result r = solve_static3(mesh, o);
@@ -81,7 +92,6 @@ Elastic3Angle measure_angle(const Scene& scene, double beta, const Elastic3Repor
   a.amadei_poisson_strike = am.poisson_strike, a.amadei_poisson_dip = am.poisson_dip;
   a.amadei_goodman = theory::amadei_uniaxial_3d(rep.constants.goodman.constants, beta).modulus;
   if (with_fe) fe_columns(a, mesh, rep, dd);
-  return a;
 }
 
 void verdict(Elastic3Report& rep, double tolerance) {
@@ -129,17 +139,27 @@ Elastic3Report run_elastic_gate3(const Scene& scene, const Elastic3Options& opti
   auto log = [&](const std::string& s) {
     if (options.log) options.log(s);
   };
-  rep.constants = measure_dem_constants3(scene);
+  const int threads =
+      options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  rep.constants = measure_dem_constants3(scene, threads);
   rep.constants_seconds = rep.constants.seconds;
-  log(fmt::format("constants: virtual tests on the {:g} x {:g} x {:g} mm prism in {:.2f} s", 1e3 * rep.constants.prism.width,
-                  1e3 * rep.constants.prism.depth, 1e3 * rep.constants.prism.height, rep.constants.seconds));
-  for (double beta : options.betas) {
-    rep.angles.push_back(measure_angle(scene, beta, rep, rep.fe_available));
-    const Elastic3Angle& a = rep.angles.back();
-    rep.mesh_seconds += a.mesh_seconds, rep.dem_seconds += a.dem_seconds, rep.fe_seconds += a.fe_seconds;
-    log(fmt::format("beta {:g}: {} blocks, mesh {:.2f} s, DEM {:.2f} s, FE {:.2f} s", beta, a.blocks,
+  log(fmt::format("constants: virtual tests on the {:g} x {:g} x {:g} mm prism in {:.2f} s",
+                  1e3 * rep.constants.prism.width, 1e3 * rep.constants.prism.depth, 1e3 * rep.constants.prism.height,
+                  rep.constants.seconds));
+  rep.angles.resize(options.betas.size());
+  std::vector<TetMesh> meshes;
+  for (std::size_t k = 0; k < options.betas.size(); ++k)
+    meshes.push_back(mesh_angle(scene, options.betas[k], rep.angles[k]));
+  std::mutex log_mutex;
+  parallel_map(rep.angles.size(), threads, [&](std::size_t k) {
+    Elastic3Angle& a = rep.angles[k];
+    measure_angle(scene, meshes[k], rep, rep.fe_available, a);
+    const std::lock_guard<std::mutex> lock(log_mutex);
+    log(fmt::format("beta {:g}: {} blocks, mesh {:.2f} s, DEM {:.2f} s, FE {:.2f} s", a.beta_deg, a.blocks,
                     a.mesh_seconds, a.dem_seconds, a.fe_seconds));
-  }
+  });
+  for (const auto& a : rep.angles)
+    rep.mesh_seconds += a.mesh_seconds, rep.dem_seconds += a.dem_seconds, rep.fe_seconds += a.fe_seconds;
   verdict(rep, scene.elastic.tolerance);
   rep.seconds = since(t0);
   return rep;

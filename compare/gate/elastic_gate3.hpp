@@ -33,6 +33,9 @@ namespace rbdem::compare {
 struct Elastic3Options {
   std::vector<double> betas = {0, 15, 30, 45, 60, 75, 90};  // deg
   bool with_fe = true;  // the FE columns (the deal.II module); off or unavailable: NaN, and Amadei decides
+  // Solves side by side (the virtual tests, then the dips): 0 = the hardware's threads. Meshing stays serial (gmsh
+  // holds one global model); each solve is independent, so no number depends on the count.
+  int threads = 0;
   std::function<void(const std::string&)> log;  // progress lines (optional)
 };
 
@@ -69,7 +72,8 @@ struct Elastic3Report {
   bool fe_available = false;
   std::string shape;                  // "cylinder" or "prism"
   double mesh_size = 0, dip_direction_deg = 0;
-  // Wall time: all; the constants' virtual tests; meshing, DEM solves and FE solves summed over the dips.
+  // Wall time: all; the constants' virtual tests (wall); meshing, DEM solves and FE solves summed over the dips
+  // (the solves of different dips overlap on threads).
   double seconds = 0, constants_seconds = 0, mesh_seconds = 0, dem_seconds = 0, fe_seconds = 0;
 };
 
