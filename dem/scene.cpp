@@ -485,13 +485,15 @@ void validate(const Scene& scene) {
                                  fmt_real(0.25 * std::min(scene.specimen.width, scene.specimen.height))));
   }
   // The mesher needs at least two elements across a layer (mesh_specimen checks the same; failing here reports
-  // it before any elastic gate or sweep starts).
-  if (scene.joint_set.enabled && scene.mesh.file.empty() && scene.joint_set.spacing < 2.0 * scene.mesh.size)
+  // it before any elastic gate or sweep starts). The 3D rule is scene_keys::validate_dimension's.
+  const bool plane = scene.specimen.dimension == 2;
+  if (plane && scene.joint_set.enabled && scene.mesh.file.empty() && scene.joint_set.spacing < 2.0 * scene.mesh.size)
     throw SceneError(fmt::format("joint_set.spacing = {} m is under two mesh sizes (mesh.size = {} m): a layer needs "
                                  "at least two elements across; use mesh.size <= {} m or a wider spacing",
                                  fmt_real(scene.joint_set.spacing), fmt_real(scene.mesh.size),
                                  fmt_real(0.5 * scene.joint_set.spacing)));
-  if (scene.joint_set2.enabled && scene.mesh.file.empty() && scene.joint_set2.spacing < 2.0 * scene.mesh.size)
+  if (plane && scene.joint_set2.enabled && scene.mesh.file.empty() &&
+      scene.joint_set2.spacing < 2.0 * scene.mesh.size)
     throw SceneError(fmt::format("joint_set2.spacing = {} m is under two mesh sizes (mesh.size = {} m): use mesh.size "
                                  "<= {} m or a wider spacing",
                                  fmt_real(scene.joint_set2.spacing), fmt_real(scene.mesh.size),

@@ -3,6 +3,7 @@
 // refused with the key, the value and the fix, never ignored (a scene must mean what it says).
 #include <algorithm>
 #include <string>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -62,6 +63,18 @@ void validate_3d_specimen(const Scene& s) {
                                  real_text(s.mesh.size), s.specimen.shape, real_text(least), real_text(0.25 * least)));
 }
 
+// One tetrahedron across a layer at least (mesh_specimen3 checks the same; failing here reports it before any
+// solve starts).
+void validate_3d_layers(const Scene& s) {
+  if (!s.mesh.file.empty()) return;
+  for (const auto& [name, set] : {std::pair<const char*, const JointSetParams*>{"joint_set", &s.joint_set},
+                                  std::pair<const char*, const JointSetParams*>{"joint_set2", &s.joint_set2}})
+    if (set->enabled && set->spacing < s.mesh.size)
+      throw SceneError(fmt::format("{}.spacing = {} m is thinner than one tetrahedron of mesh.size = {} m: use "
+                                   "mesh.size <= {} m or a wider spacing",
+                                   name, real_text(set->spacing), real_text(s.mesh.size), real_text(set->spacing)));
+}
+
 void validate_3d_others(const Scene& s) {
   const MeshParams m{};
   if (s.mesh.structured != m.structured)
@@ -95,6 +108,7 @@ void validate_dimension(const Scene& s) {
                                  "3 (the solid)",
                                  s.specimen.dimension));
   validate_3d_specimen(s);
+  validate_3d_layers(s);
   validate_3d_others(s);
 }
 

@@ -191,7 +191,7 @@ TEST(Mesh3D, BadInputNamesTheKeyAndTheFix) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(message(cylinder(60, 0, 0.004), 0.003).find("joint_set.spacing"), std::string::npos);
+  EXPECT_NE(message(cylinder(60, 0, 0.004), 0.005).find("joint_set.spacing"), std::string::npos);
   SpecimenGeometry3 g = cylinder(60, 0, 0.02);
   g.diameter = -0.05;
   EXPECT_NE(message(g, 0.005).find("specimen.diameter"), std::string::npos);

@@ -53,8 +53,7 @@ TEST(Scene3, ShapeAndMeshSizeFollowTheDimension) {
   EXPECT_EQ(s.specimen.height, 0.10);
   EXPECT_EQ(s.specimen.depth, 0.05);
 
-  const Scene p = parse_scene("[specimen]\nshape = \"prism\"\ndimension = 3\n[mesh]\nsize = 0.008\n"
-                              "[joint_set]\nspacing = 0.025\n");
+  const Scene p = parse_scene("[specimen]\nshape = \"prism\"\ndimension = 3\n[mesh]\nsize = 0.008\n");
   EXPECT_EQ(p.specimen.shape, "prism");
   EXPECT_EQ(p.mesh.size, 0.008);
 
@@ -97,7 +96,8 @@ TEST(Scene3, KeysWithoutMeaningInThreeDimensionsAreRefused) {
       {d3 + "[joint2]\ngroups = \"joint_1\"\n", "joint2.groups"},
       {d3 + "[mesh]\nsize = 0.02\n", "mesh.size"},
       {d3 + "shape = \"prism\"\ndepth = 0.02\n[mesh]\nsize = 0.006\n", "mesh.size"},
-      {d3 + "[mesh]\nsize = 0.006\n[joint_set]\nspacing = 0.01\n", "joint_set.spacing"},
+      {d3 + "[mesh]\nsize = 0.006\n[joint_set]\nspacing = 0.005\n", "joint_set.spacing"},
+      {d3 + "[mesh]\nsize = 0.006\n[joint_set2]\nenabled = true\nspacing = 0.005\n", "joint_set2.spacing"},
       {"[specimen]\ndimension = 4\n", "specimen.dimension"},
       {"[specimen]\nshape = \"cylinder\"\n", "specimen.shape"},
       {"[specimen]\ndepth = 0.03\n", "specimen.depth"},
