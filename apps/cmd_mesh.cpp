@@ -2,6 +2,7 @@
 //
 //   rbdem mesh --beta 30 --spacing 0.01 --out s.msh      # gmsh 4.1 file, one physical surface per layer
 //   rbdem mesh --set mesh.size=0.0005                    # statistics only
+//   rbdem mesh --set specimen.dimension=3                # the 3D cylinder's tetrahedral mesh, statistics only
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -14,6 +15,7 @@
 #include "dem/driver/summary.hpp"
 #include "dem/materials.hpp"
 #include "dem/specimen_mesh.hpp"
+#include "dem/specimen_mesh3.hpp"
 #include "dem/topology.hpp"
 
 namespace rbdem::cli {
@@ -84,9 +86,56 @@ void print_statistics(const Scene& scene, const TriMesh& mesh, const Topology<2>
   for (const auto& note : mesh.notes) fmt::print("note         {}\n", note);
 }
 
+// A 3D scene: the tetrahedral mesh's counts (blocks = tetrahedra, bonds = shared faces) and its worst elements.
+int run_mesh3(const Scene& scene, const MeshOptions& opt) {
+  if (!opt.out.empty())
+    throw SceneError(fmt::format("--out {}: writing the 3D mesh as .msh is not built; drop --out (rbdem mesh prints "
+                                 "the 3D mesh's statistics)",
+                                 opt.out));
+  const SpecimenGeometry3 g = specimen_geometry3(scene);
+  const TetMesh mesh = mesh_scene3(scene);
+  const TetMeshReport r = report(mesh);
+  if (!scene.mesh.file.empty())
+    fmt::print("specimen     user mesh {}, {} layers: ", scene.mesh.file, mesh.num_layers());
+  if (!scene.mesh.file.empty())
+    for (std::size_t l = 0; l < mesh.num_layers(); ++l)
+      fmt::print("{}{}", l ? ", " : "", mesh.layer_names[l]);
+  else if (g.shape == Shape3::cylinder)
+    fmt::print("specimen     cylinder {:.4g} m x {:.4g} m", g.diameter, g.height);
+  else
+    fmt::print("specimen     prism {:.4g} m x {:.4g} m x {:.4g} m", g.width, g.depth, g.height);
+  if (!scene.mesh.file.empty())
+    fmt::print("\n");
+  else if (g.joints)
+    fmt::print(", joints dip {:.4g} deg, dip direction {:.4g} deg, spacing {:.4g} m\n", g.set1.dip_deg,
+               g.set1.dip_direction_deg, g.set1.spacing);
+  else
+    fmt::print(", no joints\n");
+  if (scene.mesh.file.empty())
+    fmt::print("mesh         {} nodes, {} tetrahedra, {} layers, target size {:.4g} m, meshed in {:.3f} s\n",
+               r.nodes, r.tets, r.layers, scene.mesh.size, r.mesh_seconds);
+  else
+    fmt::print("mesh         {} nodes, {} tetrahedra, {} layers, read in {:.3f} s\n", r.nodes, r.tets, r.layers,
+               r.mesh_seconds);
+  if (scene.mesh.file.empty())
+    fmt::print("blocks       {} (volume {:.6g} m^3 of {:.6g} m^3 ideal)\n", r.tets, r.volume, g.volume());
+  else
+    fmt::print("blocks       {} (volume {:.6g} m^3)\n", r.tets, r.volume);
+  fmt::print("bonds        {} ({} rock, {} joint faces)\n", r.rock_faces + r.joint_faces, r.rock_faces,
+             r.joint_faces);
+  fmt::print("boundary     {} faces (bottom {}, top {}, side {})\n", r.bottom_faces + r.top_faces + r.lateral_faces,
+             r.bottom_faces, r.top_faces, r.lateral_faces);
+  fmt::print("quality      smallest dihedral angle {:.3g} deg, radius ratio {:.3g}, {} slivers (dihedral < {:g} "
+             "deg)\n",
+             r.min_dihedral_deg, r.min_radius_ratio, r.slivers, sliver_deg);
+  for (const auto& note : mesh.notes) fmt::print("note         {}\n", note);
+  return ok;
+}
+
 int run_mesh(const MeshOptions& opt) {
   const Scene scene = resolve_scene(opt.scene);
   print_scene(scene, opt.scene);
+  if (scene.specimen.dimension == 3) return run_mesh3(scene, opt);
   const auto t0 = std::chrono::steady_clock::now();
   const TriMesh mesh = make_mesh(scene, opt.out);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

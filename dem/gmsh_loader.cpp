@@ -39,4 +39,10 @@ TetMesh mesh3_with_gmsh(const MeshJob3& job) {
   return std::move(out.mesh);
 }
 
+TetMesh read3_with_gmsh(const std::filesystem::path& path) {
+  MeshOutcome3 out = module().read_msh3(path.string());
+  if (!out.error.empty()) throw SceneError(out.error);
+  return std::move(out.mesh);
+}
+
 }  // namespace rbdem::gmsh_io

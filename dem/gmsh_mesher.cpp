@@ -357,6 +357,7 @@ extern "C" [[gnu::visibility("default")]] const rbdem::gmsh_io::GmshModule* rbde
     t.mesh_specimen = &rbdem::gmsh_io::mesh_specimen;
     t.read_msh = &rbdem::gmsh_io::read_msh;
     t.mesh_specimen3 = &rbdem::gmsh_io::mesh_specimen3;
+    t.read_msh3 = &rbdem::gmsh_io::read_msh3;
     return t;
   }();
   return &table;

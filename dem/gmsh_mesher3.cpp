@@ -103,8 +103,9 @@ std::vector<int> group_layers(const MeshJob3& job, std::vector<std::string>& nam
   return tags;
 }
 
-// The first-order tetrahedra of the layer volumes, with the nodes they use (in order of first use).
-TetMesh collect_tets(const std::vector<int>& layer_volumes, std::vector<std::string> names) {
+// The first-order tetrahedra of the layers (each a list of volume entities), with the nodes they use (in order of
+// first use).
+TetMesh collect_tets(const std::vector<std::vector<int>>& layer_volumes, std::vector<std::string> names) {
   std::vector<std::size_t> node_tags;
   std::vector<double> coord, param;
   gmsh::model::mesh::getNodes(node_tags, coord, param, -1, -1, false, false);
@@ -113,21 +114,23 @@ TetMesh collect_tets(const std::vector<int>& layer_volumes, std::vector<std::str
   TetMesh mesh;
   std::map<std::size_t, int> index;  // gmsh node tag -> mesh node
   for (std::size_t l = 0; l < layer_volumes.size(); ++l) {
-    std::vector<std::size_t> etags, enodes;
-    gmsh::model::mesh::getElementsByType(4, etags, enodes, layer_volumes[l]);
-    for (std::size_t e = 0; e < etags.size(); ++e) {
-      std::array<int, 4> tet{};
-      for (int v = 0; v < 4; ++v) {
-        const std::size_t tag = enodes[4 * e + std::size_t(v)];
-        auto [it, added] = index.try_emplace(tag, int(mesh.nodes.size()));
-        if (added) {
-          const std::size_t k = where.at(tag);
-          mesh.nodes.push_back({coord[3 * k], coord[3 * k + 1], coord[3 * k + 2]});
+    for (const int volume : layer_volumes[l]) {
+      std::vector<std::size_t> etags, enodes;
+      gmsh::model::mesh::getElementsByType(4, etags, enodes, volume);
+      for (std::size_t e = 0; e < etags.size(); ++e) {
+        std::array<int, 4> tet{};
+        for (int v = 0; v < 4; ++v) {
+          const std::size_t tag = enodes[4 * e + std::size_t(v)];
+          auto [it, added] = index.try_emplace(tag, int(mesh.nodes.size()));
+          if (added) {
+            const std::size_t k = where.at(tag);
+            mesh.nodes.push_back({coord[3 * k], coord[3 * k + 1], coord[3 * k + 2]});
+          }
+          tet[std::size_t(v)] = it->second;
         }
-        tet[std::size_t(v)] = it->second;
+        mesh.tets.push_back(tet);
+        mesh.layer.push_back(int(l));
       }
-      mesh.tets.push_back(tet);
-      mesh.layer.push_back(int(l));
     }
   }
   mesh.layer_names = std::move(names);
@@ -168,7 +171,9 @@ TetMesh mesh_specimen3_now(const MeshJob3& job) {
     gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
     gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
     gmsh::model::mesh::generate(3);
-    mesh = collect_tets(layers, std::move(names));
+    std::vector<std::vector<int>> layer_volumes;
+    for (const int v : layers) layer_volumes.push_back({v});
+    mesh = collect_tets(layer_volumes, std::move(names));
     mesh.layer_rows = std::move(rows);
   } catch (const std::exception& e) {
     throw SceneError(fmt::format("gmsh failed to mesh the 3D specimen: {} (check the specimen's sizes, the joint "
@@ -182,7 +187,95 @@ TetMesh mesh_specimen3_now(const MeshJob3& job) {
   return mesh;
 }
 
+// The layers of a user mesh: its physical volumes, in tag order, each with its entities. Refuses a mesh without
+// physical volumes, a volume entity in two of them and 3D elements other than first-order tetrahedra.
+std::vector<std::vector<int>> user_layers(const std::string& path, std::vector<std::string>& names) {
+  gmsh::vectorpair groups;
+  gmsh::model::getPhysicalGroups(groups, 3);
+  if (groups.empty())
+    throw SceneError(fmt::format("mesh file '{}' has no physical volume: give each layer of the 3D specimen a "
+                                 "physical volume (Physical Volume(\"name\") = {{...}} in gmsh)",
+                                 path));
+  std::vector<std::vector<int>> layers;
+  std::set<int> seen;
+  for (const auto& [dim, tag] : groups) {
+    std::vector<int> entities;
+    gmsh::model::getEntitiesForPhysicalGroup(3, tag, entities);
+    for (const int e : entities)
+      if (!seen.insert(e).second)
+        throw SceneError(fmt::format("mesh file '{}': volume {} is in two physical volumes; give each volume one "
+                                     "layer",
+                                     path, e));
+    std::string name;
+    gmsh::model::getPhysicalName(3, tag, name);
+    names.push_back(name.empty() ? fmt::format("volume_{}", tag) : name);
+    layers.push_back(entities);
+  }
+  std::vector<int> types;
+  gmsh::model::mesh::getElementTypes(types, 3);
+  for (const int t : types)
+    if (t != 4) {
+      std::string type_name;
+      int order = 0, nodes = 0, primary = 0;
+      int edim = 0;
+      std::vector<double> local;
+      gmsh::model::mesh::getElementProperties(t, type_name, edim, order, nodes, local, primary);
+      throw SceneError(fmt::format("mesh file '{}' holds 3D elements of type {} ({}): the 3D DEM takes first-order "
+                                   "tetrahedra only (Mesh.ElementOrder = 1, no recombination)",
+                                   path, t, type_name));
+    }
+  return layers;
+}
+
+TetMesh read_msh3_now(const std::string& path) {
+  const auto start = std::chrono::steady_clock::now();
+  GmshSession session;
+  TetMesh mesh;
+  try {
+    gmsh::open(path);
+    std::vector<std::string> names;
+    const auto layers = user_layers(path, names);
+    mesh = collect_tets(layers, std::move(names));
+  } catch (const SceneError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw SceneError(fmt::format("gmsh could not read the mesh file '{}': {}", path, gmsh_error(e.what())));
+  }
+  if (mesh.tets.empty())
+    throw SceneError(fmt::format("mesh file '{}' has no tetrahedra in its physical volumes: mesh the volumes in 3D "
+                                 "(gmsh -3) and save them",
+                                 path));
+  Vec lo = mesh.nodes.front(), hi = lo;
+  for (const auto& p : mesh.nodes)
+    for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], p[i]), hi[i] = std::max(hi[i], p[i]);
+  const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  std::size_t turned = 0;
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    const double v = tet_volume(mesh, t);
+    if (!(std::abs(v) > 1e-12 * extent * extent * extent))
+      throw SceneError(fmt::format("mesh file '{}': tetrahedron {} is degenerate (volume {:.3g} m^3); remesh", path,
+                                   t, v));
+    if (v < 0) std::swap(mesh.tets[t][2], mesh.tets[t][3]), ++turned;
+  }
+  if (turned > 0) mesh.notes.push_back(fmt::format("{} negative tetrahedra of {} turned", turned, path));
+  mesh.boundary = boundary_faces(mesh, 1e-9 * extent);
+  mesh.mesh_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return mesh;
+}
+
 }  // namespace
+
+MeshOutcome3 read_msh3(const std::string& path) {
+  MeshOutcome3 out;
+  try {
+    out.mesh = read_msh3_now(path);
+  } catch (const std::exception& e) {
+    out.error = e.what();
+  } catch (...) {
+    out.error = "gmsh could not read the mesh file '" + path + "': " + gmsh_error("unknown error");
+  }
+  return out;
+}
 
 MeshOutcome3 mesh_specimen3(const MeshJob3& job) {
   MeshOutcome3 out;

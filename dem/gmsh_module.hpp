@@ -53,7 +53,7 @@ struct MeshOutcome3 {
 };
 
 // Bumped whenever a signature below or a struct it passes changes; the sizes catch a stale module as well.
-inline constexpr int gmsh_module_abi = 3;
+inline constexpr int gmsh_module_abi = 4;
 
 struct GmshModule {
   int abi = gmsh_module_abi;
@@ -64,6 +64,8 @@ struct GmshModule {
   MeshOutcome (*read_msh)(const std::string& path) = nullptr;
   // The tetrahedra of a 3D specimen (specimen_mesh3.hpp).
   MeshOutcome3 (*mesh_specimen3)(const MeshJob3&) = nullptr;
+  // The tetrahedra of a user .msh file, one layer per physical volume (specimen_mesh3.hpp, read_msh3).
+  MeshOutcome3 (*read_msh3)(const std::string& path) = nullptr;
 };
 
 // The front's calls (gmsh_loader.cpp): each loads the module at the first call (thread-safe; std::runtime_error
@@ -71,9 +73,11 @@ struct GmshModule {
 TriMesh mesh_with_gmsh(const MeshJob& job);
 TriMesh read_with_gmsh(const std::filesystem::path& path);
 TetMesh mesh3_with_gmsh(const MeshJob3& job);
+TetMesh read3_with_gmsh(const std::filesystem::path& path);
 
 // The module's 3D mesher (gmsh_mesher3.cpp), which the table above points to.
 MeshOutcome3 mesh_specimen3(const MeshJob3& job);
+MeshOutcome3 read_msh3(const std::string& path);
 
 }  // namespace rbdem::gmsh_io
 

@@ -228,6 +228,19 @@ void assign_toml(Scene& scene, const Entry& e, const toml::node& node, std::stri
   }
 }
 
+// Records `key` as given and, when it is specimen.dimension, gives the keys whose default follows the dimension
+// that dimension's default unless they were given themselves (Scene::given).
+void note_given(Scene& scene, const std::string& key) {
+  if (std::find(scene.given.begin(), scene.given.end(), key) == scene.given.end()) scene.given.push_back(key);
+  if (key != "specimen.dimension") return;
+  auto given = [&](std::string_view k) {
+    return std::find(scene.given.begin(), scene.given.end(), k) != scene.given.end();
+  };
+  const bool solid = scene.specimen.dimension == 3;
+  if (!given("specimen.shape")) scene.specimen.shape = solid ? "cylinder" : SpecimenParams{}.shape;
+  if (!given("mesh.size")) scene.mesh.size = solid ? mesh3_default_size : MeshParams{}.size;
+}
+
 }  // namespace
 
 // Calibrated defaults for the paper's specimen (docs/calibration.md says how they were found).
@@ -273,6 +286,7 @@ void set_parameter(Scene& scene, std::string_view key, std::string_view value) {
   const Entry* e = find_entry(key);
   if (!e) unknown_key(key, "--set");
   assign(scene, *e, value);
+  note_given(scene, e->info.key);
 }
 
 void apply_override(Scene& scene, std::string_view assignment) {
@@ -310,6 +324,7 @@ Scene parse_scene(std::string_view toml_text, std::string_view origin) {
       const Entry* e = find_entry(key);
       if (!e) unknown_key(key, origin);
       assign_toml(scene, *e, value, origin);
+      note_given(scene, key);
     }
   }
   validate(scene);
@@ -436,6 +451,7 @@ static void validate_beds(const Scene& scene) {
 }
 
 void validate(const Scene& scene) {
+  scene_keys::validate_dimension(scene);
   validate_beds(scene);
   Scene copy = scene;
   for (const auto& e : registry()) {
@@ -453,7 +469,9 @@ void validate(const Scene& scene) {
         throw SceneError(fmt::format("{} = '{}' is not allowed: expected {}", p.key, v, range_text(p)));
     }
   }
-  if (scene.specimen.shape == "disc") {
+  if (scene.specimen.dimension == 3) {
+    // the solid's size rule is scene_keys::validate_dimension's
+  } else if (scene.specimen.shape == "disc") {
     if (scene.mesh.size > 0.1 * scene.specimen.diameter)
       throw SceneError(fmt::format("mesh.size = {} m is too coarse for a disc of specimen.diameter = {} m: use at most "
                                    "a tenth of the diameter ({} m)",
@@ -467,13 +485,15 @@ void validate(const Scene& scene) {
                                  fmt_real(0.25 * std::min(scene.specimen.width, scene.specimen.height))));
   }
   // The mesher needs at least two elements across a layer (mesh_specimen checks the same; failing here reports
-  // it before any elastic gate or sweep starts).
-  if (scene.joint_set.enabled && scene.mesh.file.empty() && scene.joint_set.spacing < 2.0 * scene.mesh.size)
+  // it before any elastic gate or sweep starts). The 3D rule is scene_keys::validate_dimension's.
+  const bool plane = scene.specimen.dimension == 2;
+  if (plane && scene.joint_set.enabled && scene.mesh.file.empty() && scene.joint_set.spacing < 2.0 * scene.mesh.size)
     throw SceneError(fmt::format("joint_set.spacing = {} m is under two mesh sizes (mesh.size = {} m): a layer needs "
                                  "at least two elements across; use mesh.size <= {} m or a wider spacing",
                                  fmt_real(scene.joint_set.spacing), fmt_real(scene.mesh.size),
                                  fmt_real(0.5 * scene.joint_set.spacing)));
-  if (scene.joint_set2.enabled && scene.mesh.file.empty() && scene.joint_set2.spacing < 2.0 * scene.mesh.size)
+  if (plane && scene.joint_set2.enabled && scene.mesh.file.empty() &&
+      scene.joint_set2.spacing < 2.0 * scene.mesh.size)
     throw SceneError(fmt::format("joint_set2.spacing = {} m is under two mesh sizes (mesh.size = {} m): use mesh.size "
                                  "<= {} m or a wider spacing",
                                  fmt_real(scene.joint_set2.spacing), fmt_real(scene.mesh.size),

@@ -17,8 +17,12 @@
 namespace rbdem {
 
 struct SpecimenParams {
-  std::string shape = "rectangle";  // rectangle (compression tests) | disc (the Brazilian test)
-  double width = 0.05;              // m, horizontal extent
+  int dimension = 2;                // 2: the plane slice (triangles) | 3: the solid (tetrahedra; dem/specimen_mesh3.hpp)
+  // 2D: rectangle (compression tests) | disc (the Brazilian test); 3D: cylinder | prism. A 3D scene that does not
+  // give the shape is a cylinder (Scene::given).
+  std::string shape = "rectangle";
+  double width = 0.05;              // m, horizontal extent (along x)
+  double depth = 0.05;              // m, of a 3D prism along y
   double height = 0.10;             // m, vertical extent (load axis)
   double diameter = 0.05;           // m, of a disc specimen
   double contact_arc_deg = 10.0;    // deg, angle 2 alpha that each flattened end of a disc subtends at its centre
@@ -28,6 +32,8 @@ struct SpecimenParams {
 
 struct JointSetParams {
   double dip_deg = 60.0;  // deg, dip of the joint planes from the horizontal (docs/theory.md, section 1)
+  // deg, 3D: turns the strike about the vertical from the depth axis y (0: the x-z section is the 2D slice)
+  double dip_direction_deg = 0.0;
   double spacing = 0.01;  // m, normal distance between joints
   double offset = 0.0;    // m, shift of the set along its normal, from the specimen centre
   bool enabled = true;    // false: intact rock, no joints
@@ -38,7 +44,7 @@ struct JointSetParams {
 };
 
 struct MeshParams {
-  double size = 0.001;    // m, target triangle edge length
+  double size = 0.001;    // m, target triangle (2D) or tetrahedron (3D) edge length; 3D default 0.003 (Scene::given)
   std::string file;       // optional user mesh (.msh, physical surfaces = layers); empty = generate
   int seed = 0;           // mesh realization; 0 = the unperturbed mesh (dem/specimen_mesh.hpp, mesh_specimen)
   int strength_seed = 0;  // realization of the bond strength factors of materials with a weibull_modulus
@@ -146,9 +152,16 @@ struct Scene {
   NumericsParams numerics;
   ElasticGateParams elastic;
   OutputParams output;
+  // The keys given explicitly (scene file, --set, set_parameter), in order. Two defaults follow the dimension: when
+  // specimen.dimension is set, specimen.shape and mesh.size take that dimension's default unless given (2D:
+  // "rectangle" and 0.001 m; 3D: "cylinder" and mesh3_default_size), whatever the order of the keys.
+  std::vector<std::string> given;
 
   Scene();  // the paper's specimen with the calibrated defaults
 };
+
+// m, the tetrahedron edge length of a 3D scene that does not set mesh.size (about 40,000 tets in the cylinder).
+inline constexpr double mesh3_default_size = 0.003;
 
 // What a user can get wrong in a scene; the message names the key, the value and the fix.
 class SceneError : public std::runtime_error {

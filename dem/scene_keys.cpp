@@ -63,6 +63,10 @@ void declare_joint_set(Keys& k, const std::string& section, std::function<JointS
                       "true); above 90 deg the set dips the other way"
                     : "joint dip from the horizontal; the load is vertical (0 = joints normal to the load)",
              [set](Scene& s) -> double& { return set(s).dip_deg; }));
+  k.add(real(p + "dip_direction_deg", "deg", -360.0, 360.0,
+             "3D only: the azimuth of the dip, turning the strike about the vertical from the depth axis y "
+             "(0: strike along y, so the x-z section is the 2D slice; 90: strike along -x); taken modulo 360",
+             [set](Scene& s) -> double& { return set(s).dip_direction_deg; }));
   k.add(positive(p + "spacing", "m", 100.0, "normal distance between neighbouring joints",
                  [set](Scene& s) -> double& { return set(s).spacing; }));
   k.add(real(p + "offset", "m", -100.0, 100.0,
@@ -93,14 +97,24 @@ void declare_joint_set(Keys& k, const std::string& section, std::function<JointS
 // [specimen], [joint_set], [joint_set2], [mesh]: the specimen geometry and its mesh.
 void declare_geometry(Keys& k) {
   // [specimen]
-  k.add(choice("specimen.shape", {"rectangle", "disc"},
-               "rectangle: width x height (uniaxial and confined compression); disc: diameter (the Brazilian test)",
+  k.add(integer("specimen.dimension", "-", 2, 3,
+                "2: the plane slice through the dip (triangular blocks, the seed paper's model); 3: the solid "
+                "specimen (tetrahedral blocks, face bonds; shape cylinder or prism, mesh.size default 0.003 m)",
+                [](Scene& s) -> int& { return s.specimen.dimension; }));
+  k.add(choice("specimen.shape", {"rectangle", "disc", "cylinder", "prism"},
+               "2D: rectangle, width x height (uniaxial and confined compression), or disc, diameter (the Brazilian "
+               "test); 3D: cylinder, diameter x height (the default of a 3D scene), or prism, width x depth x height",
                [](Scene& s) -> std::string& { return s.specimen.shape; }));
-  k.add(positive("specimen.width", "m", 100.0, "specimen width (horizontal) of a rectangle",
+  k.add(positive("specimen.width", "m", 100.0, "specimen width (horizontal, along x) of a rectangle or a 3D prism",
                  [](Scene& s) -> double& { return s.specimen.width; }));
-  k.add(positive("specimen.height", "m", 100.0, "specimen height (load axis, vertical) of a rectangle",
+  k.add(positive("specimen.depth", "m", 100.0,
+                 "depth (horizontal, along y, the strike of joints of dip direction 0) of a 3D prism",
+                 [](Scene& s) -> double& { return s.specimen.depth; }));
+  k.add(positive("specimen.height", "m", 100.0,
+                 "specimen height (load axis, vertical) of a rectangle, a cylinder or a prism",
                  [](Scene& s) -> double& { return s.specimen.height; }));
-  k.add(positive("specimen.diameter", "m", 100.0, "diameter of a disc (the Brazilian test; loaded along the vertical)",
+  k.add(positive("specimen.diameter", "m", 100.0,
+                 "diameter of a disc (the Brazilian test; loaded along the vertical) or of a 3D cylinder",
                  [](Scene& s) -> double& { return s.specimen.diameter; }));
   k.add(real("specimen.contact_arc_deg", "deg", 0.0, 60.0,
              "a disc's top and bottom are flattened over this angle 2 alpha (the contact arc of loading jaws, "
@@ -115,7 +129,9 @@ void declare_geometry(Keys& k) {
   declare_joint_set(k, "joint_set", [](Scene& s) -> JointSetParams& { return s.joint_set; });
   declare_joint_set(k, "joint_set2", [](Scene& s) -> JointSetParams& { return s.joint_set2; });
   // [mesh]
-  k.add(positive("mesh.size", "m", 1.0, "target triangle edge length h (one rigid block per triangle)",
+  k.add(positive("mesh.size", "m", 1.0,
+                 "target element edge length h: of the triangles in 2D, of the tetrahedra in 3D (one rigid block per "
+                 "element); a 3D scene that does not set it takes 0.003",
                  [](Scene& s) -> double& { return s.mesh.size; }));
   k.add(integer("mesh.seed", "-", 0, 1000000,
                  "mesh realization: 0 = the reference mesh; another seed grades the nodes along every side and joint "

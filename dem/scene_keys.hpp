@@ -48,4 +48,8 @@ void declare_numerics(Keys& k);
 void declare_elastic(Keys& k);
 void declare_output(Keys& k);
 
+// The rules of specimen.dimension (dem/scene_dimension.cpp): the shapes of each dimension and the keys of the other
+// dimension set away from their default. Part of validate().
+void validate_dimension(const Scene& scene);
+
 }  // namespace rbdem::scene_keys

@@ -176,6 +176,10 @@ TriMesh mesh_specimen(const SpecimenGeometry& g, double h, const std::filesystem
 }
 
 TriMesh make_mesh(const Scene& scene, const std::filesystem::path& msh_out) {
+  if (scene.specimen.dimension != 2)
+    throw SceneError(fmt::format("a triangle mesh was asked of a {}D scene (specimen.dimension = {}): the 3D "
+                                 "specimen is tetrahedral (mesh_scene3, dem/specimen_mesh3.hpp)",
+                                 scene.specimen.dimension, scene.specimen.dimension));
   if (!scene.mesh.file.empty()) return read_msh(scene.mesh.file);
   return mesh_specimen(SpecimenGeometry::from_scene(scene), scene.mesh.size, msh_out);
 }

@@ -112,4 +112,49 @@ TetMesh mesh_specimen3(const SpecimenGeometry3& g, double h) {
   return mesh;
 }
 
+namespace {
+double azimuth(double deg) {
+  const double a = std::fmod(deg, 360.0);
+  return a < 0 ? a + 360.0 : a;
+}
+}  // namespace
+
+SpecimenGeometry3 specimen_geometry3(const Scene& scene) {
+  if (scene.specimen.dimension != 3)
+    throw SceneError(fmt::format("the scene is {}D (specimen.dimension = {}): set specimen.dimension = 3 for the "
+                                 "solid specimen",
+                                 scene.specimen.dimension, scene.specimen.dimension));
+  SpecimenGeometry3 g;
+  g.shape = scene.specimen.shape == "prism" ? Shape3::prism : Shape3::cylinder;
+  g.diameter = scene.specimen.diameter;
+  g.width = scene.specimen.width, g.depth = scene.specimen.depth, g.height = scene.specimen.height;
+  const JointSetParams& s1 = scene.joint_set;
+  g.joints = s1.enabled;
+  g.set1 = {s1.dip_deg, azimuth(s1.dip_direction_deg), s1.spacing, s1.offset};
+  const JointSetParams& s2 = scene.joint_set2;
+  g.second_set = s2.enabled;
+  double dip2 = second_set_dip_deg(scene, s1.dip_deg), dd2 = s2.dip_direction_deg;
+  if (dip2 > 90.0) dip2 = 180.0 - dip2, dd2 += 180.0;  // the normal reversed: the same planes
+  g.set2 = {dip2, azimuth(dd2), s2.spacing, s2.offset};
+  return g;
+}
+
+TetMesh read_msh3(const std::filesystem::path& path) {
+  if (!std::filesystem::is_regular_file(path))
+    throw SceneError(fmt::format("mesh file '{}' does not exist: check --mesh / mesh.file", path.string()));
+  TetMesh mesh = gmsh_io::read3_with_gmsh(path);
+  std::size_t bottom = 0, top = 0;
+  for (const auto& f : mesh.boundary) bottom += f.tag == FaceTag::bottom, top += f.tag == FaceTag::top;
+  if (bottom == 0 || top == 0)
+    throw SceneError(fmt::format("mesh file '{}' has no flat {} face: the platens load the faces at the mesh's lowest "
+                                 "and highest z; give the specimen flat horizontal ends",
+                                 path.string(), bottom == 0 ? "bottom" : "top"));
+  return mesh;
+}
+
+TetMesh mesh_scene3(const Scene& scene) {
+  if (!scene.mesh.file.empty()) return read_msh3(scene.mesh.file);
+  return mesh_specimen3(specimen_geometry3(scene), scene.mesh.size);
+}
+
 }  // namespace rbdem

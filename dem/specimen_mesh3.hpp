@@ -9,14 +9,16 @@
 // to every joint plane: each piece between planes is one layer (one physical volume), and a joint is a surface of
 // mesh faces with a different layer on either side.
 //
-// There are no scene keys for this yet: the 3D engine and its keys (specimen.dimension, specimen.shape,
-// specimen.diameter, specimen.depth, joint_set.dip_direction_deg) come later and will fill this struct.
+// A scene with specimen.dimension = 3 fills it (specimen_geometry3): specimen.shape, diameter, width, depth and
+// height, and each joint set's dip_deg, dip_direction_deg, spacing and offset.
 #pragma once
 
 #include <array>
+#include <filesystem>
 #include <string>
 #include <vector>
 
+#include "dem/scene.hpp"
 #include "mesh/tetmesh.hpp"
 
 namespace rbdem {
@@ -62,5 +64,20 @@ std::vector<JointPlane> joint_planes(const SpecimenGeometry3& g, double min_piec
 // non-positive or non-finite sizes and for a spacing that holds fewer than two elements. The mesh is the same for
 // the same inputs, bit for bit (gmsh meshes on one thread). TetMesh::mesh_seconds holds the time gmsh took.
 TetMesh mesh_specimen3(const SpecimenGeometry3& g, double h);
+
+// The 3D specimen and joint sets of a scene (specimen.dimension = 3, validated): the shape and its sizes; the first
+// set when joint_set.enabled; the second when joint_set2.enabled, at second_set_dip_deg (a dip above 90 deg is the
+// same plane as 180 - dip at the opposite dip direction); dip directions modulo 360, in [0, 360). Throws SceneError
+// for a scene that is not 3D.
+SpecimenGeometry3 specimen_geometry3(const Scene& scene);
+// A user mesh in 3D: a gmsh .msh file (any version gmsh reads) of first-order tetrahedra, one physical volume per
+// layer (the layer names are the physical names; a face between two layers is a joint face). The specimen stands
+// on its lowest z and is loaded at its highest (boundary_faces). Throws SceneError naming the file for a missing
+// file, no physical volume, a volume in two physical volumes, other 3D elements, no tetrahedra or a degenerate one;
+// tetrahedra of negative volume are turned (noted in TetMesh::notes).
+TetMesh read_msh3(const std::filesystem::path& path);
+// The scene's tetrahedral mesh: read_msh3(mesh.file) when the scene names one, else
+// mesh_specimen3(specimen_geometry3(scene), mesh.size).
+TetMesh mesh_scene3(const Scene& scene);
 
 }  // namespace rbdem

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 
+#include <fmt/format.h>
+
 #include "dem/driver/registry.hpp"
 #include "dem/mesh_cache.hpp"
 #include "io/results.hpp"
@@ -11,6 +13,13 @@ namespace rbdem::io {
 
 CaseRun run_case(const std::string& test, const Scene& scene, const CaseOptions& options) {
   protocol_info(test).check(scene);  // before meshing: a scene that does not suit the test costs nothing
+  // The explicit runs are 2D in this build: a 3D scene (specimen.dimension = 3) is meshed and measured by
+  // rbdem elastic only.
+  if (scene.specimen.dimension == 3)
+    throw SceneError(fmt::format("rbdem {} on a 3D scene (specimen.dimension = 3) is not built: the explicit 3D "
+                                 "engine is not part of this build; rbdem elastic measures a 3D scene's static "
+                                 "moduli, or set specimen.dimension = 2 for the plane slice",
+                                 test));
   CaseRun out;
   Scene run_scene = scene;
   if (options.threads > 0) run_scene.numerics.threads = options.threads;

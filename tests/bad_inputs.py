@@ -119,6 +119,15 @@ CASES = [
     ("second set dipping 200 deg", "mesh dip2_200.toml", "joint_set2.dip_deg"),
     ("persistence with a user mesh", "mesh --mesh good_square.msh --set joint_set.persistence=0.5",
      "joint_set.persistence"),
+    # --- 3D scenes (specimen.dimension = 3)
+    ("a 3D disc", "mesh --set specimen.dimension=3 --set specimen.shape=disc", "specimen.shape"),
+    ("a 3D scene with non-persistent joints", "mesh --set specimen.dimension=3 --set joint_set.persistence=0.5",
+     "joint_set.persistence"),
+    ("a 3D scene with a 2D user mesh (no tetrahedra)", "mesh --set specimen.dimension=3 --mesh good_square.msh",
+     "good_square.msh"),
+    ("`mesh --out` of a 3D scene", "mesh --set specimen.dimension=3 --out cylinder.msh", "--out"),
+    ("a dip direction in 2D", "mesh --set joint_set.dip_direction_deg=30", "joint_set.dip_direction_deg"),
+    ("dimension 4", "mesh --set specimen.dimension=4", "specimen.dimension"),
     # --- the direct shear test: one horizontal joint
     ("`shear` of a dipping joint", "shear --set joint_set.dip_deg=30", "joint_set.dip_deg"),
     ("`shear` with joints 10 mm apart (several planes)", "shear --set joint_set.spacing=0.01", "joint_set.spacing"),

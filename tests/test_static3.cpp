@@ -15,6 +15,8 @@
 #include <tuple>
 #include <utility>
 
+#include "compare/gate/dem_constants3.hpp"
+#include "compare/gate/elastic_gate3.hpp"
 #include "continuum/fe_3d.hpp"
 #include "dem/specimen_mesh3.hpp"
 #include "dem/static3.hpp"
@@ -124,37 +126,37 @@ const TetMesh& specimen(Shape3 shape, bool joints, double dip, double h, double 
 
 Static3Result solve(const TetMesh& m, const Static3Options& o = {}) { return solve_static3(m, o); }
 
+// The measurements are the library's (compare/gate/dem_constants3.hpp, what rbdem elastic runs on a 3D scene), on
+// this file's cached meshes.
 // Isotropic network (no joints): E and nu from a prism under uniaxial stress (the mean of the two lateral strains).
 struct Isotropic {
   double E = 0, nu = 0;
 };
 Isotropic measure_isotropic(double h, double spacing, const Static3Options& o = {}) {
-  const Static3Result r = solve(specimen(Shape3::prism, false, 0.0, h, spacing), o);
-  return {r.fit_modulus, 0.5 * (r.poisson_strike + r.poisson_dip)};
+  const theory::TIConstants c =
+      compare::isotropic_constants3(compare::virtual_test3(solve(specimen(Shape3::prism, false, 0.0, h, spacing), o), 0));
+  return {c.E, c.nu};
 }
 
-// The jointed network's five constants: at dip 0 the load is along the joints' normal (E', nu'), at 90 along the
-// joints (E, nu from the strain along the strike, the in-plane direction), at 45 deg Amadei's
-// 1/E_45 = (1/E + 1/E' + 1/G' - 2 nu'/E') / 4 gives G'.
+// The jointed network's five constants from the prisms at 0, 45 and 90 deg (compare::ti_constants3).
 theory::TIConstants measure_ti(double h, double spacing) {
   static std::map<std::pair<double, double>, theory::TIConstants> cache;  // the tests share them
   if (auto it = cache.find({h, spacing}); it != cache.end()) return it->second;
-  const Static3Result r0 = solve(specimen(Shape3::prism, true, 0.0, h, spacing));
-  const Static3Result r90 = solve(specimen(Shape3::prism, true, 90.0, h, spacing));
-  const Static3Result r45 = solve(specimen(Shape3::prism, true, 45.0, h, spacing));
-  theory::TIConstants c;
-  c.E_prime = r0.fit_modulus, c.nu_prime = 0.5 * (r0.poisson_strike + r0.poisson_dip);
-  c.E = r90.fit_modulus, c.nu = r90.poisson_strike;
-  c.G_prime = 1.0 / (4.0 / r45.fit_modulus - 1.0 / c.E - 1.0 / c.E_prime + 2.0 * c.nu_prime / c.E_prime);
-  return cache[{h, spacing}] = c;
+  auto test = [&](double dip) {
+    return compare::virtual_test3(solve(specimen(Shape3::prism, true, dip, h, spacing)), dip);
+  };
+  return cache[{h, spacing}] = compare::ti_constants3(test(0.0), test(45.0), test(90.0));
 }
 
 // Goodman's constants (docs/theory.md, 3.1-3.2) of the isotropic network cut by the joints: k_n and k_s per unit
-// area from the joint bonds' extra compliance over the rock bonds', at the joint bonds' mean d.
+// area from the joint bonds' extra compliance over the rock bonds', at the joint bonds' mean d
+// (compare::goodman_estimate on a scene of these bond materials).
 theory::TIConstants goodman_of(const Isotropic& rock, double d_mean, double spacing, const Static3Options& o = {}) {
-  const double kn = 1.0 / (d_mean * (1.0 / (2 * o.joint.modulus) - 1.0 / (2 * o.rock.modulus)));
-  const double ks = 1.0 / (d_mean * (o.joint.kappa / (2 * o.joint.modulus) - o.rock.kappa / (2 * o.rock.modulus)));
-  return theory::goodman(rock.E, rock.nu, kn, ks, spacing);
+  Scene scene;
+  scene.rock.effective_modulus = o.rock.modulus, scene.rock.stiffness_ratio = o.rock.kappa;
+  scene.joint.effective_modulus = o.joint.modulus, scene.joint.stiffness_ratio = o.joint.kappa;
+  scene.joint_set.spacing = spacing;
+  return compare::goodman_estimate(scene, theory::TIConstants::isotropic(rock.E, rock.nu), d_mean).constants;
 }
 
 // Clapeyron: the platen's work 1/2 F delta equals the energy the bonds and the platen contacts store, and the two
@@ -264,6 +266,22 @@ TEST(Static3, BadInputIsRejectedByName) {
   o = {}, o.joint.kappa = 0;
   EXPECT_THROW(solve_static3(m, o), std::invalid_argument);
   EXPECT_THROW(solve_static3(TetMesh{}, {}), std::invalid_argument);
+}
+
+// The 3D elastic gate refuses, before any solve, what it cannot measure: a 2D scene, a second joint set (the five
+// constants are of one set) and a user mesh (it meshes every dip).
+TEST(ElasticGate3, RefusesWhatItCannotMeasure) {
+  const std::string d3 = "[specimen]\ndimension = 3\n";
+  for (const auto& [toml, key] : {std::pair<std::string, std::string>{"", "specimen.dimension"},
+                                  {d3 + "[joint_set2]\nenabled = true\nspacing = 0.02\n", "joint_set2.enabled"},
+                                  {d3 + "[mesh]\nfile = \"user.msh\"\n", "mesh.file"}}) {
+    try {
+      compare::run_elastic_gate3(parse_scene(toml, "gate3"));
+      ADD_FAILURE() << toml;
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  }
 }
 
 void print_table(double h, double spacing) {

@@ -91,6 +91,11 @@ std::filesystem::path store_elastic_gate(const Scene& scene, const ElasticReport
 
 GateCheck check_elastic_gate(const Scene& scene, const ElasticGateOptions& options) {
   GateCheck c;
+  if (scene.specimen.dimension == 3) {
+    c.note = "elastic gate: a 3D scene's gate is `rbdem elastic` on the scene (DEM static vs the 3D FE twin, "
+             "docs/elastic.md \"Three dimensions\"); it is not run in front of 3D failure runs";
+    return c;
+  }
   if (!scene.mesh.file.empty()) {
     c.note = fmt::format("elastic gate: not applicable to a user mesh (mesh.file = {}): it re-meshes the "
                          "specimen at every dip",
