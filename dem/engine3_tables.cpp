@@ -27,7 +27,7 @@ BlockStates Engine<3>::block_states() const {
 }
 
 // Each bond's forces at the state now (its slot evaluated afresh, no history advanced): the force on j at the
-// bond point, the couple on j about it, the normal force (tension positive) and the shear force's magnitude along
+// bond point, the couple on j about it, the normal force (tension positive) and the shear force's magnitude in
 // the face now.
 BondStates Engine<3>::bond_states() const {
   const Model<3>& m = model_;
@@ -48,9 +48,9 @@ BondStates Engine<3>::bond_states() const {
     const Vec3 couple = sl.mj - cross(lever, sl.f);
     t.intact[b] = s.broken[b] ? 0 : 1;
     append(t.point, sl.p), append(t.normal, normal), append(t.force, sl.f), append(t.moment, couple);
-    const double fn = dot(sl.f, normal);
+    const double fn = dot(sl.f, normal);  // on j along n from i to j: positive in compression
     const Vec3 shear = sl.f - fn * normal;
-    t.normal_force[b] = fn, t.shear_force[b] = norm(shear);
+    t.normal_force[b] = -fn, t.shear_force[b] = norm(shear);
     t.failure_index[b] = sl.index;
     t.damage[b] = 1.0 - sl.keep;
   }

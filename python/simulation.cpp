@@ -18,6 +18,7 @@
 #include "dem/measure.hpp"
 #include "dem/driver/registry.hpp"
 #include "dem/mesh_cache.hpp"
+#include "dem/specimen_mesh3.hpp"
 #include "dem/simulation.hpp"
 #include "io/checkpoint.hpp"
 #include "io/results.hpp"
@@ -181,8 +182,13 @@ class PySimulation {
                const std::vector<Assignment>& overrides, bool force)
       : scene_(resolve(file, scene_keys, beta, overrides, force)) {
     py::gil_scoped_release release;
-    const TriMesh mesh = make_mesh_cached(scene_);
-    sim_ = Simulation::create(scene_, mesh);
+    if (scene_.specimen.dimension == 3) {  // the 3D model keeps its tetrahedral mesh alive beside it
+      mesh3_ = std::make_unique<TetMesh>(mesh_scene3(scene_));
+      sim_ = Simulation::create(scene_, *mesh3_);
+    } else {
+      const TriMesh mesh = make_mesh_cached(scene_);
+      sim_ = Simulation::create(scene_, mesh);
+    }
   }
 
   Simulation& sim() { return *sim_; }
@@ -301,6 +307,7 @@ class PySimulation {
   }
 
   Scene scene_;
+  std::unique_ptr<TetMesh> mesh3_;
   std::unique_ptr<Simulation> sim_;
   bool dt_known_ = false, dt_set_ = false, used_ = false, running_ = false;
   std::atomic<bool> cancel_{false};

@@ -238,3 +238,16 @@ def test_shear_from_python_equals_the_command_line(tmp_path):
     cli = json.loads((tmp_path / "summary.json").read_text())
     assert without_timing(r.summary) == without_timing(cli)
     assert r.summary["test"] == "shear" and r.summary["residual_shear_stress_pa"] > 0
+
+
+def test_a_3d_cylinder_has_the_same_tables_in_three_components():
+    sim = rbdem.Simulation(beta=60, overrides={"specimen.dimension": 3, "mesh.size": 0.01, "numerics.threads": 1})
+    assert sim.dimension == 3
+    n, nb = sim.specimen["blocks"], sim.specimen["bonds"]
+    b, d = sim.blocks, sim.bonds
+    assert b["position"].shape == (n, 3) and b["rotation"].shape == (n, 3) and d["force"].shape == (nb, 3)
+    platens = sim.add_platens(velocity=0.2)
+    sim.step(300)
+    assert platens.stress > 0 and platens.closure == pytest.approx(0.2 * sim.time, rel=1e-9)
+    vertical = np.abs(sim.bonds["normal"][:, 2]) > 0.95
+    assert np.mean(sim.bonds["normal_force"][vertical]) < 0  # the cylinder is compressed along z
