@@ -46,12 +46,14 @@ TEST(Dim3, SizesNamesAndPlacingByTheQuaternion) {
   EXPECT_NEAR(out[2], r.z, 1e-15);
 }
 
-TEST(Dim3, RunTimeHelpersStillRefuseDimensionThree) {
+TEST(Dim3, RunTimeHelpersServeDimensionsTwoAndThree) {
   EXPECT_EQ(pose_size(2), 3);
   EXPECT_STREQ(cell_type(2), "Triangle");
-  EXPECT_THROW(pose_size(3), std::invalid_argument);
-  EXPECT_THROW(cell_type(3), std::invalid_argument);
+  EXPECT_EQ(pose_size(3), 7);
+  EXPECT_EQ(dof_per_block(3), 6);
+  EXPECT_STREQ(cell_type(3), "Tetrahedron");
   EXPECT_THROW(check_dimension(4), std::invalid_argument);
+  EXPECT_THROW(pose_size(1), std::invalid_argument);
 }
 
 TEST(Quaternion, MapsAndHalfRotationInvertEachOther) {
