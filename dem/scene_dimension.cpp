@@ -78,7 +78,9 @@ void validate_3d_layers(const Scene& s) {
 void validate_3d_others(const Scene& s) {
   const MeshParams m{};
   if (s.mesh.structured != m.structured)
-    unused("mesh.structured", "true", 3, "the structured grid is of right triangles: remove the key");
+    unused("mesh.structured", "true", 3,
+           "the structured grid is of right triangles (rbdem shear sets it: the direct shear test is 2D only, "
+           "its boxes are block groups); remove the key or run shear on a 2D scene");
   if (s.mesh.seed != m.seed)
     unused("mesh.seed", std::to_string(s.mesh.seed), 3,
            "mesh realizations grade the 2D mesh's boundary nodes; use mesh.seed = 0 in 3D");
