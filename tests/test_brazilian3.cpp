@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "dem/driver/driver.hpp"
+#include "dem/driver/registry.hpp"
 #include "dem/measure.hpp"
 #include "dem/simulation_impl3.hpp"
 #include "dem/specimen_mesh3.hpp"
@@ -165,6 +166,36 @@ TEST(Brazilian3, ThinDiscCentreStressIsHondros) {
   for (const double v : sp.blocks.measure) volume += v;
   EXPECT_NEAR(whole.volume, volume, 1e-12 * volume);
   EXPECT_NEAR(whole(2, 2) / (-P * sp.height() / volume), 1.0, 0.01);
+}
+
+// What a user can get wrong about the 3D disc, each refused with the key: a full disc (no flats to load), a disc
+// thinner than one tetrahedron, a mesh coarser than a quarter of the diameter, the thickness on a cylinder; and the
+// 2D slice keeps its 1 m thickness.
+TEST(Brazilian3, BadInputsAreRefusedWithTheKey) {
+  const ProtocolInfo& brazilian = protocol_info("brazilian");
+  Scene full = disc_scene(60, 0.01);
+  full.specimen.contact_arc_deg = 0;
+  try {
+    brazilian.check(full);
+    ADD_FAILURE() << "a 3D full disc was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("specimen.contact_arc_deg"), std::string::npos) << e.what();
+  }
+  auto refusal = [](const std::string& toml) {
+    try {
+      parse_scene(toml, "disc3");
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string d3 = "[specimen]\ndimension = 3\nshape = \"disc\"\n";
+  EXPECT_NE(refusal(d3 + "thickness = 0.004\n[mesh]\nsize = 0.005\n").find("specimen.thickness"), std::string::npos);
+  EXPECT_NE(refusal(d3 + "[mesh]\nsize = 0.02\n").find("mesh.size"), std::string::npos);
+  EXPECT_NE(refusal("[specimen]\ndimension = 3\nthickness = 0.02\n").find("specimen.thickness"), std::string::npos);
+  EXPECT_EQ(refusal(d3 + "thickness = 0.01\ncontact_arc_deg = 20\n"), "");
+  EXPECT_EQ(parse_scene("[specimen]\nshape = \"disc\"\n", "disc2").specimen.thickness, 1.0);
+  EXPECT_EQ(parse_scene(d3, "disc3").specimen.thickness, disc3_default_thickness);
 }
 
 }  // namespace
