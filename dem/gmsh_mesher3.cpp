@@ -1,10 +1,12 @@
-// The module's 3D mesher: a cylinder or a prism cut by joint planes and meshed in tetrahedra through the gmsh C++
-// API (OpenCASCADE kernel). See specimen_mesh3.hpp for what it makes and gmsh_module.hpp for why it is a module.
+// The module's 3D mesher: a cylinder, a prism or a flattened disc cut by joint planes and meshed in tetrahedra
+// through the gmsh C++ API (OpenCASCADE kernel). See specimen_mesh3.hpp for what it makes and gmsh_module.hpp for
+// why it is a module.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <exception>
 #include <map>
+#include <numbers>
 #include <set>
 
 #include <fmt/format.h>
@@ -19,7 +21,30 @@ namespace {
 
 using Vec = std::array<double, 3>;
 
+// The z of the disc's bottom and top flats (its rim's lowest and highest points for a full disc).
+std::array<double, 2> disc_flats(const SpecimenGeometry3& g) {
+  const double R = 0.5 * g.diameter, c = std::cos(0.5 * g.contact_arc_deg * std::numbers::pi / 180.0);
+  return {R - R * c, R + R * c};
+}
+
+// The Brazilian disc: a cylinder along y, flattened by keeping only the slab between its flats (a box wider than
+// the disc), so the flats are plane faces that the mesh conforms to.
+int add_disc(const SpecimenGeometry3& g) {
+  const double R = 0.5 * g.diameter, t = g.thickness;
+  const int disc = gmsh::model::occ::addCylinder(R, 0.0, R, 0.0, t, 0.0, R);
+  if (!(g.contact_arc_deg > 0.0)) return disc;
+  const auto [zb, zt] = disc_flats(g);
+  const int slab = gmsh::model::occ::addBox(-R, -t, zb, 2.0 * g.diameter, 3.0 * t, zt - zb);
+  gmsh::vectorpair out;
+  std::vector<gmsh::vectorpair> map;
+  gmsh::model::occ::intersect({{3, disc}}, {{3, slab}}, out, map);
+  if (out.size() != 1 || out[0].first != 3)
+    throw SceneError("gmsh could not flatten the disc (specimen.contact_arc_deg): check its value");
+  return out[0].second;
+}
+
 int add_solid(const SpecimenGeometry3& g) {
+  if (g.shape == Shape3::disc) return add_disc(g);
   if (g.shape == Shape3::cylinder) {
     const double R = 0.5 * g.diameter;
     return gmsh::model::occ::addCylinder(R, R, 0.0, 0.0, 0.0, g.height, R);
@@ -35,7 +60,7 @@ int add_plane(const SpecimenGeometry3& g, const Vec& c, const JointPlane& p) {
   const double horizontal = std::hypot(n[0], n[1]);
   const Vec u = horizontal > 1e-12 ? Vec{-n[1] / horizontal, n[0] / horizontal, 0.0} : Vec{1.0, 0.0, 0.0};
   const Vec v{n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]};
-  const double L = 2.0 * std::max({g.diameter, g.width, g.depth, g.height});
+  const double L = 2.0 * std::max({g.diameter, g.width, g.depth, g.height, g.thickness});
   std::vector<int> points;
   for (const auto& [a, b] : {std::pair{-1.0, -1.0}, {1.0, -1.0}, {1.0, 1.0}, {-1.0, 1.0}}) {
     Vec x{};
@@ -144,6 +169,12 @@ void tidy3(TetMesh& mesh, const SpecimenGeometry3& g, double tol) {
     if (std::abs(x - to) < tol) x = to;
   };
   for (auto& p : mesh.nodes) {
+    if (g.shape == Shape3::disc) {
+      const auto [zb, zt] = disc_flats(g);
+      snap(p[2], zb), snap(p[2], zt);
+      snap(p[1], 0.0), snap(p[1], g.thickness);
+      continue;
+    }
     snap(p[2], 0.0);
     snap(p[2], g.height);
     if (g.shape == Shape3::prism) {
@@ -180,7 +211,7 @@ TetMesh mesh_specimen3_now(const MeshJob3& job) {
                                  "planes and the mesh size)",
                                  gmsh_error(e.what())));
   }
-  const double tol = 1e-9 * std::max({g.diameter, g.width, g.depth, g.height});
+  const double tol = 1e-9 * std::max({g.diameter, g.width, g.depth, g.height, g.thickness});
   tidy3(mesh, g, tol);
   mesh.boundary = boundary_faces(mesh, tol);
   mesh.mesh_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -153,6 +153,10 @@ void symmetrised(const double* S, int d, double volume, double* out) {
   }
 }
 
+// What turns a block's measure into its volume: the slice's thickness in 2D (the measure is an area); 1 in 3D, where
+// the measure is the volume and Specimen::thickness is the loaded area over the width (dem/simulation_3d.cpp).
+double out_of_plane(const Specimen& sp) { return sp.dim == 2 ? sp.thickness : 1.0; }
+
 }  // namespace
 
 std::vector<int> region_blocks(const Simulation& sim, const Region& region) {
@@ -170,10 +174,10 @@ StressTensor average_stress(const Simulation& sim, const Region& region, const S
   StressTensor out;
   out.dim = sp.dim;
   std::vector<char> inside(sp.num_blocks(), 0);
-  double measure = 0;  // summed in block order, then times the thickness once
+  double measure = 0;  // summed in block order, then times the thickness once (2D)
   for (int b : in_region) inside[std::size_t(b)] = 1, measure += sp.blocks.measure[std::size_t(b)];
   out.blocks = in_region.size();
-  out.volume = measure * sp.thickness;
+  out.volume = measure * out_of_plane(sp);
   double S[9] = {};
   const int d = sp.dim;
   love_terms(sim, blocks, sources, [&](int b, const double* r, const double* f) {
@@ -238,7 +242,7 @@ BlockStresses block_stresses(const Simulation& sim, const StressSources& sources
   out.dim = sp.dim;
   out.stress.resize(d * d * nb), out.volume.resize(nb);
   for (std::size_t b = 0; b < nb; ++b) {
-    out.volume[b] = sp.blocks.measure[b] * sp.thickness;
+    out.volume[b] = sp.blocks.measure[b] * out_of_plane(sp);
     double sym[9];
     symmetrised(&S[9 * b], sp.dim, out.volume[b], sym);
     for (std::size_t a = 0; a < d; ++a)

@@ -239,6 +239,8 @@ void note_given(Scene& scene, const std::string& key) {
   const bool solid = scene.specimen.dimension == 3;
   if (!given("specimen.shape")) scene.specimen.shape = solid ? "cylinder" : SpecimenParams{}.shape;
   if (!given("mesh.size")) scene.mesh.size = solid ? mesh3_default_size : MeshParams{}.size;
+  if (!given("specimen.thickness"))
+    scene.specimen.thickness = solid ? disc3_default_thickness : SpecimenParams{}.thickness;
 }
 
 }  // namespace

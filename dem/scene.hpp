@@ -26,7 +26,7 @@ struct SpecimenParams {
   double height = 0.10;             // m, vertical extent (load axis)
   double diameter = 0.05;           // m, of a disc specimen
   double contact_arc_deg = 10.0;    // deg, angle 2 alpha that each flattened end of a disc subtends at its centre
-  double thickness = 1.0;           // m, out of plane
+  double thickness = 1.0;           // m, out of plane (2D); the 3D disc's along its axis, 3D default 0.025
   std::string model = "plane_strain";  // continuum interpretation: plane_strain | plane_stress
 };
 
@@ -152,9 +152,10 @@ struct Scene {
   NumericsParams numerics;
   ElasticGateParams elastic;
   OutputParams output;
-  // The keys given explicitly (scene file, --set, set_parameter), in order. Two defaults follow the dimension: when
-  // specimen.dimension is set, specimen.shape and mesh.size take that dimension's default unless given (2D:
-  // "rectangle" and 0.001 m; 3D: "cylinder" and mesh3_default_size), whatever the order of the keys.
+  // The keys given explicitly (scene file, --set, set_parameter), in order. Three defaults follow the dimension:
+  // when specimen.dimension is set, specimen.shape, mesh.size and specimen.thickness take that dimension's default
+  // unless given (2D: "rectangle", 0.001 m and 1 m; 3D: "cylinder", mesh3_default_size and disc3_default_thickness),
+  // whatever the order of the keys.
   std::vector<std::string> given;
 
   Scene();  // the paper's specimen with the calibrated defaults
@@ -162,6 +163,9 @@ struct Scene {
 
 // m, the tetrahedron edge length of a 3D scene that does not set mesh.size (about 40,000 tets in the cylinder).
 inline constexpr double mesh3_default_size = 0.003;
+// m, the thickness of a 3D Brazilian disc that does not set specimen.thickness: ISRM's (1978) suggested method asks
+// for a thickness about the radius, 25 mm for the default 50 mm disc.
+inline constexpr double disc3_default_thickness = 0.025;
 
 // What a user can get wrong in a scene; the message names the key, the value and the fix.
 class SceneError : public std::runtime_error {

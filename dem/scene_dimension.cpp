@@ -38,29 +38,49 @@ void validate_2d(const Scene& s) {
              "the strike, or remove the key");
 }
 
+// The disc's own rules: its thickness holds one tetrahedron at least, and the quarter-of-the-extent rule applies to
+// its diameter (the section that carries the Brazilian stress field; across the thickness it is nearly uniform).
+void validate_3d_disc(const Scene& s) {
+  if (s.mesh.file.empty() && s.mesh.size > s.specimen.thickness)
+    throw SceneError(fmt::format("specimen.thickness = {} m is thinner than one tetrahedron of mesh.size = {} m: use "
+                                 "mesh.size <= {} m or a thicker disc",
+                                 real_text(s.specimen.thickness), real_text(s.mesh.size),
+                                 real_text(s.specimen.thickness)));
+  if (s.mesh.file.empty() && s.mesh.size > 0.25 * s.specimen.diameter)
+    throw SceneError(fmt::format("mesh.size = {} m is too coarse for the 3D disc (diameter {} m): use at most a "
+                                 "quarter of it ({} m)",
+                                 real_text(s.mesh.size), real_text(s.specimen.diameter),
+                                 real_text(0.25 * s.specimen.diameter)));
+}
+
 void validate_3d_specimen(const Scene& s) {
   const SpecimenParams d{};
-  if (s.specimen.shape != "cylinder" && s.specimen.shape != "prism")
+  const std::string& shape = s.specimen.shape;
+  if (shape != "cylinder" && shape != "prism" && shape != "disc")
     throw SceneError(fmt::format(
         "specimen.shape = \"{}\" is not built in 3D (specimen.dimension = 3): use \"cylinder\" (specimen.diameter x "
-        "specimen.height, the default) or \"prism\" (specimen.width x specimen.depth x specimen.height){}",
-        s.specimen.shape, s.specimen.shape == "disc" ? "; the Brazilian disc is 2D only: specimen.dimension = 2" : ""));
+        "specimen.height, the default), \"prism\" (specimen.width x specimen.depth x specimen.height) or \"disc\" "
+        "(specimen.diameter x specimen.thickness, the Brazilian test)",
+        shape));
   if (s.specimen.model != d.model)
     unused("specimen.model", "\"" + s.specimen.model + "\"", 3,
            "plane strain or stress is the 2D slice's reading; the solid needs none: remove the key");
-  if (s.specimen.thickness != d.thickness)
+  if (shape == "disc") return validate_3d_disc(s);
+  // Either default is fine (a scene built in code may set the dimension without Scene::given's defaults).
+  if (s.specimen.thickness != disc3_default_thickness && s.specimen.thickness != d.thickness)
     unused("specimen.thickness", real_text(s.specimen.thickness), 3,
-           "the solid's size is specimen.diameter (cylinder) or specimen.width and specimen.depth (prism)");
+           "the solid's size is specimen.diameter (cylinder) or specimen.width and specimen.depth (prism); the "
+           "thickness is the 3D disc's (specimen.shape = \"disc\")");
   if (s.specimen.contact_arc_deg != d.contact_arc_deg)
     unused("specimen.contact_arc_deg", real_text(s.specimen.contact_arc_deg), 3,
-           "it flattens the 2D Brazilian disc, which 3D does not build: remove the key");
-  const bool prism = s.specimen.shape == "prism";
+           "it flattens the Brazilian disc (specimen.shape = \"disc\"): remove the key");
+  const bool prism = shape == "prism";
   const double least = prism ? std::min({s.specimen.width, s.specimen.depth, s.specimen.height})
                              : std::min(s.specimen.diameter, s.specimen.height);
   if (s.mesh.file.empty() && s.mesh.size > 0.25 * least)
     throw SceneError(fmt::format("mesh.size = {} m is too coarse for the 3D {} (smallest extent {} m): use at most a "
                                  "quarter of it ({} m)",
-                                 real_text(s.mesh.size), s.specimen.shape, real_text(least), real_text(0.25 * least)));
+                                 real_text(s.mesh.size), shape, real_text(least), real_text(0.25 * least)));
 }
 
 // One tetrahedron across a layer at least (mesh_specimen3 checks the same; failing here reports it before any

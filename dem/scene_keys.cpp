@@ -99,11 +99,12 @@ void declare_geometry(Keys& k) {
   // [specimen]
   k.add(integer("specimen.dimension", "-", 2, 3,
                 "2: the plane slice through the dip (triangular blocks, the seed paper's model); 3: the solid "
-                "specimen (tetrahedral blocks, face bonds; shape cylinder or prism, mesh.size default 0.003 m)",
+                "specimen (tetrahedral blocks, face bonds; shape cylinder, prism or disc, mesh.size default 0.003 m)",
                 [](Scene& s) -> int& { return s.specimen.dimension; }));
   k.add(choice("specimen.shape", {"rectangle", "disc", "cylinder", "prism"},
                "2D: rectangle, width x height (uniaxial and confined compression), or disc, diameter (the Brazilian "
-               "test); 3D: cylinder, diameter x height (the default of a 3D scene), or prism, width x depth x height",
+               "test); 3D: cylinder, diameter x height (the default of a 3D scene), prism, width x depth x height, "
+               "or disc, diameter x thickness (the Brazilian test, axis along y)",
                [](Scene& s) -> std::string& { return s.specimen.shape; }));
   k.add(positive("specimen.width", "m", 100.0, "specimen width (horizontal, along x) of a rectangle or a 3D prism",
                  [](Scene& s) -> double& { return s.specimen.width; }));
@@ -117,10 +118,13 @@ void declare_geometry(Keys& k) {
                  "diameter of a disc (the Brazilian test; loaded along the vertical) or of a 3D cylinder",
                  [](Scene& s) -> double& { return s.specimen.diameter; }));
   k.add(real("specimen.contact_arc_deg", "deg", 0.0, 60.0,
-             "a disc's top and bottom are flattened over this angle 2 alpha (the contact arc of loading jaws, "
-             "ISRM: about 10 deg), so that the flat platens load an arc rather than a point; 0 = a full disc",
+             "a disc's (2D or 3D) top and bottom are flattened over this angle 2 alpha (the contact arc of "
+             "loading jaws, ISRM: about 10 deg), so that the flat platens load an arc rather than a point; 0 = a "
+             "full disc",
              [](Scene& s) -> double& { return s.specimen.contact_arc_deg; }));
-  k.add(positive("specimen.thickness", "m", 100.0, "out-of-plane thickness t (bond area A = L t)",
+  k.add(positive("specimen.thickness", "m", 100.0,
+                 "2D: out-of-plane thickness t (bond area A = L t); 3D: the disc's thickness along its axis y "
+                 "(default 0.025 m in 3D, ISRM: about the radius)",
                  [](Scene& s) -> double& { return s.specimen.thickness; }));
   k.add(choice("specimen.model", {"plane_strain", "plane_stress"},
                "2D interpretation of the continuum constants (FE model and Amadei's formula)",

@@ -18,17 +18,32 @@ std::array<double, 3> JointPlaneSet::normal() const {
 }
 
 std::array<double, 3> SpecimenGeometry3::centre() const {
+  if (shape == Shape3::disc) return {0.5 * diameter, 0.5 * thickness, 0.5 * diameter};
   if (shape == Shape3::cylinder) return {0.5 * diameter, 0.5 * diameter, 0.5 * height};
   return {0.5 * width, 0.5 * depth, 0.5 * height};
 }
 
 double SpecimenGeometry3::half_extent(const std::array<double, 3>& n) const {
+  if (shape == Shape3::disc) {
+    // In the x-z section: the round rim's R for directions farther than alpha from the vertical, else the corner of
+    // the flat, (R sin alpha, R cos alpha).
+    const double R = 0.5 * diameter, a = contact_arc_deg * std::numbers::pi / 360.0, s = std::hypot(n[0], n[2]);
+    const double in_plane = std::abs(n[2]) >= s * std::cos(a)
+                                ? R * (std::cos(a) * std::abs(n[2]) + std::sin(a) * std::abs(n[0]))
+                                : R * s;
+    return in_plane + 0.5 * thickness * std::abs(n[1]);
+  }
   const double vertical = 0.5 * height * std::abs(n[2]);
   if (shape == Shape3::cylinder) return 0.5 * diameter * std::hypot(n[0], n[1]) + vertical;
   return 0.5 * width * std::abs(n[0]) + 0.5 * depth * std::abs(n[1]) + vertical;
 }
 
 double SpecimenGeometry3::volume() const {
+  if (shape == Shape3::disc) {
+    // The disc less its two circular segments of half-angle alpha, R^2 (2 alpha - sin 2 alpha) / 2 each.
+    const double R = 0.5 * diameter, a = contact_arc_deg * std::numbers::pi / 360.0;
+    return thickness * R * R * (std::numbers::pi - (2.0 * a - std::sin(2.0 * a)));
+  }
   if (shape == Shape3::cylinder) return 0.25 * std::numbers::pi * diameter * diameter * height;
   return width * depth * height;
 }
@@ -64,10 +79,16 @@ void check_geometry(const SpecimenGeometry3& g, double h) {
       throw SceneError(fmt::format("{} = {} m: it must be a positive length", name, v));
   };
   positive(h, "mesh.size");
-  positive(g.height, "specimen.height");
-  if (g.shape == Shape3::cylinder) {
+  if (g.shape == Shape3::disc) {
+    positive(g.diameter, "specimen.diameter");
+    positive(g.thickness, "specimen.thickness");
+    if (!(g.contact_arc_deg >= 0 && g.contact_arc_deg <= 60))
+      throw SceneError(fmt::format("specimen.contact_arc_deg = {}: it must lie in [0, 60] deg", g.contact_arc_deg));
+  } else if (g.shape == Shape3::cylinder) {
+    positive(g.height, "specimen.height");
     positive(g.diameter, "specimen.diameter");
   } else {
+    positive(g.height, "specimen.height");
     positive(g.width, "specimen.width");
     positive(g.depth, "specimen.depth");
   }
@@ -125,8 +146,10 @@ SpecimenGeometry3 specimen_geometry3(const Scene& scene) {
                                  "solid specimen",
                                  scene.specimen.dimension, scene.specimen.dimension));
   SpecimenGeometry3 g;
-  g.shape = scene.specimen.shape == "prism" ? Shape3::prism : Shape3::cylinder;
+  const std::string& shape = scene.specimen.shape;
+  g.shape = shape == "prism" ? Shape3::prism : shape == "disc" ? Shape3::disc : Shape3::cylinder;
   g.diameter = scene.specimen.diameter;
+  g.thickness = scene.specimen.thickness, g.contact_arc_deg = scene.specimen.contact_arc_deg;
   g.width = scene.specimen.width, g.depth = scene.specimen.depth, g.height = scene.specimen.height;
   const JointSetParams& s1 = scene.joint_set;
   g.joints = s1.enabled;

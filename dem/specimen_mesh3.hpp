@@ -1,7 +1,10 @@
 // The three-dimensional specimen and its tetrahedral mesh, made with gmsh (the OpenCASCADE kernel).
 //
 // The specimen is a cylinder of diameter D and height H standing on z = 0, its axis at x = y = D/2 (inscribed in
-// the box [0, D] x [0, D] x [0, H]), or a prism [0, W] x [0, B] x [0, H] (width along x, depth along y). One or two
+// the box [0, D] x [0, D] x [0, H]), a prism [0, W] x [0, B] x [0, H] (width along x, depth along y), or the
+// Brazilian disc: a disc of diameter D and thickness t, its axis along y through (D/2, y, D/2) (inscribed in
+// [0, D] x [0, t] x [0, D], so its x-z section is the 2D disc), flattened at the top and bottom over the contact
+// arc 2 alpha (the flats at z = D/2 -+ (D/2) cos alpha, tagged bottom and top: the platens load them). One or two
 // sets of parallel joint planes cut it: each set has a dip from the horizontal and a dip direction (0: the strike
 // along the depth axis y, so the x-z section through the centre is the 2D specimen's slice through the dip; axes and
 // normal as in theory/elasticity3.hpp), a spacing along its normal and an offset, one plane through the specimen's
@@ -9,8 +12,8 @@
 // to every joint plane: each piece between planes is one layer (one physical volume), and a joint is a surface of
 // mesh faces with a different layer on either side.
 //
-// A scene with specimen.dimension = 3 fills it (specimen_geometry3): specimen.shape, diameter, width, depth and
-// height, and each joint set's dip_deg, dip_direction_deg, spacing and offset.
+// A scene with specimen.dimension = 3 fills it (specimen_geometry3): specimen.shape, diameter, width, depth,
+// height, thickness and contact_arc_deg, and each joint set's dip_deg, dip_direction_deg, spacing and offset.
 #pragma once
 
 #include <array>
@@ -23,7 +26,7 @@
 
 namespace rbdem {
 
-enum class Shape3 { cylinder, prism };
+enum class Shape3 { cylinder, prism, disc };
 
 struct JointPlaneSet {
   double dip_deg = 60.0, dip_direction_deg = 0.0;  // deg
@@ -35,7 +38,9 @@ struct SpecimenGeometry3 {
   Shape3 shape = Shape3::cylinder;
   double diameter = 0.05;             // m, the cylinder
   double width = 0.05, depth = 0.05;  // m, the prism along x and y
-  double height = 0.10;               // m
+  double height = 0.10;               // m, the cylinder and the prism
+  double thickness = 0.025;           // m, the disc along y
+  double contact_arc_deg = 10.0;      // deg, the disc's flats subtend 2 alpha at its centre (0: a full disc)
   bool joints = true;                 // the first set is there
   JointPlaneSet set1;
   bool second_set = false;  // the second set is there

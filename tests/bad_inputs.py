@@ -120,7 +120,11 @@ CASES = [
     ("persistence with a user mesh", "mesh --mesh good_square.msh --set joint_set.persistence=0.5",
      "joint_set.persistence"),
     # --- 3D scenes (specimen.dimension = 3)
-    ("a 3D disc", "mesh --set specimen.dimension=3 --set specimen.shape=disc", "specimen.shape"),
+    ("a 3D disc thinner than one tetrahedron",
+     "mesh --set specimen.dimension=3 --set specimen.shape=disc --set specimen.thickness=0.002",
+     "specimen.thickness"),
+    ("a 3D full disc in the Brazilian test", "brazilian --set specimen.dimension=3 --set specimen.contact_arc_deg=0",
+     "specimen.contact_arc_deg"),
     ("a 3D scene with non-persistent joints", "mesh --set specimen.dimension=3 --set joint_set.persistence=0.5",
      "joint_set.persistence"),
     ("a 3D scene with a 2D user mesh (no tetrahedra)", "mesh --set specimen.dimension=3 --mesh good_square.msh",

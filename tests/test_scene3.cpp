@@ -82,7 +82,8 @@ TEST(Scene3, PrintedSceneRoundTrips) {
 TEST(Scene3, KeysWithoutMeaningInThreeDimensionsAreRefused) {
   const std::string d3 = "[specimen]\ndimension = 3\n";
   const std::pair<std::string, std::string> cases[] = {
-      {d3 + "shape = \"disc\"\n", "specimen.shape"},
+      {d3 + "shape = \"disc\"\n[mesh]\nsize = 0.03\n", "specimen.thickness"},
+      {d3 + "shape = \"disc\"\ndiameter = 0.05\nthickness = 0.1\n[mesh]\nsize = 0.02\n", "mesh.size"},
       {d3 + "shape = \"rectangle\"\n", "specimen.shape"},
       {d3 + "model = \"plane_stress\"\n", "specimen.model"},
       {d3 + "thickness = 0.05\n", "specimen.thickness"},

@@ -39,6 +39,10 @@ void check_scene(const Scene& scene) {
     throw SceneError(fmt::format("mesh.file = \"{}\": the 3D elastic gate meshes the specimen at every dip, which a "
                                  "user mesh cannot follow; remove mesh.file (rbdem mesh reads it)",
                                  scene.mesh.file));
+  if (scene.specimen.shape == "disc")
+    throw SceneError("specimen.shape = \"disc\": rbdem elastic in 3D compresses a cylinder or a prism between its "
+                     "platens (the moduli from the axial and lateral strains); use specimen.shape = \"cylinder\" or "
+                     "\"prism\" (rbdem brazilian runs the disc)");
   if (scene.joint_set2.enabled)
     throw SceneError("joint_set2.enabled = true: rbdem elastic in 3D measures the five constants of one joint set "
                      "(transverse isotropy); set joint_set2.enabled = false");

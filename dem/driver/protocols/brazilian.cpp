@@ -6,6 +6,10 @@
 // stress 2 P / (pi D t) of the platen force P; its peak is the Brazilian tensile strength. Failure modes as the
 // literature names them for layered discs: a central fracture across the layers, layer activation (splitting along
 // the joints), mixed, or a fracture off the loaded diameter.
+//
+// A 3D scene (specimen.dimension = 3) loads the solid disc of dem/specimen_mesh3.hpp, its axis along y, between the
+// same platens: t is then the disc's extent along its axis, and the flats are required (the 3D platens and the 3D
+// static start load faces on the platen planes; a full disc touches them along a line, which no face lies on).
 #include <cmath>
 #include <numbers>
 
@@ -37,6 +41,9 @@ std::string classify_brazilian(const std::vector<Crack>& cracks, const Specimen&
 
 namespace {
 
+// The disc's thickness t: the slice's out-of-plane thickness (2D) or the solid's extent along its axis y (3D).
+double disc_thickness(const Specimen& s) { return s.dim == 3 ? s.hi[1] - s.lo[1] : s.thickness; }
+
 class BrazilianProtocol final : public PlatenTest {
  public:
   using PlatenTest::PlatenTest;
@@ -55,7 +62,7 @@ class BrazilianProtocol final : public PlatenTest {
   void results(const Simulation& sim, const TestRecord& record, TestResult& result) const override {
     const Specimen& s = sim.specimen();
     result.own = {{"tensile_strength_pa", record.peak, true},
-                  {"peak_load_n", 0.5 * record.peak * std::numbers::pi * s.width() * s.thickness, true},
+                  {"peak_load_n", 0.5 * record.peak * std::numbers::pi * s.width() * disc_thickness(s), true},
                   {"layer_angle_deg", 90.0 - scene_.joint_set.dip_deg, false},
                   {"diameter_m", s.width(), false}};
   }
@@ -66,7 +73,7 @@ class BrazilianProtocol final : public PlatenTest {
  protected:
   // 2 F / (pi D t), the ISRM tensile stress of the load F on a disc of diameter D and thickness t.
   double stress_of(double force, const Simulation& sim) const override {
-    return 2.0 * force / (std::numbers::pi * sim.specimen().width() * sim.specimen().thickness);
+    return 2.0 * force / (std::numbers::pi * sim.specimen().width() * disc_thickness(sim.specimen()));
   }
 
  private:
@@ -85,6 +92,9 @@ ProtocolInfo brazilian_protocol() {
     if (scene.specimen.shape != "disc" && scene.mesh.file.empty())
       throw SceneError("the Brazilian test loads a disc: set specimen.shape = \"disc\" (and specimen.diameter)");
     refuse_confining_pressure("brazilian", scene);
+    if (scene.specimen.dimension == 3 && scene.mesh.file.empty() && !(scene.specimen.contact_arc_deg > 0.0))
+      throw SceneError("specimen.contact_arc_deg = 0: the 3D Brazilian disc is loaded on its flats (the 3D platens "
+                       "and static start load faces on the platen planes); give a contact arc, e.g. 10 deg (ISRM)");
     if (scene.loading.transit_strain_fraction > 0.0 && !(scene.specimen.contact_arc_deg > 0.0))
       throw SceneError("loading.transit_strain_fraction sets the platen speed from the static elastic start, which a "
                        "disc touched at points (specimen.contact_arc_deg = 0) has not: give a contact arc, or set "
