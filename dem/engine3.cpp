@@ -20,10 +20,6 @@ std::array<std::size_t, 2> share(std::size_t n, int t, int nt) {
   return {n * std::size_t(t) / std::size_t(nt), n * std::size_t(t + 1) / std::size_t(nt)};
 }
 
-stages::BlockKin3 kin(const ModelState<3>& s, std::size_t b) {
-  return {s.position(b), s.rotation(b), s.velocity(b), s.spin(b)};
-}
-
 }  // namespace
 
 Engine<3>::Engine(const TetMesh& mesh, const Scene& scene, const EngineOptions& options)
@@ -39,6 +35,7 @@ Engine<3>::Engine(const TetMesh& mesh, const Scene& scene, const EngineOptions& 
   s.broken.assign(nbond, 0);
   s.fs1.assign(nbond, 0.0), s.fs2.assign(nbond, 0.0), s.drive.assign(nbond, 0.0);
   slot_.resize(nbond);
+  refresh_records();
   ext_f_.resize(nb), ext_m_.resize(nb), damping_work_.resize(nb);
   nthreads_ = std::max(options_.threads > 0 ? options_.threads : omp_get_max_threads(), 1);
   const char* adapt = std::getenv("RBDEM_ADAPT_THREADS");
@@ -74,6 +71,7 @@ void Engine<3>::restore(const ModelState<3>& s) {
                                             "written for another scene or mesh", s.num_blocks(), s.num_bonds(),
                                             model_.num_blocks(), model_.num_bonds()));
   state_ = s;
+  refresh_records();
 }
 
 void Engine<3>::break_bond(int b) { state_.broken.at(std::size_t(b)) = 1; }
@@ -83,68 +81,78 @@ void Engine<3>::fix_block(int b, bool fixed) {
   if (fixed) {
     const std::size_t k = std::size_t(b);
     state_.vx[k] = state_.vy[k] = state_.vz[k] = state_.wx[k] = state_.wy[k] = state_.wz[k] = 0.0;
+    refresh_record(k);
   }
 }
 
 // --- the bond stage ------------------------------------------------------------------------------------------------
 
-void Engine<3>::bond_slot(std::size_t b, const ModelState<3>& s, double dt, double* drive, Slot& out) const {
-  const Model<3>& m = model_;
-  const bool broken = s.broken[b] != 0;
-  const std::size_t i = std::size_t(m.bi[b]), j = std::size_t(m.bj[b]);
-  out.keep = broken ? 0.0 : FaceBond::intact_fraction(s.drive[b], m.rupture[b]);
-  stages::FaceBondEval e;
-  if (broken) {  // the linear part goes on as a face contact with the material's friction
-    stages::FaceBondFrame f = m.frame[b];
-    f.mu = m.law[m.material[b]].mu;
-    e = stages::eval_face_bond(f, kin(s, i), kin(s, j), dt, s.fs1[b], s.fs2[b], 0.0);
-  } else {
-    e = stages::eval_face_bond(m.frame[b], kin(s, i), kin(s, j), dt, s.fs1[b], s.fs2[b], out.keep);
-  }
-  out.f = e.f, out.mi = e.mi, out.mj = e.mj, out.p = e.p, out.pb = e.pb, out.linear = e.linear;
-  out.broke = BreakMode::none;
-  if (broken) {
-    out.sigma = out.tau = out.index = 0.0;
-    return;
-  }
-  const FaceBond law = m.bond_law(b);
-  const BondLoad q = law.load(m.frame[b].section, e.pb);
-  const double A = m.frame[b].section.A;
-  out.sigma = q.tension / A, out.tau = q.shear / A;
-  bool tensile = false;
-  out.index = q.index(tensile);
-  if (drive) out.broke = law.advance(q, m.rupture[b], *drive);
+void Engine<3>::refresh_record(std::size_t b) {
+  const ModelState<3>& s = state_;
+  record_[b] = stages::block_record(s.position(b), s.rotation(b), s.velocity(b), s.spin(b));
 }
 
-void Engine<3>::bond_range(std::size_t b0, std::size_t b1, double dt, bool advance, std::vector<int>* breaks) {
+void Engine<3>::refresh_records() {
+  record_.resize(state_.num_blocks());
+  for (std::size_t b = 0; b < record_.size(); ++b) refresh_record(b);
+}
+
+stages::FaceBondOut Engine<3>::bond_now(std::size_t b, double& keep) const {
+  using F = stages::FaceBondTable;
+  const Model<3>& m = model_;
+  const ModelState<3>& s = state_;
+  const stages::FaceBondTable& t = m.table;
+  const bool broken = s.broken[b] != 0;
+  keep = broken ? 0.0 : FaceBond::intact_fraction(s.drive[b], t.at(F::rupture, b));
+  return stages::face_bond_forces(t, b, record_[std::size_t(m.bi[b])], record_[std::size_t(m.bj[b])], 0.0, s.fs1[b],
+                                  s.fs2[b], keep, broken ? t.at(F::mu_broken, b) : t.at(F::mu_bonded, b));
+}
+
+// The bonds [b0, b1): each one's forces into its slot; with `advance` its linear part's shear history and, while
+// breakage is on, the failure test on its undamaged forces (the softening history advanced, a break listed).
+void Engine<3>::bond_range(std::size_t b0, std::size_t b1, double dt, bool advance, std::vector<Break>* breaks) {
+  using F = stages::FaceBondTable;
   ModelState<3>& s = state_;
+  const Model<3>& m = model_;
+  const stages::FaceBondTable& t = m.table;
   const bool test = advance && s.breakage;
+  const double *rupture = t[F::rupture], *mu_bonded = t[F::mu_bonded], *mu_broken = t[F::mu_broken];
   for (std::size_t b = b0; b < b1; ++b) {
-    Slot& out = slot_[b];
-    bond_slot(b, s, dt, test ? &s.drive[b] : nullptr, out);
+    const bool broken = s.broken[b] != 0;
+    const double keep = broken ? 0.0 : FaceBond::intact_fraction(s.drive[b], rupture[b]);
+    const stages::BlockRecord3& I = record_[std::size_t(m.bi[b])];
+    const stages::FaceBondOut e = stages::face_bond_forces(t, b, I, record_[std::size_t(m.bj[b])], dt, s.fs1[b],
+                                                           s.fs2[b], keep, broken ? mu_broken[b] : mu_bonded[b]);
+    slot_[b] = {e.f, e.mi, e.mj};
     if (!advance) continue;
-    s.fs1[b] = out.linear.fs1, s.fs2[b] = out.linear.fs2;
-    if (out.broke != BreakMode::none) breaks->push_back(int(b));
+    s.fs1[b] = e.linear.fs1, s.fs2[b] = e.linear.fs2;
+    if (!test || broken) continue;
+    const BondLoad q = stages::face_bond_load(t, b, e.pb);
+    ParallelBond rule;  // its advance reads only `softening`
+    rule.softening = t.at(F::softening, b);
+    const BreakMode mode = rule.advance(q, rupture[b], s.drive[b]);
+    if (mode == BreakMode::none) continue;
+    const double A = t.at(F::area, b);
+    breaks->push_back({int(b), mode, I.x + e.ci, q.tension / A, q.shear / A});
   }
 }
 
 // The bonds broken this step, in bond order (the threads' lists in thread order): broken from the next step on,
 // each logged as a crack.
-void Engine<3>::log_breaks(const std::vector<std::vector<int>>& breaks) {
+void Engine<3>::log_breaks(const std::vector<std::vector<Break>>& breaks) {
   ModelState<3>& s = state_;
-  for (const std::vector<int>& list : breaks)
-    for (int bond : list) {
-      const std::size_t b = std::size_t(bond);
+  for (const std::vector<Break>& list : breaks)
+    for (const Break& k : list) {
+      const std::size_t b = std::size_t(k.bond);
       s.broken[b] = 1;
-      const Slot& sl = slot_[b];
       Crack c;
       c.time = s.time, c.strain = s.strain_for_log;
-      c.position = {sl.p.x, sl.p.y, sl.p.z};
+      c.position = {k.p.x, k.p.y, k.p.z};
       const Vec3 n = model_.frame[b].axes.r[2];
       c.normal = {n.x, n.y, n.z};
       c.size = model_.frame[b].section.A;
-      c.bond = bond, c.kind = model_.kind[b], c.mode = sl.broke;
-      c.sigma = sl.sigma, c.tau = sl.tau;
+      c.bond = k.bond, c.kind = model_.kind[b], c.mode = k.mode;
+      c.sigma = k.sigma, c.tau = k.tau;
       s.cracks.push_back(c);
       if (on_crack) on_crack(s.cracks.back());
     }
@@ -174,6 +182,7 @@ double Engine<3>::integrate(std::size_t b, Vec3 force, Vec3 moment) {
   s.vx[b] = r.v.x, s.vy[b] = r.v.y, s.vz[b] = r.v.z;
   s.qw[b] = r.q.w, s.qx[b] = r.q.x, s.qy[b] = r.q.y, s.qz[b] = r.q.z;
   s.wx[b] = r.omega.x, s.wy[b] = r.omega.y, s.wz[b] = r.omega.z;
+  record_[b] = stages::block_record(r.x, r.q, r.v, r.omega);
   return work;
 }
 
