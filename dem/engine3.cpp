@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
@@ -101,39 +102,136 @@ stages::FaceBondOut Engine<3>::bond_now(std::size_t b, double& keep) const {
   using F = stages::FaceBondTable;
   const Model<3>& m = model_;
   const ModelState<3>& s = state_;
-  const stages::FaceBondTable& t = m.table;
+  const stages::FaceBondColumns t(m.table);
   const bool broken = s.broken[b] != 0;
-  keep = broken ? 0.0 : FaceBond::intact_fraction(s.drive[b], t.at(F::rupture, b));
-  return stages::face_bond_forces(t, b, record_[std::size_t(m.bi[b])], record_[std::size_t(m.bj[b])], 0.0, s.fs1[b],
-                                  s.fs2[b], keep, broken ? t.at(F::mu_broken, b) : t.at(F::mu_bonded, b));
+  keep = broken ? 0.0 : stages::intact_fraction(s.drive[b], t(F::rupture, b));
+  int regular = 1;
+  return stages::face_bond_forces<true>(t, b, record_[std::size_t(m.bi[b])], record_[std::size_t(m.bj[b])], 0.0,
+                                        s.fs1[b], s.fs2[b], keep, broken ? t(F::mu_broken, b) : t(F::mu_bonded, b),
+                                        regular);
 }
 
-// The bonds [b0, b1): each one's forces into its slot; with `advance` its linear part's shear history and, while
-// breakage is on, the failure test on its undamaged forces (the softening history advanced, a break listed).
+namespace {
+
+// Bonds per chunk of the kernel: its per-bond results stay in the first level of the cache until the serial pass.
+constexpr int kChunk = 64;
+
+// What one thread's share of the kernel reads and writes.
+struct BondRange {
+  stages::FaceBondColumns t;
+  const int *bi, *bj;
+  const stages::BlockRecord3* record;
+  const std::uint8_t* broken;
+  const double *drive, *fs1, *fs2;
+  stages::FaceBondSlot* slot;
+  double dt;
+};
+// One chunk's results: the new shear history, and per bond 1 where the branch-free form does not hold (the exact
+// form recomputes it) plus 2 where the failure test's load reaches the bond's strength (the law then decides).
+struct ChunkOut {
+  double fs1[kChunk], fs2[kChunk];
+  int flag[kChunk];
+};
+
+// Bond b's intact fraction and the linear part's friction.
+[[gnu::always_inline]] inline void bond_status(const BondRange& r, std::size_t b, double& keep, double& mu) {
+  using F = stages::FaceBondTable;
+  const bool broken = r.broken[b] != 0;
+  const double intact = stages::intact_fraction(r.drive[b], r.t(F::rupture, b));
+  const double mu_broken = r.t(F::mu_broken, b), mu_bonded = r.t(F::mu_bonded, b);  // both read: no branch
+  keep = broken ? 0.0 : intact;
+  mu = broken ? mu_broken : mu_bonded;
+}
+
+// The doubles of a block record the kernel reads (BlockRecord3 but its padding).
+constexpr int kRecord = 22;
+using Rows = double[kRecord][kChunk];
+
+// The records of the blocks idx[0 .. n) transposed into rows: the vector lanes then read them contiguously.
+[[gnu::always_inline]] inline void load_records(const stages::BlockRecord3* record, const int* idx, int n, Rows& rows) {
+  for (int k = 0; k < n; ++k) {
+    const double* p = &record[idx[k]].x.x;
+    for (int f = 0; f < kRecord; ++f) rows[f][k] = p[f];
+  }
+}
+[[gnu::always_inline]] inline stages::BlockRecord3 record_at(const Rows& a, int k) {
+  return {{a[0][k], a[1][k], a[2][k]},
+          {a[3][k], a[4][k], a[5][k], a[6][k]},
+          {{{a[7][k], a[8][k], a[9][k]}, {a[10][k], a[11][k], a[12][k]}, {a[13][k], a[14][k], a[15][k]}}},
+          {a[16][k], a[17][k], a[18][k]},
+          {a[19][k], a[20][k], a[21][k]}};
+}
+
+// The bonds [b0, b0 + n) in the branch-free form: no branches, so `omp simd` vectorises it.
+[[gnu::always_inline]] inline void bond_chunk_body(const BondRange& range, std::size_t b0, int n, ChunkOut& out) {
+  const BondRange r = range;  // a local copy: the stores must not make the loop reload its array pointers
+  alignas(64) Rows ri, rj;
+  load_records(r.record, r.bi + b0, n, ri);
+  load_records(r.record, r.bj + b0, n, rj);
+#pragma GCC ivdep
+  for (int k = 0; k < n; ++k) {
+    const std::size_t b = b0 + std::size_t(k);
+    double keep, mu;
+    bond_status(r, b, keep, mu);
+    int regular = 1;
+    const stages::FaceBondOut e = stages::face_bond_forces<false>(r.t, b, record_at(ri, k), record_at(rj, k), r.dt,
+                                                                  r.fs1[b], r.fs2[b], keep, mu, regular);
+    stages::FaceBondSlot& slot = r.slot[b];
+    stages::store(slot.f, e.f), stages::store(slot.mi, e.mi), stages::store(slot.mj, e.mj);
+    out.fs1[k] = e.fs1_lin, out.fs2[k] = e.fs2_lin;
+    const BondLoad q = stages::face_bond_load(r.t, b, e.pb);
+    const double scale = r.drive[b] > 0.0 ? r.drive[b] : 1.0;
+    out.flag[k] = (1 - regular) | (((r.broken[b] == 0) & q.exceeds(scale)) << 1);
+  }
+}
+
+// The chunk compiled for AVX-512, AVX2 and the baseline instruction set, one chosen when the program starts. The
+// arithmetic is the same in each (no fused multiply-add, no reassociation: dem/CMakeLists.txt), so are the numbers.
+[[gnu::target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")]] void bond_chunk(const BondRange& r,
+                                                                                      std::size_t b0, int n,
+                                                                                      ChunkOut& out) {
+  bond_chunk_body(r, b0, n, out);
+}
+
+}  // namespace
+
+// The bonds [b0, b1) chunk by chunk: each one's forces into its slot; with `advance` its linear part's shear history
+// and, while breakage is on, the failure test on its undamaged forces (the softening history advanced, a break
+// listed). A bond the branch-free kernel does not take (a partly open face, a large relative rotation) and a bond
+// at its strength are computed again in the exact form, which gives the kernel's numbers where both apply.
 void Engine<3>::bond_range(std::size_t b0, std::size_t b1, double dt, bool advance, std::vector<Break>* breaks) {
   using F = stages::FaceBondTable;
   ModelState<3>& s = state_;
   const Model<3>& m = model_;
-  const stages::FaceBondTable& t = m.table;
+  const BondRange r{stages::FaceBondColumns(m.table), m.bi.data(), m.bj.data(), record_.data(), s.broken.data(),
+                    s.drive.data(), s.fs1.data(), s.fs2.data(), slot_.data(), dt};
   const bool test = advance && s.breakage;
-  const double *rupture = t[F::rupture], *mu_bonded = t[F::mu_bonded], *mu_broken = t[F::mu_broken];
-  for (std::size_t b = b0; b < b1; ++b) {
-    const bool broken = s.broken[b] != 0;
-    const double keep = broken ? 0.0 : FaceBond::intact_fraction(s.drive[b], rupture[b]);
-    const stages::BlockRecord3& I = record_[std::size_t(m.bi[b])];
-    const stages::FaceBondOut e = stages::face_bond_forces(t, b, I, record_[std::size_t(m.bj[b])], dt, s.fs1[b],
-                                                           s.fs2[b], keep, broken ? mu_broken[b] : mu_bonded[b]);
-    slot_[b] = {e.f, e.mi, e.mj};
-    if (!advance) continue;
-    s.fs1[b] = e.linear.fs1, s.fs2[b] = e.linear.fs2;
-    if (!test || broken) continue;
-    const BondLoad q = stages::face_bond_load(t, b, e.pb);
-    ParallelBond rule;  // its advance reads only `softening`
-    rule.softening = t.at(F::softening, b);
-    const BreakMode mode = rule.advance(q, rupture[b], s.drive[b]);
-    if (mode == BreakMode::none) continue;
-    const double A = t.at(F::area, b);
-    breaks->push_back({int(b), mode, I.x + e.ci, q.tension / A, q.shear / A});
+  ChunkOut out;
+  for (std::size_t c0 = b0; c0 < b1; c0 += kChunk) {
+    const int n = int(std::min<std::size_t>(kChunk, b1 - c0));
+    bond_chunk(r, c0, n, out);
+    for (int k = 0; k < n; ++k) {
+      const std::size_t b = c0 + std::size_t(k);
+      const int flag = out.flag[k] & (test ? 3 : 1);
+      if (flag) {
+        double keep, mu;
+        bond_status(r, b, keep, mu);
+        int regular = 1;
+        const stages::BlockRecord3& I = record_[std::size_t(m.bi[b])];
+        const stages::FaceBondOut e = stages::face_bond_forces<true>(r.t, b, I, record_[std::size_t(m.bj[b])], dt,
+                                                                     s.fs1[b], s.fs2[b], keep, mu, regular);
+        if (flag & 1) slot_[b] = {e.f, e.mi, e.mj}, out.fs1[k] = e.fs1_lin, out.fs2[k] = e.fs2_lin;
+        if (flag & 2) {
+          const BondLoad q = stages::face_bond_load(r.t, b, e.pb);
+          ParallelBond rule;  // its advance reads only `softening`
+          rule.softening = r.t(F::softening, b);
+          const BreakMode mode = rule.advance(q, r.t(F::rupture, b), s.drive[b]);
+          const double A = r.t(F::area, b);
+          if (mode != BreakMode::none) breaks->push_back({int(b), mode, I.x + e.ci, q.tension / A, q.shear / A});
+        }
+      }
+      if (advance) s.fs1[b] = out.fs1[k], s.fs2[b] = out.fs2[k];
+    }
   }
 }
 
@@ -164,7 +262,7 @@ void Engine<3>::gather(std::size_t b, Vec3& force, Vec3& moment) const {
   const Model<3>& m = model_;
   for (int o = m.offset[b]; o < m.offset[b + 1]; ++o) {
     const int e = m.gather[std::size_t(o)];
-    const Slot& sl = slot_[std::size_t(e >> 1)];
+    const stages::FaceBondSlot& sl = slot_[std::size_t(e >> 1)];
     if (e & 1) force += sl.f, moment += sl.mj;
     else force -= sl.f, moment += sl.mi;
   }

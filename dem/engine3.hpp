@@ -78,11 +78,6 @@ class Engine<3> {
   std::function<void(const Crack&)> on_crack;
 
  private:
-  // One bond's forces this step as the gather reads them: the force on j (world; -f on i) and the moments on i and
-  // j about their centroids.
-  struct Slot {
-    Vec3 f, mi, mj;
-  };
   // A bond that broke this step, with what its crack records: the bond point, the mode, the peripheral stresses.
   struct Break {
     int bond = 0;
@@ -107,7 +102,7 @@ class Engine<3> {
   ModelState<3> state_;
   std::vector<BoundaryHooks<3>*> hooks_;
   // workspace (derived, never stored)
-  std::vector<Slot> slot_;
+  std::vector<stages::FaceBondSlot> slot_;  // each bond's forces this step, as the gather reads them
   std::vector<stages::BlockRecord3> record_;  // each block's kinematics and rotation matrix, the step's start
   std::vector<Vec3> ext_f_, ext_m_;
   std::vector<double> damping_work_;

@@ -46,7 +46,7 @@ BondStates Engine<3>::bond_states() const {
     const double fn = dot(e.f, e.normal);
     t.normal_force[b] = fn, t.shear_force[b] = norm(e.f - fn * e.normal);
     bool tensile = false;
-    t.failure_index[b] = s.broken[b] ? 0.0 : stages::face_bond_load(m.table, b, e.pb).index(tensile);
+    t.failure_index[b] = s.broken[b] ? 0.0 : stages::face_bond_load(stages::FaceBondColumns(m.table), b, e.pb).index(tensile);
     t.damage[b] = 1.0 - keep;
   }
   return t;
@@ -73,8 +73,7 @@ Energies Engine<3>::energies() const {
     const stages::FaceBondOut ev = bond_now(b, keep);
     const FaceStiffness& k = m.frame[b].k;
     if (!s.broken[b]) e.strain += keep * FaceBond::strain_energy(k, ev.pb);
-    const FaceLinearPart& l = ev.linear;
-    e.strain += 0.5 * (l.fn * l.fn / k.kn + (l.fs1 * l.fs1 + l.fs2 * l.fs2) / k.ks);
+    e.strain += 0.5 * (ev.fn_lin * ev.fn_lin / k.kn + (ev.fs1_lin * ev.fs1_lin + ev.fs2_lin * ev.fs2_lin) / k.ks);
   }
   for (const BoundaryHooks<3>* h : hooks_) e.strain += h->stored_energy(), e.work += h->work_done();
   e.damping = s.e_damping, e.friction = s.e_friction;
