@@ -144,7 +144,7 @@ struct ChunkOut {
 }
 
 // The doubles of a block record the kernel reads (BlockRecord3 but its padding).
-constexpr int kRecord = 22;
+constexpr int kRecord = 13;
 using Rows = double[kRecord][kChunk];
 
 // The records of the blocks idx[0 .. n) transposed into rows: the vector lanes then read them contiguously.
@@ -157,9 +157,8 @@ using Rows = double[kRecord][kChunk];
 [[gnu::always_inline]] inline stages::BlockRecord3 record_at(const Rows& a, int k) {
   return {{a[0][k], a[1][k], a[2][k]},
           {a[3][k], a[4][k], a[5][k], a[6][k]},
-          {{{a[7][k], a[8][k], a[9][k]}, {a[10][k], a[11][k], a[12][k]}, {a[13][k], a[14][k], a[15][k]}}},
-          {a[16][k], a[17][k], a[18][k]},
-          {a[19][k], a[20][k], a[21][k]}};
+          {a[7][k], a[8][k], a[9][k]},
+          {a[10][k], a[11][k], a[12][k]}};
 }
 
 // The bonds [b0, b0 + n) in the branch-free form: no branches, so `omp simd` vectorises it.
@@ -191,7 +190,7 @@ inline void prefetch_records(const BondRange& r, std::size_t b0, std::size_t b1)
   for (std::size_t b = b0; b < b1; ++b)
     for (const int block : {r.bi[b], r.bj[b]}) {
       const char* p = reinterpret_cast<const char*>(r.record + block);
-      __builtin_prefetch(p), __builtin_prefetch(p + 64), __builtin_prefetch(p + 128);
+      __builtin_prefetch(p), __builtin_prefetch(p + 64);
     }
 }
 

@@ -103,7 +103,7 @@ class Engine<3> {
   std::vector<BoundaryHooks<3>*> hooks_;
   // workspace (derived, never stored)
   std::vector<stages::FaceBondSlot> slot_;  // each bond's forces this step, as the gather reads them
-  std::vector<stages::BlockRecord3> record_;  // each block's kinematics and rotation matrix, the step's start
+  std::vector<stages::BlockRecord3> record_;  // each block's kinematics at the step's start
   std::vector<Vec3> ext_f_, ext_m_;
   std::vector<double> damping_work_;
   std::vector<std::vector<Break>> breaks_;  // per thread, the bonds it broke this step, ascending

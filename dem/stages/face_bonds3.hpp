@@ -18,18 +18,17 @@
 
 namespace rbdem::stages {
 
-// One block as the bond stage reads it: centroid, rotation from rest as a quaternion and as the matrix R (R v =
-// q v q*), velocity and angular velocity (world). 24 doubles, three cache lines.
-struct BlockRecord3 {
+// One block as the bond stage reads it: centroid, rotation from rest, velocity and angular velocity (world). 16
+// doubles, two cache lines.
+struct alignas(64) BlockRecord3 {
   Vec3 x;
   Quat q;
-  Mat3 R;
   Vec3 v, omega;
-  double pad[2] = {0, 0};
+  double pad[3] = {0, 0, 0};
 };
-static_assert(sizeof(BlockRecord3) == 24 * sizeof(double));
+static_assert(sizeof(BlockRecord3) == 16 * sizeof(double));
 
-inline BlockRecord3 block_record(Vec3 x, Quat q, Vec3 v, Vec3 omega) { return {x, q, matrix(q), v, omega}; }
+inline BlockRecord3 block_record(Vec3 x, Quat q, Vec3 v, Vec3 omega) { return {x, q, v, omega}; }
 
 // The face bonds' constants, one array of doubles per field, in bond order.
 class FaceBondTable {
@@ -151,8 +150,8 @@ template <bool Exact>
   const Vec3 a1{t(F::e2x, b), t(F::e2y, b), t(F::e2z, b)};
   const Vec3 a2{t(F::nx, b), t(F::ny, b), t(F::nz, b)};
   const Mat3 frame{{Rm * a0, Rm * a1, Rm * a2}};
-  const Vec3 ai = I.R * Vec3{t(F::rix, b), t(F::riy, b), t(F::riz, b)};
-  const Vec3 aj = J.R * Vec3{t(F::rjx, b), t(F::rjy, b), t(F::rjz, b)};
+  const Vec3 ai = rotate(I.q, {t(F::rix, b), t(F::riy, b), t(F::riz, b)});
+  const Vec3 aj = rotate(J.q, {t(F::rjx, b), t(F::rjy, b), t(F::rjz, b)});
   const Vec3 g = (J.x + aj) - (I.x + ai);
   const Vec3 ci = ai + 0.5 * g, cj = aj - 0.5 * g;
   const Vec3 d = frame * g;
