@@ -279,19 +279,95 @@ void Engine<3>::gather(std::size_t b, Vec3& force, Vec3& moment) const {
   force += ext_f_[b], moment += ext_m_[b];
 }
 
-double Engine<3>::integrate(std::size_t b, Vec3 force, Vec3 moment) {
+namespace {
+
+// What one thread's share of the block stage reads.
+struct BlockRange {
+  const RigidBody3* body;
+  const double *x, *y, *z, *qw, *qx, *qy, *qz, *vx, *vy, *vz, *wx, *wy, *wz;
+  double dt, alpha;
+};
+// One chunk of blocks: the gathered force and moment, the state after the step (x, v, q, omega), the damping's
+// work, and 1 where the branch-free step holds (else the exact form recomputes it).
+struct BlockChunk {
+  double f[6][kChunk];
+  double next[13][kChunk];
+  double work[kChunk];
+  int regular[kChunk];
+};
+
+[[gnu::always_inline]] inline RigidState3 rigid_state(const BlockRange& r, std::size_t b) {
+  return {{r.x[b], r.y[b], r.z[b]}, {r.vx[b], r.vy[b], r.vz[b]}, {r.qw[b], r.qx[b], r.qy[b], r.qz[b]},
+          {r.wx[b], r.wy[b], r.wz[b]}};
+}
+
+// The blocks [b0, b0 + n) in the branch-free step (rigid3::step): no branches, so the loop vectorises.
+[[gnu::always_inline]] inline void block_chunk_body(const BlockRange& range, std::size_t b0, int n, BlockChunk& c) {
+  const BlockRange r = range;  // a local copy: the stores must not make the loop reload its array pointers
+#pragma GCC ivdep
+  for (int k = 0; k < n; ++k) {
+    const std::size_t b = b0 + std::size_t(k);
+    RigidState3 st = rigid_state(r, b);
+    int regular = 1;
+    c.work[k] = rigid3::step<false>(r.body[b], st, {c.f[0][k], c.f[1][k], c.f[2][k]},
+                                    {c.f[3][k], c.f[4][k], c.f[5][k]}, r.dt, r.alpha, regular);
+    c.regular[k] = regular;
+    c.next[0][k] = st.x.x, c.next[1][k] = st.x.y, c.next[2][k] = st.x.z;
+    c.next[3][k] = st.v.x, c.next[4][k] = st.v.y, c.next[5][k] = st.v.z;
+    c.next[6][k] = st.q.w, c.next[7][k] = st.q.x, c.next[8][k] = st.q.y, c.next[9][k] = st.q.z;
+    c.next[10][k] = st.omega.x, c.next[11][k] = st.omega.y, c.next[12][k] = st.omega.z;
+  }
+}
+
+[[gnu::target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")]] void block_chunk(const BlockRange& r,
+                                                                                       std::size_t b0, int n,
+                                                                                       BlockChunk& c) {
+  block_chunk_body(r, b0, n, c);
+}
+
+}  // namespace
+
+bool Engine<3>::block_range(std::size_t b0, std::size_t b1) {
   ModelState<3>& s = state_;
-  s.fx[b] = force.x, s.fy[b] = force.y, s.fz[b] = force.z;
-  s.mx[b] = moment.x, s.my[b] = moment.y, s.mz[b] = moment.z;
-  if (model_.fixed[b]) return 0.0;
-  RigidState3 r{s.position(b), s.velocity(b), s.rotation(b), s.spin(b)};
-  const double work = rigid_step(model_.body[b], r, force, moment, s.dt, options_.damping);
-  s.x[b] = r.x.x, s.y[b] = r.x.y, s.z[b] = r.x.z;
-  s.vx[b] = r.v.x, s.vy[b] = r.v.y, s.vz[b] = r.v.z;
-  s.qw[b] = r.q.w, s.qx[b] = r.q.x, s.qy[b] = r.q.y, s.qz[b] = r.q.z;
-  s.wx[b] = r.omega.x, s.wy[b] = r.omega.y, s.wz[b] = r.omega.z;
-  record_[b] = stages::block_record(r.x, r.q, r.v, r.omega);
-  return work;
+  const BlockRange r{model_.body.data(), s.x.data(), s.y.data(), s.z.data(), s.qw.data(), s.qx.data(), s.qy.data(),
+                     s.qz.data(), s.vx.data(), s.vy.data(), s.vz.data(), s.wx.data(), s.wy.data(), s.wz.data(),
+                     s.dt, options_.damping};
+  bool finite = true;
+  BlockChunk c;
+  for (std::size_t c0 = b0; c0 < b1; c0 += kChunk) {
+    const int n = int(std::min<std::size_t>(kChunk, b1 - c0));
+    for (int k = 0; k < n; ++k) {
+      Vec3 force, moment;
+      gather(c0 + std::size_t(k), force, moment);
+      c.f[0][k] = force.x, c.f[1][k] = force.y, c.f[2][k] = force.z;
+      c.f[3][k] = moment.x, c.f[4][k] = moment.y, c.f[5][k] = moment.z;
+    }
+    block_chunk(r, c0, n, c);
+    for (int k = 0; k < n; ++k) {
+      const std::size_t b = c0 + std::size_t(k);
+      s.fx[b] = c.f[0][k], s.fy[b] = c.f[1][k], s.fz[b] = c.f[2][k];
+      s.mx[b] = c.f[3][k], s.my[b] = c.f[4][k], s.mz[b] = c.f[5][k];
+      damping_work_[b] = 0.0;
+      if (!model_.fixed[b]) {
+        RigidState3 st{{c.next[0][k], c.next[1][k], c.next[2][k]}, {c.next[3][k], c.next[4][k], c.next[5][k]},
+                       {c.next[6][k], c.next[7][k], c.next[8][k], c.next[9][k]},
+                       {c.next[10][k], c.next[11][k], c.next[12][k]}};
+        damping_work_[b] = c.work[k];
+        if (!c.regular[k]) {  // a half angle beyond the series: the exact step from the state before
+          st = rigid_state(r, b);
+          damping_work_[b] = rigid_step(model_.body[b], st, {c.f[0][k], c.f[1][k], c.f[2][k]},
+                                        {c.f[3][k], c.f[4][k], c.f[5][k]}, s.dt, options_.damping);
+        }
+        s.x[b] = st.x.x, s.y[b] = st.x.y, s.z[b] = st.x.z;
+        s.vx[b] = st.v.x, s.vy[b] = st.v.y, s.vz[b] = st.v.z;
+        s.qw[b] = st.q.w, s.qx[b] = st.q.x, s.qy[b] = st.q.y, s.qz[b] = st.q.z;
+        s.wx[b] = st.omega.x, s.wy[b] = st.omega.y, s.wz[b] = st.omega.z;
+        record_[b] = stages::block_record(st.x, st.q, st.v, st.omega);
+      }
+      finite = finite && std::isfinite(s.x[b] + s.y[b] + s.z[b] + s.qw[b] + s.vx[b] + s.vy[b] + s.vz[b]);
+    }
+  }
+  return finite;
 }
 
 void Engine<3>::step() {
@@ -326,12 +402,7 @@ void Engine<3>::step() {
 #pragma omp barrier
     if (!error) {
       const auto blocks = share(m.num_blocks(), t, nt);
-      for (std::size_t b = blocks[0]; b < blocks[1]; ++b) {
-        Vec3 force, moment;
-        gather(b, force, moment);
-        damping_work_[b] = integrate(b, force, moment);
-        finite = finite && std::isfinite(s.x[b] + s.y[b] + s.z[b] + s.qw[b] + s.vx[b] + s.vy[b] + s.vz[b]);
-      }
+      finite = block_range(blocks[0], blocks[1]);
     }
   }
   mark[2] = omp_get_wtime();

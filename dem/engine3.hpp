@@ -91,8 +91,9 @@ class Engine<3> {
   void bond_range(std::size_t b0, std::size_t b1, double dt, bool advance, std::vector<Break>* breaks);
   void log_breaks(const std::vector<std::vector<Break>>& breaks);
   void gather(std::size_t b, Vec3& force, Vec3& moment) const;
-  // Block b's step from its gathered force; returns the damping's work.
-  double integrate(std::size_t b, Vec3 force, Vec3 moment);
+  // The blocks [b0, b1): each one's gathered force, its step (the damping's work into damping_work_), its record;
+  // false when a position or velocity is no longer finite.
+  bool block_range(std::size_t b0, std::size_t b1);
   // Block b's record from the state (every block's after any change of the state from outside the step).
   void refresh_record(std::size_t b);
   void refresh_records();
