@@ -4,12 +4,17 @@
 // to it (dem/boundary/hooks3.hpp), and the rigid-block step of dem/rigid3.hpp (leapfrog translation, the symplectic
 // splitting for the rotation, Cundall's local damping per component). docs/theory.md, section 11; docs/model.md.
 //
-// One step: the bond stage (each thread a contiguous range of bonds, each bond's forces into its own slot, its
-// failure test on its own history), the serial part (the crack log from the threads' lists in thread order, which
-// is bond order; the boundary components' forces), the block stage (each thread a contiguous range of blocks: the
-// gather of the block's bonds in bond order, then its step). Every sum is done in the same order at any thread
-// count, so results are bit-identical at any thread count. Contacts between blocks that were never neighbours are
-// not detected: a 3D run models the intact specimen, its cracks and the sliding and closing of broken faces.
+// One step: the bond stage (each thread a contiguous range of bonds, in chunks of 64: the blocks' records
+// transposed, the branch-free kernel of dem/stages/face_bonds3.hpp in vector lanes over the model's bond table,
+// each bond's forces into its own slot; then, bond by bond, the exact form where the lanes' form does not hold and
+// the failure test where the load reaches the strength), the serial part (the crack log from the threads' lists in
+// thread order, which is bond order; the boundary components' forces), the block stage (each thread a contiguous
+// range of blocks, in chunks: the gather of each block's bonds in bond order, then the rigid step of
+// dem/rigid3.hpp in vector lanes, and each block's record for the next step). Every sum is done in the same order
+// at any thread count and a bond's or a block's numbers do not depend on the lane or chunk it falls in, so results
+// are bit-identical at any thread count. The records are refreshed by the step, by edit() and by restore(): a
+// boundary component changes forces, never the blocks' kinematics. Contacts between blocks that were never
+// neighbours are not detected here: a boundary component adds them (dem/boundary/).
 #pragma once
 
 #include <functional>

@@ -27,7 +27,7 @@ BlockStates Engine<3>::block_states() const {
 }
 
 // Each bond's forces at the state now (its slot evaluated afresh, no history advanced): the force on j at the
-// bond point, the couple on j about it, the normal force (tension positive) and the shear force's magnitude along
+// bond point, the couple on j about it, the normal force (tension positive) and the shear force's magnitude in
 // the face now.
 BondStates Engine<3>::bond_states() const {
   const Model<3>& m = model_;
@@ -43,10 +43,11 @@ BondStates Engine<3>::bond_states() const {
     const Vec3 couple = e.mj - cross(p - s.position(std::size_t(m.bj[b])), e.f);  // about the bond point
     t.intact[b] = s.broken[b] ? 0 : 1;
     append(t.point, p), append(t.normal, e.normal), append(t.force, e.f), append(t.moment, couple);
-    const double fn = dot(e.f, e.normal);
-    t.normal_force[b] = fn, t.shear_force[b] = norm(e.f - fn * e.normal);
+    const double fn = dot(e.f, e.normal);  // on j along n from i to j: positive in compression
+    t.normal_force[b] = -fn, t.shear_force[b] = norm(e.f - fn * e.normal);
     bool tensile = false;
-    t.failure_index[b] = s.broken[b] ? 0.0 : stages::face_bond_load(stages::FaceBondColumns(m.table), b, e.pb).index(tensile);
+    const BondLoad q = stages::face_bond_load(stages::FaceBondColumns(m.table), b, e.pb);
+    t.failure_index[b] = s.broken[b] ? 0.0 : q.index(tensile);
     t.damage[b] = 1.0 - keep;
   }
   return t;
