@@ -387,12 +387,14 @@ void Engine<3>::step() {
     if (sample) team_.read(t);
     const auto bonds = share(m.num_bonds(), t, nt);
     bond_range(bonds[0], bonds[1], s.dt, true, &breaks_[std::size_t(t)]);
+    const auto blocks = share(m.num_blocks(), t, nt);  // the components' sums start from zero, cleared in parallel
+    std::fill(ext_f_.begin() + long(blocks[0]), ext_f_.begin() + long(blocks[1]), Vec3{});
+    std::fill(ext_m_.begin() + long(blocks[0]), ext_m_.begin() + long(blocks[1]), Vec3{});
 #pragma omp barrier
 #pragma omp master
     {
       mark[0] = omp_get_wtime();
       try {
-        std::fill(ext_f_.begin(), ext_f_.end(), Vec3{}), std::fill(ext_m_.begin(), ext_m_.end(), Vec3{});
         for (BoundaryHooks<3>* h : hooks_) s.e_friction += h->add_forces(m, s, ext_f_, ext_m_, s.dt, true);
       } catch (...) {
         error = std::current_exception();
@@ -400,10 +402,7 @@ void Engine<3>::step() {
       mark[1] = omp_get_wtime();
     }
 #pragma omp barrier
-    if (!error) {
-      const auto blocks = share(m.num_blocks(), t, nt);
-      finite = block_range(blocks[0], blocks[1]);
-    }
+    if (!error) finite = block_range(blocks[0], blocks[1]);
   }
   mark[2] = omp_get_wtime();
   team_.end(mark[2]);
