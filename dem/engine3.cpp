@@ -161,7 +161,9 @@ using Rows = double[kRecord][kChunk];
           {a[10][k], a[11][k], a[12][k]}};
 }
 
-// The bonds [b0, b0 + n) in the branch-free form: no branches, so `omp simd` vectorises it.
+// The bonds [b0, b0 + n) in the branch-free form: no branches and no dependence between iterations (ivdep: the
+// slots and the chunk's results are written at the bond's own index), so the loop vectorises. Not `omp simd`: it
+// would make the kernel's aggregates per-lane arrays before they are inlined away, which blocks the vectoriser.
 [[gnu::always_inline]] inline void bond_chunk_body(const BondRange& range, std::size_t b0, int n, ChunkOut& out) {
   const BondRange r = range;  // a local copy: the stores must not make the loop reload its array pointers
   alignas(64) Rows ri, rj;
@@ -206,8 +208,8 @@ inline void prefetch_records(const BondRange& r, std::size_t b0, std::size_t b1)
 
 // The bonds [b0, b1) chunk by chunk: each one's forces into its slot; with `advance` its linear part's shear history
 // and, while breakage is on, the failure test on its undamaged forces (the softening history advanced, a break
-// listed). A bond the branch-free kernel does not take (a partly open face, a large relative rotation) and a bond
-// at its strength are computed again in the exact form, which gives the kernel's numbers where both apply.
+// listed). A bond the branch-free kernel does not take (a relative rotation beyond the series) and a bond at its
+// strength are computed again in the exact form, which gives the kernel's numbers where both apply.
 void Engine<3>::bond_range(std::size_t b0, std::size_t b1, double dt, bool advance, std::vector<Break>* breaks) {
   using F = stages::FaceBondTable;
   ModelState<3>& s = state_;
