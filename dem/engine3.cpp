@@ -283,18 +283,20 @@ void Engine<3>::gather(std::size_t b, Vec3& force, Vec3& moment) const {
 
 namespace {
 
-// What one thread's share of the block stage reads.
+// What one thread's share of the block stage reads and writes.
 struct BlockRange {
   const RigidBody3* body;
-  const double *x, *y, *z, *qw, *qx, *qy, *qz, *vx, *vy, *vz, *wx, *wy, *wz;
+  const int* fixed;
+  double *x, *y, *z, *qw, *qx, *qy, *qz, *vx, *vy, *vz, *wx, *wy, *wz;
+  double *fx, *fy, *fz, *mx, *my, *mz;
+  stages::BlockRecord3* record;
+  double* work;
   double dt, alpha;
 };
-// One chunk of blocks: the gathered force and moment, the state after the step (x, v, q, omega), the damping's
-// work, and 1 where the branch-free step holds (else the exact form recomputes it).
+// One chunk of blocks: the gathered force and moment, and 1 where the branch-free step holds (else the block keeps
+// its state in the lanes and the exact form steps it).
 struct BlockChunk {
   double f[6][kChunk];
-  double next[13][kChunk];
-  double work[kChunk];
   int regular[kChunk];
 };
 
@@ -302,22 +304,44 @@ struct BlockChunk {
   return {{r.x[b], r.y[b], r.z[b]}, {r.vx[b], r.vy[b], r.vz[b]}, {r.qw[b], r.qx[b], r.qy[b], r.qz[b]},
           {r.wx[b], r.wy[b], r.wz[b]}};
 }
+// Block b's state, its record and its damping's work.
+[[gnu::always_inline]] inline void store_block(const BlockRange& r, std::size_t b, const RigidState3& st,
+                                               double work) {
+  r.x[b] = st.x.x, r.y[b] = st.x.y, r.z[b] = st.x.z;
+  r.vx[b] = st.v.x, r.vy[b] = st.v.y, r.vz[b] = st.v.z;
+  r.qw[b] = st.q.w, r.qx[b] = st.q.x, r.qy[b] = st.q.y, r.qz[b] = st.q.z;
+  r.wx[b] = st.omega.x, r.wy[b] = st.omega.y, r.wz[b] = st.omega.z;
+  stages::BlockRecord3& rec = r.record[b];
+  rec.x.x = st.x.x, rec.x.y = st.x.y, rec.x.z = st.x.z;
+  rec.q.w = st.q.w, rec.q.x = st.q.x, rec.q.y = st.q.y, rec.q.z = st.q.z;
+  rec.v.x = st.v.x, rec.v.y = st.v.y, rec.v.z = st.v.z;
+  rec.omega.x = st.omega.x, rec.omega.y = st.omega.y, rec.omega.z = st.omega.z;
+  r.work[b] = work;
+}
 
-// The blocks [b0, b0 + n) in the branch-free step (rigid3::step): no branches, so the loop vectorises.
+// The blocks [b0, b0 + n) in the branch-free step (rigid3::step), their forces, states and records written in the
+// lanes: no branches, so the loop vectorises. A fixed block, and one the branch-free step does not take, keeps its
+// state here.
 [[gnu::always_inline]] inline void block_chunk_body(const BlockRange& range, std::size_t b0, int n, BlockChunk& c) {
   const BlockRange r = range;  // a local copy: the stores must not make the loop reload its array pointers
 #pragma GCC ivdep
   for (int k = 0; k < n; ++k) {
     const std::size_t b = b0 + std::size_t(k);
-    RigidState3 st = rigid_state(r, b);
+    const Vec3 F{c.f[0][k], c.f[1][k], c.f[2][k]}, M{c.f[3][k], c.f[4][k], c.f[5][k]};
+    r.fx[b] = F.x, r.fy[b] = F.y, r.fz[b] = F.z, r.mx[b] = M.x, r.my[b] = M.y, r.mz[b] = M.z;
+    const RigidState3 old = rigid_state(r, b);
+    RigidState3 st = old;
     int regular = 1;
-    c.work[k] = rigid3::step<false>(r.body[b], st, {c.f[0][k], c.f[1][k], c.f[2][k]},
-                                    {c.f[3][k], c.f[4][k], c.f[5][k]}, r.dt, r.alpha, regular);
+    const double work = rigid3::step<false>(r.body[b], st, F, M, r.dt, r.alpha, regular);
     c.regular[k] = regular;
-    c.next[0][k] = st.x.x, c.next[1][k] = st.x.y, c.next[2][k] = st.x.z;
-    c.next[3][k] = st.v.x, c.next[4][k] = st.v.y, c.next[5][k] = st.v.z;
-    c.next[6][k] = st.q.w, c.next[7][k] = st.q.x, c.next[8][k] = st.q.y, c.next[9][k] = st.q.z;
-    c.next[10][k] = st.omega.x, c.next[11][k] = st.omega.y, c.next[12][k] = st.omega.z;
+    const bool hold = (r.fixed[b] != 0) | (regular == 0);
+    const RigidState3 next{{hold ? old.x.x : st.x.x, hold ? old.x.y : st.x.y, hold ? old.x.z : st.x.z},
+                           {hold ? old.v.x : st.v.x, hold ? old.v.y : st.v.y, hold ? old.v.z : st.v.z},
+                           {hold ? old.q.w : st.q.w, hold ? old.q.x : st.q.x, hold ? old.q.y : st.q.y,
+                            hold ? old.q.z : st.q.z},
+                           {hold ? old.omega.x : st.omega.x, hold ? old.omega.y : st.omega.y,
+                            hold ? old.omega.z : st.omega.z}};
+    store_block(r, b, next, hold ? 0.0 : work);
   }
 }
 
@@ -331,9 +355,10 @@ struct BlockChunk {
 
 bool Engine<3>::block_range(std::size_t b0, std::size_t b1) {
   ModelState<3>& s = state_;
-  const BlockRange r{model_.body.data(), s.x.data(), s.y.data(), s.z.data(), s.qw.data(), s.qx.data(), s.qy.data(),
-                     s.qz.data(), s.vx.data(), s.vy.data(), s.vz.data(), s.wx.data(), s.wy.data(), s.wz.data(),
-                     s.dt, options_.damping};
+  const BlockRange r{model_.body.data(), model_.fixed.data(), s.x.data(), s.y.data(), s.z.data(), s.qw.data(),
+                     s.qx.data(), s.qy.data(), s.qz.data(), s.vx.data(), s.vy.data(), s.vz.data(), s.wx.data(),
+                     s.wy.data(), s.wz.data(), s.fx.data(), s.fy.data(), s.fz.data(), s.mx.data(), s.my.data(),
+                     s.mz.data(), record_.data(), damping_work_.data(), s.dt, options_.damping};
   bool finite = true;
   BlockChunk c;
   for (std::size_t c0 = b0; c0 < b1; c0 += kChunk) {
@@ -347,24 +372,11 @@ bool Engine<3>::block_range(std::size_t b0, std::size_t b1) {
     block_chunk(r, c0, n, c);
     for (int k = 0; k < n; ++k) {
       const std::size_t b = c0 + std::size_t(k);
-      s.fx[b] = c.f[0][k], s.fy[b] = c.f[1][k], s.fz[b] = c.f[2][k];
-      s.mx[b] = c.f[3][k], s.my[b] = c.f[4][k], s.mz[b] = c.f[5][k];
-      damping_work_[b] = 0.0;
-      if (!model_.fixed[b]) {
-        RigidState3 st{{c.next[0][k], c.next[1][k], c.next[2][k]}, {c.next[3][k], c.next[4][k], c.next[5][k]},
-                       {c.next[6][k], c.next[7][k], c.next[8][k], c.next[9][k]},
-                       {c.next[10][k], c.next[11][k], c.next[12][k]}};
-        damping_work_[b] = c.work[k];
-        if (!c.regular[k]) {  // a half angle beyond the series: the exact step from the state before
-          st = rigid_state(r, b);
-          damping_work_[b] = rigid_step(model_.body[b], st, {c.f[0][k], c.f[1][k], c.f[2][k]},
-                                        {c.f[3][k], c.f[4][k], c.f[5][k]}, s.dt, options_.damping);
-        }
-        s.x[b] = st.x.x, s.y[b] = st.x.y, s.z[b] = st.x.z;
-        s.vx[b] = st.v.x, s.vy[b] = st.v.y, s.vz[b] = st.v.z;
-        s.qw[b] = st.q.w, s.qx[b] = st.q.x, s.qy[b] = st.q.y, s.qz[b] = st.q.z;
-        s.wx[b] = st.omega.x, s.wy[b] = st.omega.y, s.wz[b] = st.omega.z;
-        record_[b] = stages::block_record(st.x, st.q, st.v, st.omega);
+      if (!c.regular[k] && !model_.fixed[b]) {  // a half angle beyond the series: the exact step
+        RigidState3 st = rigid_state(r, b);
+        const double work = rigid_step(model_.body[b], st, {c.f[0][k], c.f[1][k], c.f[2][k]},
+                                       {c.f[3][k], c.f[4][k], c.f[5][k]}, s.dt, options_.damping);
+        store_block(r, b, st, work);
       }
       finite = finite && std::isfinite(s.x[b] + s.y[b] + s.z[b] + s.qw[b] + s.vx[b] + s.vy[b] + s.vz[b]);
     }
