@@ -115,7 +115,8 @@ BENCHMARK(BM_StaticSolve)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRea
 
 // The 3D engine on the paper's cylinder (50 x 100 mm, joints at 60 deg every 10 mm) meshed in tetrahedra of 4 mm
 // (about 18,000 blocks and 35,000 face bonds): the elastic phase with the platens loading, at state.range(0)
-// threads.
+// threads. The counters bonds_ns, serial_ns and blocks_ns split the wall time per bond-step by the engine's stages
+// (Engine<3>::step_times: the bond stage, the serial part with the platens, the gather and the rigid step).
 void BM_EngineStep3D(benchmark::State& state) {
   static const rbdem::TetMesh mesh = [] {
     rbdem::SpecimenGeometry3 g;
@@ -130,8 +131,13 @@ void BM_EngineStep3D(benchmark::State& state) {
   sim.set_dt(std::min(sim.dt(), 0.7 * sim.stability_limit(100)));
   sim.run(100);
   const long steps = 100;
+  const rbdem::StepTimes t0 = sim.engine().step_times();
   for (auto _ : state) sim.run(steps);
   const double bond_steps = double(sim.num_bonds()) * double(steps) * double(state.iterations());
+  const rbdem::StepTimes& t = sim.engine().step_times();
+  state.counters["bonds_ns"] = 1e9 * (t.bonds - t0.bonds) / bond_steps;
+  state.counters["serial_ns"] = 1e9 * (t.serial - t0.serial) / bond_steps;
+  state.counters["blocks_ns"] = 1e9 * (t.blocks - t0.blocks) / bond_steps;
   state.counters["blocks"] = double(sim.num_blocks());
   state.counters["bonds"] = double(sim.num_bonds());
   state.counters["ns_per_bond_step"] =

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
@@ -20,10 +21,6 @@ std::array<std::size_t, 2> share(std::size_t n, int t, int nt) {
   return {n * std::size_t(t) / std::size_t(nt), n * std::size_t(t + 1) / std::size_t(nt)};
 }
 
-stages::BlockKin3 kin(const ModelState<3>& s, std::size_t b) {
-  return {s.position(b), s.rotation(b), s.velocity(b), s.spin(b)};
-}
-
 }  // namespace
 
 Engine<3>::Engine(const TetMesh& mesh, const Scene& scene, const EngineOptions& options)
@@ -39,6 +36,7 @@ Engine<3>::Engine(const TetMesh& mesh, const Scene& scene, const EngineOptions& 
   s.broken.assign(nbond, 0);
   s.fs1.assign(nbond, 0.0), s.fs2.assign(nbond, 0.0), s.drive.assign(nbond, 0.0);
   slot_.resize(nbond);
+  refresh_records();
   ext_f_.resize(nb), ext_m_.resize(nb), damping_work_.resize(nb);
   nthreads_ = std::max(options_.threads > 0 ? options_.threads : omp_get_max_threads(), 1);
   const char* adapt = std::getenv("RBDEM_ADAPT_THREADS");
@@ -74,6 +72,7 @@ void Engine<3>::restore(const ModelState<3>& s) {
                                             "written for another scene or mesh", s.num_blocks(), s.num_bonds(),
                                             model_.num_blocks(), model_.num_bonds()));
   state_ = s;
+  refresh_records();
 }
 
 void Engine<3>::break_bond(int b) { state_.broken.at(std::size_t(b)) = 1; }
@@ -83,68 +82,187 @@ void Engine<3>::fix_block(int b, bool fixed) {
   if (fixed) {
     const std::size_t k = std::size_t(b);
     state_.vx[k] = state_.vy[k] = state_.vz[k] = state_.wx[k] = state_.wy[k] = state_.wz[k] = 0.0;
+    refresh_record(k);
   }
 }
 
 // --- the bond stage ------------------------------------------------------------------------------------------------
 
-void Engine<3>::bond_slot(std::size_t b, const ModelState<3>& s, double dt, double* drive, Slot& out) const {
-  const Model<3>& m = model_;
-  const bool broken = s.broken[b] != 0;
-  const std::size_t i = std::size_t(m.bi[b]), j = std::size_t(m.bj[b]);
-  out.keep = broken ? 0.0 : FaceBond::intact_fraction(s.drive[b], m.rupture[b]);
-  stages::FaceBondEval e;
-  if (broken) {  // the linear part goes on as a face contact with the material's friction
-    stages::FaceBondFrame f = m.frame[b];
-    f.mu = m.law[m.material[b]].mu;
-    e = stages::eval_face_bond(f, kin(s, i), kin(s, j), dt, s.fs1[b], s.fs2[b], 0.0);
-  } else {
-    e = stages::eval_face_bond(m.frame[b], kin(s, i), kin(s, j), dt, s.fs1[b], s.fs2[b], out.keep);
-  }
-  out.f = e.f, out.mi = e.mi, out.mj = e.mj, out.p = e.p, out.pb = e.pb, out.linear = e.linear;
-  out.broke = BreakMode::none;
-  if (broken) {
-    out.sigma = out.tau = out.index = 0.0;
-    return;
-  }
-  const FaceBond law = m.bond_law(b);
-  const BondLoad q = law.load(m.frame[b].section, e.pb);
-  const double A = m.frame[b].section.A;
-  out.sigma = q.tension / A, out.tau = q.shear / A;
-  bool tensile = false;
-  out.index = q.index(tensile);
-  if (drive) out.broke = law.advance(q, m.rupture[b], *drive);
+void Engine<3>::refresh_record(std::size_t b) {
+  const ModelState<3>& s = state_;
+  record_[b] = stages::block_record(s.position(b), s.rotation(b), s.velocity(b), s.spin(b));
 }
 
-void Engine<3>::bond_range(std::size_t b0, std::size_t b1, double dt, bool advance, std::vector<int>* breaks) {
+void Engine<3>::refresh_records() {
+  record_.resize(state_.num_blocks());
+  for (std::size_t b = 0; b < record_.size(); ++b) refresh_record(b);
+}
+
+stages::FaceBondOut Engine<3>::bond_now(std::size_t b, double& keep) const {
+  using F = stages::FaceBondTable;
+  const Model<3>& m = model_;
+  const ModelState<3>& s = state_;
+  const stages::FaceBondColumns t(m.table);
+  const bool broken = s.broken[b] != 0;
+  keep = broken ? 0.0 : stages::intact_fraction(s.drive[b], t(F::rupture, b));
+  int regular = 1;
+  return stages::face_bond_forces<true>(t, b, record_[std::size_t(m.bi[b])], record_[std::size_t(m.bj[b])], 0.0,
+                                        s.fs1[b], s.fs2[b], keep, broken ? t(F::mu_broken, b) : t(F::mu_bonded, b),
+                                        regular);
+}
+
+namespace {
+
+// Bonds per chunk of the kernel: its per-bond results stay in the first level of the cache until the serial pass.
+constexpr int kChunk = 64;
+
+// What one thread's share of the kernel reads and writes.
+struct BondRange {
+  stages::FaceBondColumns t;
+  const int *bi, *bj;
+  const stages::BlockRecord3* record;
+  const std::uint8_t* broken;
+  const double *drive, *fs1, *fs2;
+  stages::FaceBondSlot* slot;
+  double dt;
+};
+// One chunk's results: the new shear history, and per bond 1 where the branch-free form does not hold (the exact
+// form recomputes it) plus 2 where the failure test's load reaches the bond's strength (the law then decides).
+struct ChunkOut {
+  double fs1[kChunk], fs2[kChunk];
+  int flag[kChunk];
+};
+
+// Bond b's intact fraction and the linear part's friction.
+[[gnu::always_inline]] inline void bond_status(const BondRange& r, std::size_t b, double& keep, double& mu) {
+  using F = stages::FaceBondTable;
+  const bool broken = r.broken[b] != 0;
+  const double intact = stages::intact_fraction(r.drive[b], r.t(F::rupture, b));
+  const double mu_broken = r.t(F::mu_broken, b), mu_bonded = r.t(F::mu_bonded, b);  // both read: no branch
+  keep = broken ? 0.0 : intact;
+  mu = broken ? mu_broken : mu_bonded;
+}
+
+// The doubles of a block record the kernel reads (BlockRecord3 but its padding).
+constexpr int kRecord = 13;
+using Rows = double[kRecord][kChunk];
+
+// The records of the blocks idx[0 .. n) transposed into rows: the vector lanes then read them contiguously.
+[[gnu::always_inline]] inline void load_records(const stages::BlockRecord3* record, const int* idx, int n, Rows& rows) {
+  for (int k = 0; k < n; ++k) {
+    const double* p = &record[idx[k]].x.x;
+    for (int f = 0; f < kRecord; ++f) rows[f][k] = p[f];
+  }
+}
+[[gnu::always_inline]] inline stages::BlockRecord3 record_at(const Rows& a, int k) {
+  return {{a[0][k], a[1][k], a[2][k]},
+          {a[3][k], a[4][k], a[5][k], a[6][k]},
+          {a[7][k], a[8][k], a[9][k]},
+          {a[10][k], a[11][k], a[12][k]}};
+}
+
+// The bonds [b0, b0 + n) in the branch-free form: no branches and no dependence between iterations (ivdep: the
+// slots and the chunk's results are written at the bond's own index), so the loop vectorises. Not `omp simd`: it
+// would make the kernel's aggregates per-lane arrays before they are inlined away, which blocks the vectoriser.
+[[gnu::always_inline]] inline void bond_chunk_body(const BondRange& range, std::size_t b0, int n, ChunkOut& out) {
+  const BondRange r = range;  // a local copy: the stores must not make the loop reload its array pointers
+  alignas(64) Rows ri, rj;
+  load_records(r.record, r.bi + b0, n, ri);
+  load_records(r.record, r.bj + b0, n, rj);
+#pragma GCC ivdep
+  for (int k = 0; k < n; ++k) {
+    const std::size_t b = b0 + std::size_t(k);
+    double keep, mu;
+    bond_status(r, b, keep, mu);
+    int regular = 1;
+    const stages::FaceBondOut e = stages::face_bond_forces<false>(r.t, b, record_at(ri, k), record_at(rj, k), r.dt,
+                                                                  r.fs1[b], r.fs2[b], keep, mu, regular);
+    stages::FaceBondSlot& slot = r.slot[b];
+    stages::store(slot.f, e.f), stages::store(slot.mi, e.mi), stages::store(slot.mj, e.mj);
+    out.fs1[k] = e.fs1_lin, out.fs2[k] = e.fs2_lin;
+    const BondLoad q = stages::face_bond_load(r.t, b, e.pb);
+    const double scale = r.drive[b] > 0.0 ? r.drive[b] : 1.0;
+    out.flag[k] = (1 - regular) | (((r.broken[b] == 0) & q.exceeds(scale)) << 1);
+  }
+}
+
+// Asks the cache for the records of the blocks of bonds [b0, b1) (the next chunk's, while this one computes): a
+// bond's blocks are scattered over the block arrays, which outgrow the second level of the cache.
+inline void prefetch_records(const BondRange& r, std::size_t b0, std::size_t b1) {
+  for (std::size_t b = b0; b < b1; ++b)
+    for (const int block : {r.bi[b], r.bj[b]}) {
+      const char* p = reinterpret_cast<const char*>(r.record + block);
+      __builtin_prefetch(p), __builtin_prefetch(p + 64);
+    }
+}
+
+// The chunk compiled for AVX-512, AVX2 and the baseline instruction set, one chosen when the program starts. The
+// arithmetic is the same in each (no fused multiply-add, no reassociation: dem/CMakeLists.txt), so are the numbers.
+[[gnu::target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")]] void bond_chunk(const BondRange& r,
+                                                                                      std::size_t b0, int n,
+                                                                                      ChunkOut& out) {
+  bond_chunk_body(r, b0, n, out);
+}
+
+}  // namespace
+
+// The bonds [b0, b1) chunk by chunk: each one's forces into its slot; with `advance` its linear part's shear history
+// and, while breakage is on, the failure test on its undamaged forces (the softening history advanced, a break
+// listed). A bond the branch-free kernel does not take (a relative rotation beyond the series) and a bond at its
+// strength are computed again in the exact form, which gives the kernel's numbers where both apply.
+void Engine<3>::bond_range(std::size_t b0, std::size_t b1, double dt, bool advance, std::vector<Break>* breaks) {
+  using F = stages::FaceBondTable;
   ModelState<3>& s = state_;
+  const Model<3>& m = model_;
+  const BondRange r{stages::FaceBondColumns(m.table), m.bi.data(), m.bj.data(), record_.data(), s.broken.data(),
+                    s.drive.data(), s.fs1.data(), s.fs2.data(), slot_.data(), dt};
   const bool test = advance && s.breakage;
-  for (std::size_t b = b0; b < b1; ++b) {
-    Slot& out = slot_[b];
-    bond_slot(b, s, dt, test ? &s.drive[b] : nullptr, out);
-    if (!advance) continue;
-    s.fs1[b] = out.linear.fs1, s.fs2[b] = out.linear.fs2;
-    if (out.broke != BreakMode::none) breaks->push_back(int(b));
+  ChunkOut out;
+  for (std::size_t c0 = b0; c0 < b1; c0 += kChunk) {
+    const int n = int(std::min<std::size_t>(kChunk, b1 - c0));
+    prefetch_records(r, c0 + kChunk, std::min(c0 + 2 * kChunk, b1));
+    bond_chunk(r, c0, n, out);
+    for (int k = 0; k < n; ++k) {
+      const std::size_t b = c0 + std::size_t(k);
+      const int flag = out.flag[k] & (test ? 3 : 1);
+      if (flag) {
+        double keep, mu;
+        bond_status(r, b, keep, mu);
+        int regular = 1;
+        const stages::BlockRecord3& I = record_[std::size_t(m.bi[b])];
+        const stages::FaceBondOut e = stages::face_bond_forces<true>(r.t, b, I, record_[std::size_t(m.bj[b])], dt,
+                                                                     s.fs1[b], s.fs2[b], keep, mu, regular);
+        if (flag & 1) slot_[b] = {e.f, e.mi, e.mj}, out.fs1[k] = e.fs1_lin, out.fs2[k] = e.fs2_lin;
+        if (flag & 2) {
+          const BondLoad q = stages::face_bond_load(r.t, b, e.pb);
+          ParallelBond rule;  // its advance reads only `softening`
+          rule.softening = r.t(F::softening, b);
+          const BreakMode mode = rule.advance(q, r.t(F::rupture, b), s.drive[b]);
+          const double A = r.t(F::area, b);
+          if (mode != BreakMode::none) breaks->push_back({int(b), mode, I.x + e.ci, q.tension / A, q.shear / A});
+        }
+      }
+      if (advance) s.fs1[b] = out.fs1[k], s.fs2[b] = out.fs2[k];
+    }
   }
 }
 
 // The bonds broken this step, in bond order (the threads' lists in thread order): broken from the next step on,
 // each logged as a crack.
-void Engine<3>::log_breaks(const std::vector<std::vector<int>>& breaks) {
+void Engine<3>::log_breaks(const std::vector<std::vector<Break>>& breaks) {
   ModelState<3>& s = state_;
-  for (const std::vector<int>& list : breaks)
-    for (int bond : list) {
-      const std::size_t b = std::size_t(bond);
+  for (const std::vector<Break>& list : breaks)
+    for (const Break& k : list) {
+      const std::size_t b = std::size_t(k.bond);
       s.broken[b] = 1;
-      const Slot& sl = slot_[b];
       Crack c;
       c.time = s.time, c.strain = s.strain_for_log;
-      c.position = {sl.p.x, sl.p.y, sl.p.z};
+      c.position = {k.p.x, k.p.y, k.p.z};
       const Vec3 n = model_.frame[b].axes.r[2];
       c.normal = {n.x, n.y, n.z};
       c.size = model_.frame[b].section.A;
-      c.bond = bond, c.kind = model_.kind[b], c.mode = sl.broke;
-      c.sigma = sl.sigma, c.tau = sl.tau;
+      c.bond = k.bond, c.kind = model_.kind[b], c.mode = k.mode;
+      c.sigma = k.sigma, c.tau = k.tau;
       s.cracks.push_back(c);
       if (on_crack) on_crack(s.cracks.back());
     }
@@ -156,25 +274,114 @@ void Engine<3>::gather(std::size_t b, Vec3& force, Vec3& moment) const {
   const Model<3>& m = model_;
   for (int o = m.offset[b]; o < m.offset[b + 1]; ++o) {
     const int e = m.gather[std::size_t(o)];
-    const Slot& sl = slot_[std::size_t(e >> 1)];
+    const stages::FaceBondSlot& sl = slot_[std::size_t(e >> 1)];
     if (e & 1) force += sl.f, moment += sl.mj;
     else force -= sl.f, moment += sl.mi;
   }
   force += ext_f_[b], moment += ext_m_[b];
 }
 
-double Engine<3>::integrate(std::size_t b, Vec3 force, Vec3 moment) {
+namespace {
+
+// What one thread's share of the block stage reads and writes.
+struct BlockRange {
+  const RigidBody3* body;
+  const int* fixed;
+  double *x, *y, *z, *qw, *qx, *qy, *qz, *vx, *vy, *vz, *wx, *wy, *wz;
+  double *fx, *fy, *fz, *mx, *my, *mz;
+  stages::BlockRecord3* record;
+  double* work;
+  double dt, alpha;
+};
+// One chunk of blocks: the gathered force and moment, and 1 where the branch-free step holds (else the block keeps
+// its state in the lanes and the exact form steps it).
+struct BlockChunk {
+  double f[6][kChunk];
+  int regular[kChunk];
+};
+
+[[gnu::always_inline]] inline RigidState3 rigid_state(const BlockRange& r, std::size_t b) {
+  return {{r.x[b], r.y[b], r.z[b]}, {r.vx[b], r.vy[b], r.vz[b]}, {r.qw[b], r.qx[b], r.qy[b], r.qz[b]},
+          {r.wx[b], r.wy[b], r.wz[b]}};
+}
+// Block b's state, its record and its damping's work.
+[[gnu::always_inline]] inline void store_block(const BlockRange& r, std::size_t b, const RigidState3& st,
+                                               double work) {
+  r.x[b] = st.x.x, r.y[b] = st.x.y, r.z[b] = st.x.z;
+  r.vx[b] = st.v.x, r.vy[b] = st.v.y, r.vz[b] = st.v.z;
+  r.qw[b] = st.q.w, r.qx[b] = st.q.x, r.qy[b] = st.q.y, r.qz[b] = st.q.z;
+  r.wx[b] = st.omega.x, r.wy[b] = st.omega.y, r.wz[b] = st.omega.z;
+  stages::BlockRecord3& rec = r.record[b];
+  rec.x.x = st.x.x, rec.x.y = st.x.y, rec.x.z = st.x.z;
+  rec.q.w = st.q.w, rec.q.x = st.q.x, rec.q.y = st.q.y, rec.q.z = st.q.z;
+  rec.v.x = st.v.x, rec.v.y = st.v.y, rec.v.z = st.v.z;
+  rec.omega.x = st.omega.x, rec.omega.y = st.omega.y, rec.omega.z = st.omega.z;
+  r.work[b] = work;
+}
+
+// The blocks [b0, b0 + n) in the branch-free step (rigid3::step), their forces, states and records written in the
+// lanes: no branches, so the loop vectorises. A fixed block, and one the branch-free step does not take, keeps its
+// state here.
+[[gnu::always_inline]] inline void block_chunk_body(const BlockRange& range, std::size_t b0, int n, BlockChunk& c) {
+  const BlockRange r = range;  // a local copy: the stores must not make the loop reload its array pointers
+#pragma GCC ivdep
+  for (int k = 0; k < n; ++k) {
+    const std::size_t b = b0 + std::size_t(k);
+    const Vec3 F{c.f[0][k], c.f[1][k], c.f[2][k]}, M{c.f[3][k], c.f[4][k], c.f[5][k]};
+    r.fx[b] = F.x, r.fy[b] = F.y, r.fz[b] = F.z, r.mx[b] = M.x, r.my[b] = M.y, r.mz[b] = M.z;
+    const RigidState3 old = rigid_state(r, b);
+    RigidState3 st = old;
+    int regular = 1;
+    const double work = rigid3::step<false>(r.body[b], st, F, M, r.dt, r.alpha, regular);
+    c.regular[k] = regular;
+    const bool hold = (r.fixed[b] != 0) | (regular == 0);
+    const RigidState3 next{{hold ? old.x.x : st.x.x, hold ? old.x.y : st.x.y, hold ? old.x.z : st.x.z},
+                           {hold ? old.v.x : st.v.x, hold ? old.v.y : st.v.y, hold ? old.v.z : st.v.z},
+                           {hold ? old.q.w : st.q.w, hold ? old.q.x : st.q.x, hold ? old.q.y : st.q.y,
+                            hold ? old.q.z : st.q.z},
+                           {hold ? old.omega.x : st.omega.x, hold ? old.omega.y : st.omega.y,
+                            hold ? old.omega.z : st.omega.z}};
+    store_block(r, b, next, hold ? 0.0 : work);
+  }
+}
+
+[[gnu::target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")]] void block_chunk(const BlockRange& r,
+                                                                                       std::size_t b0, int n,
+                                                                                       BlockChunk& c) {
+  block_chunk_body(r, b0, n, c);
+}
+
+}  // namespace
+
+bool Engine<3>::block_range(std::size_t b0, std::size_t b1) {
   ModelState<3>& s = state_;
-  s.fx[b] = force.x, s.fy[b] = force.y, s.fz[b] = force.z;
-  s.mx[b] = moment.x, s.my[b] = moment.y, s.mz[b] = moment.z;
-  if (model_.fixed[b]) return 0.0;
-  RigidState3 r{s.position(b), s.velocity(b), s.rotation(b), s.spin(b)};
-  const double work = rigid_step(model_.body[b], r, force, moment, s.dt, options_.damping);
-  s.x[b] = r.x.x, s.y[b] = r.x.y, s.z[b] = r.x.z;
-  s.vx[b] = r.v.x, s.vy[b] = r.v.y, s.vz[b] = r.v.z;
-  s.qw[b] = r.q.w, s.qx[b] = r.q.x, s.qy[b] = r.q.y, s.qz[b] = r.q.z;
-  s.wx[b] = r.omega.x, s.wy[b] = r.omega.y, s.wz[b] = r.omega.z;
-  return work;
+  const BlockRange r{model_.body.data(), model_.fixed.data(), s.x.data(), s.y.data(), s.z.data(), s.qw.data(),
+                     s.qx.data(), s.qy.data(), s.qz.data(), s.vx.data(), s.vy.data(), s.vz.data(), s.wx.data(),
+                     s.wy.data(), s.wz.data(), s.fx.data(), s.fy.data(), s.fz.data(), s.mx.data(), s.my.data(),
+                     s.mz.data(), record_.data(), damping_work_.data(), s.dt, options_.damping};
+  bool finite = true;
+  BlockChunk c;
+  for (std::size_t c0 = b0; c0 < b1; c0 += kChunk) {
+    const int n = int(std::min<std::size_t>(kChunk, b1 - c0));
+    for (int k = 0; k < n; ++k) {
+      Vec3 force, moment;
+      gather(c0 + std::size_t(k), force, moment);
+      c.f[0][k] = force.x, c.f[1][k] = force.y, c.f[2][k] = force.z;
+      c.f[3][k] = moment.x, c.f[4][k] = moment.y, c.f[5][k] = moment.z;
+    }
+    block_chunk(r, c0, n, c);
+    for (int k = 0; k < n; ++k) {
+      const std::size_t b = c0 + std::size_t(k);
+      if (!c.regular[k] && !model_.fixed[b]) {  // a half angle beyond the series: the exact step
+        RigidState3 st = rigid_state(r, b);
+        const double work = rigid_step(model_.body[b], st, {c.f[0][k], c.f[1][k], c.f[2][k]},
+                                       {c.f[3][k], c.f[4][k], c.f[5][k]}, s.dt, options_.damping);
+        store_block(r, b, st, work);
+      }
+      finite = finite && std::isfinite(s.x[b] + s.y[b] + s.z[b] + s.qw[b] + s.vx[b] + s.vy[b] + s.vz[b]);
+    }
+  }
+  return finite;
 }
 
 void Engine<3>::step() {
@@ -194,12 +401,14 @@ void Engine<3>::step() {
     if (sample) team_.read(t);
     const auto bonds = share(m.num_bonds(), t, nt);
     bond_range(bonds[0], bonds[1], s.dt, true, &breaks_[std::size_t(t)]);
+    const auto blocks = share(m.num_blocks(), t, nt);  // the components' sums start from zero, cleared in parallel
+    std::fill(ext_f_.begin() + long(blocks[0]), ext_f_.begin() + long(blocks[1]), Vec3{});
+    std::fill(ext_m_.begin() + long(blocks[0]), ext_m_.begin() + long(blocks[1]), Vec3{});
 #pragma omp barrier
 #pragma omp master
     {
       mark[0] = omp_get_wtime();
       try {
-        std::fill(ext_f_.begin(), ext_f_.end(), Vec3{}), std::fill(ext_m_.begin(), ext_m_.end(), Vec3{});
         for (BoundaryHooks<3>* h : hooks_) s.e_friction += h->add_forces(m, s, ext_f_, ext_m_, s.dt, true);
       } catch (...) {
         error = std::current_exception();
@@ -207,15 +416,7 @@ void Engine<3>::step() {
       mark[1] = omp_get_wtime();
     }
 #pragma omp barrier
-    if (!error) {
-      const auto blocks = share(m.num_blocks(), t, nt);
-      for (std::size_t b = blocks[0]; b < blocks[1]; ++b) {
-        Vec3 force, moment;
-        gather(b, force, moment);
-        damping_work_[b] = integrate(b, force, moment);
-        finite = finite && std::isfinite(s.x[b] + s.y[b] + s.z[b] + s.qw[b] + s.vx[b] + s.vy[b] + s.vz[b]);
-      }
-    }
+    if (!error) finite = block_range(blocks[0], blocks[1]);
   }
   mark[2] = omp_get_wtime();
   team_.end(mark[2]);

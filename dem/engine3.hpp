@@ -4,12 +4,17 @@
 // to it (dem/boundary/hooks3.hpp), and the rigid-block step of dem/rigid3.hpp (leapfrog translation, the symplectic
 // splitting for the rotation, Cundall's local damping per component). docs/theory.md, section 11; docs/model.md.
 //
-// One step: the bond stage (each thread a contiguous range of bonds, each bond's forces into its own slot, its
-// failure test on its own history), the serial part (the crack log from the threads' lists in thread order, which
-// is bond order; the boundary components' forces), the block stage (each thread a contiguous range of blocks: the
-// gather of the block's bonds in bond order, then its step). Every sum is done in the same order at any thread
-// count, so results are bit-identical at any thread count. Contacts between blocks that were never neighbours are
-// not detected: a 3D run models the intact specimen, its cracks and the sliding and closing of broken faces.
+// One step: the bond stage (each thread a contiguous range of bonds, in chunks of 64: the blocks' records
+// transposed, the branch-free kernel of dem/stages/face_bonds3.hpp in vector lanes over the model's bond table,
+// each bond's forces into its own slot; then, bond by bond, the exact form where the lanes' form does not hold and
+// the failure test where the load reaches the strength), the serial part (the crack log from the threads' lists in
+// thread order, which is bond order; the boundary components' forces), the block stage (each thread a contiguous
+// range of blocks, in chunks: the gather of each block's bonds in bond order, then the rigid step of
+// dem/rigid3.hpp in vector lanes, and each block's record for the next step). Every sum is done in the same order
+// at any thread count and a bond's or a block's numbers do not depend on the lane or chunk it falls in, so results
+// are bit-identical at any thread count. The records are refreshed by the step, by edit() and by restore(): a
+// boundary component changes forces, never the blocks' kinematics. Contacts between blocks that were never
+// neighbours are not detected here: a boundary component adds them (dem/boundary/).
 #pragma once
 
 #include <functional>
@@ -48,7 +53,10 @@ class Engine<3> {
   // Replaces the state (throws std::invalid_argument when it does not fit the model).
   void restore(const ModelState<3>& s);
   // Changes the state through `change` (placing blocks: the static start, tests).
-  void edit(const std::function<void(ModelState<3>&)>& change) { change(state_); }
+  void edit(const std::function<void(ModelState<3>&)>& change) {
+    change(state_);
+    refresh_records();
+  }
   void break_bond(int b);
   void fix_block(int b, bool fixed = true);
   void attach(BoundaryHooks<3>* hooks) { hooks_.push_back(hooks); }
@@ -74,36 +82,37 @@ class Engine<3> {
   void set_strain_for_log(double strain) { state_.strain_for_log = strain; }
   std::function<void(const Crack&)> on_crack;
 
-  // One bond's forces this step: the force on j (world; -f on i), the moments on i and j about their centroids,
-  // the bond point, the undamaged parallel bond's forces (face frame), the linear part.
-  struct Slot {
-    Vec3 f, mi, mj, p;
-    FaceForces pb;
-    FaceLinearPart linear;
-    double keep = 1;
-    BreakMode broke = BreakMode::none;
-    double sigma = 0, tau = 0, index = 0;
-  };
-
  private:
-  // Bond b's slot at the state s (dt = 0: no history advanced); with `drive` (the bond's softening history, updated)
-  // its failure test.
-  void bond_slot(std::size_t b, const ModelState<3>& s, double dt, double* drive, Slot& out) const;
-  void bond_range(std::size_t b0, std::size_t b1, double dt, bool advance, std::vector<int>* breaks);
-  void log_breaks(const std::vector<std::vector<int>>& breaks);
+  // A bond that broke this step, with what its crack records: the bond point, the mode, the peripheral stresses.
+  struct Break {
+    int bond = 0;
+    BreakMode mode = BreakMode::none;
+    Vec3 p;
+    double sigma = 0, tau = 0;
+  };
+  // Bond b's forces at the state now, with its intact fraction (0 when broken): what step() computes, for the
+  // diagnostics (no history advanced).
+  stages::FaceBondOut bond_now(std::size_t b, double& keep) const;
+  void bond_range(std::size_t b0, std::size_t b1, double dt, bool advance, std::vector<Break>* breaks);
+  void log_breaks(const std::vector<std::vector<Break>>& breaks);
   void gather(std::size_t b, Vec3& force, Vec3& moment) const;
-  // Block b's step from its gathered force; returns the damping's work.
-  double integrate(std::size_t b, Vec3 force, Vec3 moment);
+  // The blocks [b0, b1): each one's gathered force, its step (the damping's work into damping_work_), its record;
+  // false when a position or velocity is no longer finite.
+  bool block_range(std::size_t b0, std::size_t b1);
+  // Block b's record from the state (every block's after any change of the state from outside the step).
+  void refresh_record(std::size_t b);
+  void refresh_records();
 
   EngineOptions options_;
   Model<3> model_;
   ModelState<3> state_;
   std::vector<BoundaryHooks<3>*> hooks_;
   // workspace (derived, never stored)
-  std::vector<Slot> slot_;
+  std::vector<stages::FaceBondSlot> slot_;  // each bond's forces this step, as the gather reads them
+  std::vector<stages::BlockRecord3> record_;  // each block's kinematics at the step's start
   std::vector<Vec3> ext_f_, ext_m_;
   std::vector<double> damping_work_;
-  std::vector<std::vector<int>> breaks_;  // per thread, the bonds it broke this step, ascending
+  std::vector<std::vector<Break>> breaks_;  // per thread, the bonds it broke this step, ascending
   int nthreads_ = 1;
   TeamSize team_{1, false};
   StepTimes times_;

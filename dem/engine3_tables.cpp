@@ -37,22 +37,18 @@ BondStates Engine<3>::bond_states() const {
   const std::size_t n = m.num_bonds();
   t.intact.resize(n), t.normal_force.resize(n), t.shear_force.resize(n), t.failure_index.resize(n), t.damage.resize(n);
   for (std::size_t b = 0; b < n; ++b) {
-    Slot sl;
-    bond_slot(b, s, 0.0, nullptr, sl);
-    const std::size_t i = std::size_t(m.bi[b]), j = std::size_t(m.bj[b]);
-    const stages::FaceKinematics k =
-        stages::face_kinematics(m.frame[b], {s.position(i), s.rotation(i), s.velocity(i), s.spin(i)},
-                                {s.position(j), s.rotation(j), s.velocity(j), s.spin(j)});
-    const Vec3 normal = k.frame.r[2];
-    const Vec3 lever = sl.p - s.position(j);  // the bond point from j's centroid
-    const Vec3 couple = sl.mj - cross(lever, sl.f);
+    double keep = 0;
+    const stages::FaceBondOut e = bond_now(b, keep);
+    const Vec3 p = s.position(std::size_t(m.bi[b])) + e.ci;
+    const Vec3 couple = e.mj - cross(p - s.position(std::size_t(m.bj[b])), e.f);  // about the bond point
     t.intact[b] = s.broken[b] ? 0 : 1;
-    append(t.point, sl.p), append(t.normal, normal), append(t.force, sl.f), append(t.moment, couple);
-    const double fn = dot(sl.f, normal);  // on j along n from i to j: positive in compression
-    const Vec3 shear = sl.f - fn * normal;
-    t.normal_force[b] = -fn, t.shear_force[b] = norm(shear);
-    t.failure_index[b] = sl.index;
-    t.damage[b] = 1.0 - sl.keep;
+    append(t.point, p), append(t.normal, e.normal), append(t.force, e.f), append(t.moment, couple);
+    const double fn = dot(e.f, e.normal);  // on j along n from i to j: positive in compression
+    t.normal_force[b] = -fn, t.shear_force[b] = norm(e.f - fn * e.normal);
+    bool tensile = false;
+    const BondLoad q = stages::face_bond_load(stages::FaceBondColumns(m.table), b, e.pb);
+    t.failure_index[b] = s.broken[b] ? 0.0 : q.index(tensile);
+    t.damage[b] = 1.0 - keep;
   }
   return t;
 }
@@ -74,12 +70,11 @@ Energies Engine<3>::energies() const {
   for (std::size_t b = 0; b < s.num_blocks(); ++b)
     e.kinetic += kinetic_energy(m.body[b], {s.position(b), s.velocity(b), s.rotation(b), s.spin(b)});
   for (std::size_t b = 0; b < m.num_bonds(); ++b) {
-    Slot sl;
-    bond_slot(b, s, 0.0, nullptr, sl);
+    double keep = 0;
+    const stages::FaceBondOut ev = bond_now(b, keep);
     const FaceStiffness& k = m.frame[b].k;
-    if (!s.broken[b]) e.strain += sl.keep * FaceBond::strain_energy(k, sl.pb);
-    const FaceLinearPart& l = sl.linear;
-    e.strain += 0.5 * (l.fn * l.fn / k.kn + (l.fs1 * l.fs1 + l.fs2 * l.fs2) / k.ks);
+    if (!s.broken[b]) e.strain += keep * FaceBond::strain_energy(k, ev.pb);
+    e.strain += 0.5 * (ev.fn_lin * ev.fn_lin / k.kn + (ev.fs1_lin * ev.fs1_lin + ev.fs2_lin * ev.fs2_lin) / k.ks);
   }
   for (const BoundaryHooks<3>* h : hooks_) e.strain += h->stored_energy(), e.work += h->work_done();
   e.damping = s.e_damping, e.friction = s.e_friction;

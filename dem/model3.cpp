@@ -127,6 +127,31 @@ void apply_heterogeneity(const Scene& scene, Model<3>& m) {
   }
 }
 
+// The bond stage's table from the frames, the laws and the strength factors.
+void build_table(Model<3>& m) {
+  using F = stages::FaceBondTable;
+  F& t = m.table;
+  t.resize(m.num_bonds());
+  for (std::size_t b = 0; b < m.num_bonds(); ++b) {
+    const stages::FaceBondFrame& f = m.frame[b];
+    const FaceKindLaw& law = m.law[m.material[b]];
+    const BondStrength& st = law.bond.strength;
+    const FaceSection& s = f.section;
+    const double w = m.strength_factor[b];
+    const double values[F::count] = {
+        f.ri.x, f.ri.y, f.ri.z, f.rj.x, f.rj.y, f.rj.z,
+        f.axes.r[0].x, f.axes.r[0].y, f.axes.r[0].z, f.axes.r[1].x, f.axes.r[1].y, f.axes.r[1].z,
+        f.axes.r[2].x, f.axes.r[2].y, f.axes.r[2].z,
+        f.k.kn, f.k.ks, f.k.kb1, f.k.kb2, f.k.kt,
+        s.A, 1.0 / s.A,
+        s.y1[0], s.y1[1], s.y1[2], s.y2[0], s.y2[1], s.y2[2],
+        st.beta_m * s.A / s.I1, st.beta_m * s.A / s.I2, st.beta_m * s.A * s.r_max / s.J,
+        st.sigma_c * w * s.A, st.cohesion * w * s.A, st.tan_phi,
+        f.mu, law.mu, law.bond.softening, m.rupture[b]};
+    for (int k = 0; k < F::count; ++k) t[F::Field(k)][b] = values[k];
+  }
+}
+
 void build_surface(const TetMesh& mesh, Model<3>& m) {
   for (const BoundaryFace& bf : mesh.boundary) {
     const Tri tri{node(mesh, bf.nodes[0]), node(mesh, bf.nodes[1]), node(mesh, bf.nodes[2])};
@@ -149,6 +174,7 @@ Model<3> build_model(const TetMesh& mesh, const Scene& scene, double mass_scalin
   build_blocks(mesh, scene.rock.density * mass_scaling, m);
   build_bonds(mesh, m);
   apply_heterogeneity(scene, m);
+  build_table(m);
   build_surface(mesh, m);
   if (!(m.loaded_area > 0))
     throw SceneError("the 3D mesh has no faces on its top (z = highest): the platens need a flat top and bottom");

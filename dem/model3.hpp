@@ -13,6 +13,7 @@
 #include "dem/rigid3.hpp"
 #include "dem/scene.hpp"
 #include "dem/stages/face_bond_kernel.hpp"
+#include "dem/stages/face_bonds3.hpp"
 #include "mesh/tetmesh.hpp"
 
 namespace rbdem {
@@ -66,6 +67,7 @@ struct Model<3> {
   std::vector<double> rupture;               // r_u of a softening bond; 0 brittle
   std::vector<double> strength_factor;       // the bond's strength over its material's (Weibull heterogeneity)
   std::array<FaceKindLaw, 4> law;            // by material id
+  stages::FaceBondTable table;               // what the bond stage streams: the above as arrays, strengths in N
   std::size_t num_bonds() const { return bi.size(); }
   // The bonds of each block, in bond order: entries gather[offset[b] .. offset[b+1]) are 2 bond + (1 if b is j).
   std::vector<int> offset, gather;
