@@ -24,9 +24,12 @@ std::vector<MaterialCracks> count_cracks_by_material(const std::vector<Crack>& c
 //   no joint broken through: rock cracks, by length, mostly tensile -> splitting, "splitting_along_layers" when the
 //   layers are steep (dip >= 60 deg, cracks parallel to them) else "splitting_across_layers";
 //   mostly shear -> "shear_through_rock"; and "intact" when nothing broke.
-// Joints are grouped by interface (joint set) and layer pair; the second set's joints use dip2_deg. With rock
-// bridges (`bridges`: a non-persistent set), a joint failure whose broken rock length is at least half the broken
-// joint length -> "bridge_fracture" (the failure path runs through the bridges as much as along the joints).
+// Joints are grouped by interface (joint set) and layer pair; the second set's joints use dip2_deg. In 3D a joint
+// is a plane of joint faces (one interface, one orientation, one distance from the origin) and its size is area:
+// the resolved shear on a plane of dip beta under the axial load does not depend on its dip direction, so the
+// same dips decide. With rock bridges (`bridges`: a non-persistent set), a joint failure whose broken rock length is
+// at least half the broken joint length -> "bridge_fracture" (the failure path runs through the bridges as much as
+// along the joints).
 std::string classify_failure(const std::vector<Crack>& cracks, const Specimen& specimen, double dip_deg,
                              double dip2_deg = 0.0, bool bridges = false);
 // The dip (0..90 deg from the horizontal) of a mesh's joints: the length-weighted axial mean direction of its joint
