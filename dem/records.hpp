@@ -79,10 +79,10 @@ inline PlaneOrientation plane_orientation_deg(const std::array<double, 3>& norma
   const bool vertical = std::abs(n[2]) <= vertical_plane_tolerance * std::hypot(h, n[2]);
   o.dip_deg = vertical ? 90.0 : std::atan2(h, n[2]) * to_deg;
   // A round-off component of the normal (a mesh face on a plane of dip direction 0 has |n_y| ~ 1e-16) must not
-  // send 0 to 359.99999999999994: the directions within 1e-9 deg below the period wrap to 0.
+  // send 0 to 359.99999999999994 or 6e-14: the directions within 1e-9 deg of 0 (or the period) are 0.
   const double period = vertical ? 180.0 : 360.0;
   o.dip_direction_deg = std::fmod(std::atan2(-n[1], -n[0]) * to_deg + 360.0, period);
-  if (o.dip_direction_deg >= period - 1e-9) o.dip_direction_deg = 0.0;
+  if (o.dip_direction_deg < 1e-9 || o.dip_direction_deg >= period - 1e-9) o.dip_direction_deg = 0.0;
   return o;
 }
 

@@ -452,8 +452,10 @@ def plot_crack_grid(out, run_dirs, labels=None, magnify=1.0):
     n = len(run_dirs)
     fig, axes = plt.subplots(1, n, figsize=(2.3 * n + 0.6, 5.8), squeeze=False)
     fig.set_layout_engine("constrained", rect=(0, 0.05, 1, 0.95))  # room for the legend below
+    sections = False
     for m, (ax, run) in enumerate(zip(axes[0], run_dirs)):
         data = _crack_map_data(run)
+        sections = sections or isinstance(data, Section3)
         try:
             k = data.frame_index("final")
             _draw_crack_map(ax, data, k, magnify)
@@ -468,7 +470,8 @@ def plot_crack_grid(out, run_dirs, labels=None, magnify=1.0):
         finally:
             data.close()
     mag = f" (displacements x{magnify:g})" if magnify != 1.0 else ""
-    fig.suptitle(f"Cracks at the end of each run{mag}", fontsize=10)
+    where = " (3D runs: the x-z section through the centre)" if sections else ""
+    fig.suptitle(f"Cracks at the end of each run{where}{mag}", fontsize=10)
     fig.legend(handles=_legend_handles(), loc="lower center", ncol=4, fontsize=8, frameon=False)
     fig.savefig(out, dpi=150)
     plt.close(fig)
