@@ -51,6 +51,41 @@ inline double edge_orientation_deg(double nx, double ny) {
   return a;
 }
 
+// The orientation of a plane in 3D as the joint sets have it (theory/elasticity3.hpp, plane_axes): the dip from
+// the horizontal in [0, 90] and the dip direction in [0, 360), 0 when the plane's strike runs along y and its upward
+// normal (-sin dip cos dd, -sin dip sin dd, cos dip) leans towards -x. A crack's or a band's normal has no sign, so
+// the upward one is taken; a vertical plane (|n_z| below 1e-9 of |n|) has two dip directions 180 deg apart and gets
+// the one in [0, 180); a horizontal plane's dip direction is 0.
+struct PlaneOrientation {
+  double dip_deg = 0, dip_direction_deg = 0;
+};
+inline constexpr double vertical_plane_tolerance = 1e-9;
+
+// The normal n with the sign the joint sets' normals have (above): upward, or for a vertical plane the one whose
+// dip direction lies in [0, 180).
+inline std::array<double, 3> upward_normal(std::array<double, 3> n) {
+  const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  const bool vertical = std::abs(n[2]) <= vertical_plane_tolerance * len;
+  const bool flip = vertical ? (n[1] > 0 || (n[1] == 0 && n[0] > 0)) : n[2] < 0;
+  if (flip) n = {-n[0], -n[1], -n[2]};
+  return n;
+}
+
+inline PlaneOrientation plane_orientation_deg(const std::array<double, 3>& normal) {
+  const std::array<double, 3> n = upward_normal(normal);
+  const double h = std::hypot(n[0], n[1]), to_deg = 180.0 / std::numbers::pi;
+  PlaneOrientation o;
+  if (!(h > 0)) return o;  // horizontal (or no normal)
+  const bool vertical = std::abs(n[2]) <= vertical_plane_tolerance * std::hypot(h, n[2]);
+  o.dip_deg = vertical ? 90.0 : std::atan2(h, n[2]) * to_deg;
+  // A round-off component of the normal (a mesh face on a plane of dip direction 0 has |n_y| ~ 1e-16) must not
+  // send 0 to 359.99999999999994 or 6e-14: the directions within 1e-9 deg of 0 (or the period) are 0.
+  const double period = vertical ? 180.0 : 360.0;
+  o.dip_direction_deg = std::fmod(std::atan2(-n[1], -n[0]) * to_deg + 360.0, period);
+  if (o.dip_direction_deg < 1e-9 || o.dip_direction_deg >= period - 1e-9) o.dip_direction_deg = 0.0;
+  return o;
+}
+
 // Whether a table accessor returns a stored field (a reference) rather than a derived value.
 template <class Get, class Record>
 inline constexpr bool stored_field = std::is_lvalue_reference_v<std::invoke_result_t<Get, Record&>>;
@@ -88,6 +123,13 @@ struct Crack {
     if (dim == 2)
       f(Field{"orientation_deg", "deg", "the broken edge's angle from the horizontal, counter-clockwise, [0, 180)", 6},
         [](const auto& c) { return edge_orientation_deg(c.normal[0], c.normal[1]); });
+    if (dim == 3) {
+      f(Field{"dip_deg", "deg", "the broken face's dip from the horizontal, [0, 90]", 6},
+        [](const auto& c) { return plane_orientation_deg(c.normal).dip_deg; });
+      f(Field{"dip_direction_deg", "deg", "the broken face's dip direction as the joint sets': 0 strikes along y, "
+                                          "[0, 360) ([0, 180) when vertical)", 6},
+        [](const auto& c) { return plane_orientation_deg(c.normal).dip_direction_deg; });
+    }
   }
 };
 
@@ -102,11 +144,12 @@ struct CurvePoint {
   // joint and its dilation since the shear began (opening positive); 0 for the other tests.
   double shear_displacement = 0, normal_stress = 0, dilation = 0;  // m, Pa, m
   double stress() const { return 0.5 * (stress_top + stress_bottom); }
-  // eps_v = eps_a + eps_l, compression positive (plane strain).
-  double volumetric_strain() const { return strain + lateral_strain; }
+  // Compression positive. 2D: eps_v = eps_a + eps_l (plane strain); 3D: eps_v = eps_a + 2 eps_l, the lateral
+  // strain being the cylinder's radial strain (the same in every horizontal direction).
+  double volumetric_strain(int dim = 2) const { return strain + (dim - 1) * lateral_strain; }
 
   template <class F>
-  static void fields(int /*dim*/, F&& f) {
+  static void fields(int dim, F&& f) {
     f(Field{"step", "-", "explicit step (-1: a point of the static start)"}, [](auto& p) -> auto& { return p.step; });
     f(Field{"time_s", "s", "time"}, [](auto& p) -> auto& { return p.time; });
     f(Field{"strain", "-", "axial strain, platen closure over height"}, [](auto& p) -> auto& { return p.strain; });
@@ -122,10 +165,15 @@ struct CurvePoint {
     for (std::size_t k = 0; k < 4; ++k)
       f(Field{broken_names[k], "-", "bonds broken so far, by kind and mode"},
         [k](auto& p) -> auto& { return p.broken[k]; });
-    f(Field{"lateral_strain", "-", "width change over width, compression positive"},
+    f(Field{"lateral_strain", "-",
+            dim == 2 ? "width change over width, compression positive"
+                     : "radial strain of the lateral surface (mean radial displacement over radius), compression "
+                       "positive"},
       [](auto& p) -> auto& { return p.lateral_strain; });
-    f(Field{"volumetric_strain", "-", "axial plus lateral strain (plane strain), compression positive"},
-      [](const auto& p) { return p.volumetric_strain(); });
+    f(Field{"volumetric_strain", "-",
+            dim == 2 ? "axial plus lateral strain (plane strain), compression positive"
+                     : "axial plus twice the radial strain, compression positive"},
+      [dim](const auto& p) { return p.volumetric_strain(dim); });
     f(Field{"shear_displacement_m", "m", "rbdem shear: the upper box's displacement along the joint (0 otherwise)"},
       [](auto& p) -> auto& { return p.shear_displacement; });
     f(Field{"normal_stress_pa", "Pa", "rbdem shear: the normal load on the upper box over the joint area, compression "

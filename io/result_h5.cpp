@@ -147,6 +147,18 @@ ForceNetwork read_network(const Reader& rd, hid_t frame, int dim) {
   return n;
 }
 
+// 3D: each block's rotation from its reference orientation as one number, the angle of its unit quaternion
+// (qw, qx, qy, qz): 2 atan2(|(qx, qy, qz)|, |qw|), rad in [0, pi], about whatever axis (ParaView colours by it as
+// it colours a 2D run by theta; the axis is in the pose's quaternion).
+std::vector<double> rotation_angles(const Frame& f) {
+  const std::size_t nb = f.blocks();
+  const double *qw = f.component(3), *qx = f.component(4), *qy = f.component(5), *qz = f.component(6);
+  std::vector<double> angle(nb);
+  for (std::size_t b = 0; b < nb; ++b)
+    angle[b] = 2.0 * std::atan2(std::sqrt(qx[b] * qx[b] + qy[b] * qy[b] + qz[b] * qz[b]), std::abs(qw[b]));
+  return angle;
+}
+
 // /frames/NNNNN: the poses by component (in double: the exact state), the cells' vertices for display, the
 // damage count per block, and the frame's scalars.
 void write_frames(const Writer& w, hid_t file, const Specimen& sp, const TestResult& r) {
@@ -179,6 +191,7 @@ void write_frames(const Writer& w, hid_t file, const Specimen& sp, const TestRes
     for (int c = 0; c < components; ++c)
       w.dataset(fg, pose_name(sp.dim, c), std::vector<double>(f.component(c), f.component(c) + nb));
     w.dataset(fg, "vertices", vertices, 3);
+    if (sp.dim == 3) w.dataset(fg, "rotation_angle", rotation_angles(f));
     w.dataset(fg, "damage", damage);
     write_network(w, fg, sp, f);
     write_attributes(w, fg, sp.dim, f);
@@ -277,7 +290,7 @@ void write_result_xdmf(const std::filesystem::path& xdmf_path, const std::filesy
     };
     attribute("layer", "Int", 4, "/mesh/layer");
     attribute("damage", "Int", 4, fr + "/damage");
-    if (specimen.dim == 2) attribute("rotation", "Float", 8, fr + "/theta");
+    attribute("rotation", "Float", 8, fr + (specimen.dim == 2 ? "/theta" : "/rotation_angle"));
     s += "      </Grid>\n";
   }
   s += "    </Grid>\n  </Domain>\n</Xdmf>\n";

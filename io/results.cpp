@@ -72,14 +72,30 @@ void add_cracks(nlohmann::json& j, const TestResult& r) {
   for (const auto& m : r.cracks_by_material)
     j["cracks_by_material"][m.material] = {{"bonds", m.bonds}, {"tensile", m.tensile}, {"shear", m.shear}};
   double total = 0;
-  for (const auto& f : r.fragments) total += f.area;
-  const double largest = r.fragments.empty() ? 0.0 : r.fragments.front().area;
+  for (const auto& f : r.fragments) total += f.measure;
+  const double largest = r.fragments.empty() ? 0.0 : r.fragments.front().measure;
   int single = 0;
   for (const auto& f : r.fragments) single += f.blocks == 1;
+  // 3D: the fragments' sizes are volumes.
+  const bool solid = r.dimension == 3;
   j["fragments"] = {{"count", r.fragments.size()},
                     {"single_blocks", single},
-                    {"largest_area_m2", largest},
-                    {"largest_area_fraction", total > 0 ? largest / total : 0.0}};
+                    {solid ? "largest_volume_m3" : "largest_area_m2", largest},
+                    {solid ? "largest_volume_fraction" : "largest_area_fraction", total > 0 ? largest / total : 0.0}};
+}
+
+// 3D: the crack band's dip direction and the crack rose (cracks by dip and dip direction); 2D runs write neither.
+void add_orientations3(nlohmann::json& j, const TestResult& r) {
+  if (r.dimension != 3) return;
+  auto defined = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+  j["crack_band_angle_deg"] = defined(r.crack_band_angle_deg);
+  j["crack_band_dip_direction_deg"] = defined(r.crack_band_dip_direction_deg);
+  const CrackRose& rose = r.crack_rose;
+  j["crack_rose"] = {{"dip_bin_deg", rose.dip_bin_deg},
+                     {"dip_direction_bin_deg", rose.dip_direction_bin_deg},
+                     {"by_dip", rose.by_dip},
+                     {"area_by_dip_m2", rose.area_by_dip},
+                     {"counts", rose.counts}};
 }
 
 }  // namespace
@@ -93,6 +109,8 @@ nlohmann::json run_summary(const Scene& scene, const TestResult& r) {
   const bool measured = !scene.mesh.file.empty() && std::isfinite(r.joint_dip_deg);
   j["beta_deg"] = measured ? r.joint_dip_deg : scene.joint_set.dip_deg;
   j["beta_source"] = measured ? "mesh" : "scene";
+  if (r.dimension == 3)  // the planes' azimuth, in [0, 360) as the mesh has it
+    j["beta_dip_direction_deg"] = std::fmod(scene.joint_set.dip_direction_deg + 720.0, 360.0);
   j["spacing_m"] = scene.joint_set.spacing;
   j["peak_stress_pa"] = r.peak_stress;
   j["strain_at_peak"] = r.strain_at_peak;
@@ -104,6 +122,7 @@ nlohmann::json run_summary(const Scene& scene, const TestResult& r) {
   j["failure_mode"] = r.failure_mode;
   j["crack_band_angle_deg"] = r.crack_band_angle_deg;
   j["tensile_fraction"] = r.tensile_fraction;
+  add_orientations3(j, r);
   j["stop_reason"] = r.stop_reason;
   j["steps"] = r.steps;
   j["dt_s"] = r.dt;
@@ -133,6 +152,7 @@ nlohmann::json run_summary(const Scene& scene, const TestResult& r) {
                                                {"message", r.watchdog_message}};
   if (!r.completed) {  // a broken run has no headline numbers: never a plausible value from it
     for (const char* key : measured_keys) j[key] = nullptr;
+    if (r.dimension == 3) j["crack_band_dip_direction_deg"] = nullptr;
     for (const ResultValue& v : r.own)
       if (v.measured) j[v.key] = nullptr;
   }
@@ -232,14 +252,16 @@ void write_cracks_csv(const std::filesystem::path& file, int dim, const std::vec
   write_text_atomic(file, csv_table(dim, cracks));
 }
 
-void write_fragments_csv(const std::filesystem::path& file, const std::vector<Fragment>& fragments) {
+void write_fragments_csv(const std::filesystem::path& file, const std::vector<Fragment>& fragments, int dim) {
   double total = 0;
-  for (const auto& f : fragments) total += f.area;
-  std::string s = "fragment,blocks,area_m2,area_fraction,x_m,y_m\n";
+  for (const auto& f : fragments) total += f.measure;
+  std::string s = dim == 3 ? "fragment,blocks,volume_m3,volume_fraction,x_m,y_m,z_m\n"
+                           : "fragment,blocks,area_m2,area_fraction,x_m,y_m\n";
   for (std::size_t k = 0; k < fragments.size(); ++k) {
     const Fragment& f = fragments[k];
-    s += fmt::format("{},{},{:.9g},{:.9g},{:.9g},{:.9g}\n", k, f.blocks, f.area, total > 0 ? f.area / total : 0.0,
-                     f.cx, f.cy);
+    s += fmt::format("{},{},{:.9g},{:.9g},{:.9g},{:.9g}", k, f.blocks, f.measure,
+                     total > 0 ? f.measure / total : 0.0, f.cx, f.cy);
+    s += dim == 3 ? fmt::format(",{:.9g}\n", f.cz) : std::string("\n");
   }
   write_text_atomic(file, s);
 }
@@ -257,7 +279,7 @@ void write_run(const std::filesystem::path& dir, const Scene& scene, const Speci
   write_text_atomic(dir / "scene.toml", to_toml(scene));
   write_curve_csv(dir / "curve.csv", specimen.dim, r.curve);
   write_cracks_csv(dir / "cracks.csv", specimen.dim, r.cracks);
-  write_fragments_csv(dir / "fragments.csv", r.fragments);
+  write_fragments_csv(dir / "fragments.csv", r.fragments, specimen.dim);
   write_crack_rate_csv(dir / "crack_rate.csv", r.crack_rate);
   if (!r.cycles.empty()) write_text_atomic(dir / "cycles.csv", csv_table(specimen.dim, r.cycles));
   write_result_h5(dir / "result.h5", scene, specimen, r, threads);

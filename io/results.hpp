@@ -27,7 +27,7 @@ void write_run(const std::filesystem::path& dir, const Scene& scene, const Speci
 void write_curve_csv(const std::filesystem::path& file, int dim, const std::vector<CurvePoint>& curve);
 void write_cracks_csv(const std::filesystem::path& file, int dim, const std::vector<Crack>& cracks);
 // One row per fragment (dem/driver/signals.hpp), in the given order (largest first).
-void write_fragments_csv(const std::filesystem::path& file, const std::vector<Fragment>& fragments);
+void write_fragments_csv(const std::filesystem::path& file, const std::vector<Fragment>& fragments, int dim = 2);
 // One row per strain bin of the crack rate.
 void write_crack_rate_csv(const std::filesystem::path& file, const std::vector<CrackRateBin>& bins);
 // Writes `text` to `file` + ".tmp" and renames it to `file` when complete (a reader never sees half a file).

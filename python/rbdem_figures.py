@@ -319,6 +319,98 @@ def _draw_crack_map(ax, data, k, magnify=1.0, fill=True):
     return counts
 
 
+_TET_EDGES = np.array([(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)])
+_TRI_EDGES = np.array([(0, 1), (0, 2), (1, 2)])
+
+
+def _cut(ref_y, y0, deformed, edges):
+    """Where the plane y = y0 of the reference configuration cuts each cell's edges: per cell the (x, z) of the
+    deformed points at the edges' reference crossing parameters, padded with the last valid point, and how many
+    edges it cuts. A vertex exactly on the plane counts as above it."""
+    d = np.where(ref_y == y0, 1e-300, ref_y - y0)
+    da, db = d[:, edges[:, 0]], d[:, edges[:, 1]]
+    crosses = da * db < 0
+    t = np.where(crosses, da / np.where(crosses, da - db, 1.0), 0.0)
+    pa, pb = deformed[:, edges[:, 0]][..., [0, 2]], deformed[:, edges[:, 1]][..., [0, 2]]
+    pts = pa + t[..., None] * (pb - pa)
+    order = np.argsort(~crosses, axis=1, kind="stable")  # the cut edges first
+    pts = np.take_along_axis(pts, order[..., None], axis=1)
+    count = crosses.sum(axis=1)
+    last = np.take_along_axis(pts, np.maximum(count - 1, 0)[:, None, None], axis=1)
+    pts = np.where((np.arange(pts.shape[1]) < count[:, None])[..., None], pts, last)
+    return pts, count
+
+
+class Section3:
+    """A 3D run as a crack map: its x-z section through the specimen's centre (the plane y = y0 of the reference
+    configuration, drawn where the blocks moved): each tetrahedron the plane cuts as its triangle or quadrilateral,
+    each broken face it cuts as a segment. The same reading interface as the 2D RunFile."""
+
+    def __init__(self, run_dir):
+        import h5py
+
+        self.file = h5py.File(os.path.join(run_dir, "result.h5"), "r")
+        f = self.file
+        self.summary = json.loads(f["summary"].attrs["json"])
+        self.tets, self.nodes = f["mesh/tetrahedra"][()], f["mesh/nodes"][()]
+        self.y0 = 0.5 * (self.nodes[:, 1].min() + self.nodes[:, 1].max())
+        ref = self.nodes[self.tets]
+        y = ref[..., 1]
+        self.cells = np.flatnonzero((y.min(axis=1) < self.y0) & (y.max(axis=1) > self.y0))
+        self.layer = f["mesh/layer"][()][self.cells]
+        self.bond_i, self.bond_nodes = f["bonds/i"][()], f["bonds/nodes"][()]
+        self.crack_bond, self.crack_kind, self.crack_mode = (f["cracks/bond"][()], f["cracks/kind"][()],
+                                                              f["cracks/mode"][()])
+        self.frames = []
+        for name in sorted(f["frames"].keys()):
+            a = f["frames"][name].attrs
+            label = a["label"].decode() if isinstance(a["label"], bytes) else str(a["label"])
+            self.frames.append({"name": name, "label": label, "step": int(a["step"]), "strain": float(a["strain"]),
+                                "stress": float(a["stress_pa"]), "cracks": int(a["cracks"])})
+        self._blocks = None
+
+    def frame_index(self, at):
+        return results.RunFile.frame_index(self, at)
+
+    def _block_vertices(self, k, magnify):
+        v = self.file["frames"][self.frames[k]["name"]]["vertices"][()].astype(float).reshape(-1, 4, 3)
+        if magnify != 1.0:
+            ref = self.nodes[self.tets]
+            v = ref + magnify * (v - ref)
+        return v
+
+    def vertices(self, k, magnify=1.0):
+        """The section's polygons (P, 4, 2) in (x, z) at frame k (a triangle repeats its last vertex)."""
+        self._blocks = self._block_vertices(k, magnify)
+        c = self.cells
+        pts, _ = _cut(self.nodes[self.tets[c]][..., 1], self.y0, self._blocks[c], _TET_EDGES)
+        pts = pts[:, :4]
+        centre = pts.mean(axis=1, keepdims=True)
+        angle = np.arctan2(pts[..., 1] - centre[..., 1], pts[..., 0] - centre[..., 0])
+        return np.take_along_axis(pts, np.argsort(angle, axis=1)[..., None], axis=1)
+
+    def crack_segments(self, k, verts):
+        """The broken faces up to frame k that the plane cuts, moved with block i: (segments (C, 2, 2), kind,
+        mode)."""
+        n = self.frames[k]["cracks"]
+        bonds = self.crack_bond[:n]
+        i = self.bond_i[bonds]
+        face = self.bond_nodes[bonds]  # (C, 3) mesh nodes; vertex v of block t is node tets[t][v]
+        slot = np.argmax(self.tets[i][:, None, :] == face[:, :, None], axis=2)  # (C, 3)
+        moved = np.take_along_axis(self._blocks[i], slot[..., None], axis=1)
+        pts, count = _cut(self.nodes[face][..., 1], self.y0, moved, _TRI_EDGES)
+        cut = count == 2
+        return pts[cut, :2], self.crack_kind[:n][cut], self.crack_mode[:n][cut]
+
+    def close(self):
+        self.file.close()
+
+
+def _crack_map_data(run_dir):
+    """The crack map reader of a run: its triangles (2D) or the x-z section of its tetrahedra (3D)."""
+    return Section3(run_dir) if read_summary(run_dir).get("dimension", 2) == 3 else CrackMapData(run_dir)
+
+
 def _legend_handles(counts=None):
     handles = []
     for key, (label, color) in CRACK_STYLES.items():
@@ -329,7 +421,7 @@ def _legend_handles(counts=None):
 
 def plot_cracks(out, run_dir, at="final", magnify=1.0):
     """The paper's Figure 9: deformed specimen and cracks at the peak, the final state, or both side by side."""
-    data = CrackMapData(run_dir)
+    data = _crack_map_data(run_dir)
     try:
         which = ["peak", "final"] if at == "both" else [at]
         fig, axes = plt.subplots(1, len(which), figsize=(3.6 * len(which) + 1.6, 6.6), squeeze=False,
@@ -341,7 +433,8 @@ def plot_cracks(out, run_dir, at="final", magnify=1.0):
             ax.set_title(f"{name}: strain {fr['strain']:.3g}, {fr['stress'] / 1e6:.1f} MPa\n"
                          f"{fr['cracks']} cracks", fontsize=9)
             ax.set_xlabel("x (mm)")
-            ax.set_ylabel("y (mm)")
+            section = isinstance(data, Section3)
+            ax.set_ylabel(f"z (mm), the x-z section at y = {data.y0 * 1e3:.1f} mm" if section else "y (mm)")
             ax.legend(handles=_legend_handles(counts), loc="upper center", bbox_to_anchor=(0.5, -0.09), ncol=2,
                       fontsize=7, frameon=False)
         s = data.summary
@@ -359,8 +452,10 @@ def plot_crack_grid(out, run_dirs, labels=None, magnify=1.0):
     n = len(run_dirs)
     fig, axes = plt.subplots(1, n, figsize=(2.3 * n + 0.6, 5.8), squeeze=False)
     fig.set_layout_engine("constrained", rect=(0, 0.05, 1, 0.95))  # room for the legend below
+    sections = False
     for m, (ax, run) in enumerate(zip(axes[0], run_dirs)):
-        data = CrackMapData(run)
+        data = _crack_map_data(run)
+        sections = sections or isinstance(data, Section3)
         try:
             k = data.frame_index("final")
             _draw_crack_map(ax, data, k, magnify)
@@ -375,7 +470,8 @@ def plot_crack_grid(out, run_dirs, labels=None, magnify=1.0):
         finally:
             data.close()
     mag = f" (displacements x{magnify:g})" if magnify != 1.0 else ""
-    fig.suptitle(f"Cracks at the end of each run{mag}", fontsize=10)
+    where = " (3D runs: the x-z section through the centre)" if sections else ""
+    fig.suptitle(f"Cracks at the end of each run{where}{mag}", fontsize=10)
     fig.legend(handles=_legend_handles(), loc="lower center", ncol=4, fontsize=8, frameon=False)
     fig.savefig(out, dpi=150)
     plt.close(fig)
@@ -478,13 +574,17 @@ def plot_stages(out, run_dirs, labels=None):
     fig, axes = _grid(len(run_dirs), 3.2, 2.9)
     below = 0.6 / fig.get_figheight()  # room for the legend below (rect: left, bottom, width, height)
     fig.set_layout_engine("constrained", rect=(0, below, 1, 0.96 - below))
+    dims = set()
     for m, (ax, run) in enumerate(zip(axes, run_dirs)):
         c, s = read_curve(run), read_summary(run)
+        dim = s.get("dimension", 2)
+        dims.add(dim)
         order = np.argsort(c["strain"], kind="stable")
         stress = 0.5 * (c["stress_top_pa"] + c["stress_bottom_pa"])[order] / 1e6
         ea = c["strain"][order]
         el = c["lateral_strain"][order] if "lateral_strain" in c else np.zeros_like(ea)
-        ev = c["volumetric_strain"][order] if "volumetric_strain" in c else ea + el
+        # 3D: the lateral strain is the radial one, the same in both horizontal directions.
+        ev = c["volumetric_strain"][order] if "volumetric_strain" in c else ea + (dim - 1) * el
         ax.plot(ea, stress, color="k", lw=1.2)
         ax.plot(el, stress, color="#1f77b4", lw=1.0)
         ax.plot(ev, stress, color="#ff7f0e", lw=1.0)
@@ -513,7 +613,9 @@ def plot_stages(out, run_dirs, labels=None):
         ax.set_ylabel("axial stress (MPa)", fontsize=7)
     handles = [Line2D([0], [0], color="k", lw=1.2, label="axial ε_a"),
                Line2D([0], [0], color="#1f77b4", lw=1.0, label="lateral ε_l"),
-               Line2D([0], [0], color="#ff7f0e", lw=1.0, label="volumetric ε_v = ε_a + ε_l")]
+               Line2D([0], [0], color="#ff7f0e", lw=1.0,
+                      label=" / ".join({2: "volumetric ε_v = ε_a + ε_l", 3: "volumetric ε_v = ε_a + 2 ε_l (3D)"}[d]
+                                       for d in sorted(dims)))]
     handles += [Line2D([0], [0], color=col, lw=0.8, ls=":", label=lab) for _, lab, col in STAGES]
     fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=7, frameon=False)
     fig.suptitle("Stages of the compression test (dotted: stresses of summary.json; ci, cd: as fractions of "
@@ -534,15 +636,21 @@ def plot_rose(out, run_dirs, labels=None, bin_deg=10.0):
     if not (0 < bin_deg <= 90 and abs(180 / bin_deg - round(180 / bin_deg)) < 1e-9):
         raise SystemExit(f"--bin {bin_deg}: give a divisor of 180 deg, e.g. 5, 10 or 15")
     nb = int(round(180 / bin_deg))
+    solid = False
     fig, axes = _grid(len(run_dirs), 2.6, 2.8, polar=True)
     below = 0.6 / fig.get_figheight()  # room for the legend below (rect: left, bottom, width, height)
     fig.set_layout_engine("constrained", rect=(0, below, 1, 0.96 - below))
     for m, (ax, run) in enumerate(zip(axes, run_dirs)):
         s = read_summary(run)
         k = results.read_cracks(run)
-        if "orientation_deg" not in k:
+        solid = solid or "dip_deg" in k
+        if "dip_deg" in k:  # 3D: the dip, at 180 - dip for dip directions in [180, 360) (the x-z trace's angle)
+            dip = np.asarray(k["dip_deg"], dtype=float)
+            ang = np.where(np.asarray(k["dip_direction_deg"], dtype=float) >= 180.0, 180.0 - dip, dip)
+        elif "orientation_deg" in k:
+            ang = np.asarray(k["orientation_deg"], dtype=float)
+        else:
             raise results.RunFolderError(f"{run}: cracks.csv has no orientation_deg column (rerun with this rbdem)")
-        ang = np.asarray(k["orientation_deg"], dtype=float)
         kind, mode = np.asarray(k.get("kind", [])), np.asarray(k.get("mode", []))
         # Bins centred on 0, bin, 2 bin, ...: horizontal (0) and vertical (90) edges fall in the middle of a bin.
         edges = np.linspace(0, 180, nb + 1)
@@ -560,8 +668,8 @@ def plot_rose(out, run_dirs, labels=None, bin_deg=10.0):
         ax.tick_params(labelsize=6)
     handles = [Line2D([0], [0], color=col, lw=6, label=lab) for _, _, lab, col in CLASS_STYLES]
     fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=7, frameon=False)
-    fig.suptitle(f"Crack orientations: the broken edges' angle from the horizontal ({bin_deg:g}° bins)",
-                 fontsize=9)
+    what = "the broken edges' angle" if not solid else "the broken faces' dip (3D; 180 - dip for dip directions 180-360)"
+    fig.suptitle(f"Crack orientations: {what} from the horizontal ({bin_deg:g}° bins)", fontsize=9)
     fig.savefig(out, dpi=150)
     plt.close(fig)
 
@@ -599,15 +707,16 @@ def plot_fragments(out, run_dirs, labels=None):
     for m, run in enumerate(run_dirs):
         s = read_summary(run)
         f = results.read_fragments(run)
-        if f["area_fraction"].size == 0:
+        fraction = f["volume_fraction"] if "volume_fraction" in f else f["area_fraction"]  # 3D: volumes
+        if fraction.size == 0:
             continue
-        a = np.sort(f["area_fraction"])[::-1]
+        a = np.sort(fraction)[::-1]
         n = np.arange(1, a.size + 1)
         ax.step(a, n, where="post", color=colors[m % len(colors)], lw=1.2,
                 label=f"{_run_label(run, s, labels, m)}: {a.size} fragments, largest {a[0]:.2f}")
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel("fragment area / specimen area (-)")
+    ax.set_xlabel("fragment area (3D: volume) / specimen area (volume) (-)")
     ax.set_ylabel("fragments at least this large")
     ax.set_title("Fragments at the end of the run (blocks joined by intact bonds)", fontsize=10)
     _finish_runs_figure(fig, ax, out)

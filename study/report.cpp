@@ -157,14 +157,19 @@ std::string defined_or_dash(const nlohmann::json& s, const char* key, double sca
 // The signals of each case (docs/theory.md, section 10): Poisson's ratio at half the peak, crack initiation and
 // crack damage stresses against the peak, the residual strength, the fragments at the end.
 std::string signals_table(const std::vector<CaseResult>& results) {
+  // A 3D study's volumetric strain has twice the (radial) lateral strain and its fragments are volumes.
+  bool solid = false;
+  for (const auto& r : results) solid = solid || r.summary.value("dimension", 2) == 3;
   std::string md = "\n### Stages and fragments\n\n";
   md += "Poisson's ratio: tangent -d eps_l / d eps_a between 40 and 60 % of the peak. Crack initiation: the onset "
         "of uninterrupted cracking (every 2 % stress bin up to the peak holds a crack); crack damage: the reversal "
-        "of the volumetric strain eps_a + eps_l before the peak; residual: the mean stress over the last fifth of "
+        "of the volumetric strain ";
+  md += solid ? "eps_a + 2 eps_l (3D: eps_l the radial strain)" : "eps_a + eps_l";
+  md += " before the peak; residual: the mean stress over the last fifth of "
         "a post-peak range that reached loading.post_peak_strain or loading.max_strain; '-': not defined "
         "(docs/outputs.md). Laboratory brittle rock: initiation at 0.3-0.5 and damage at 0.7-0.9 of the peak.\n\n";
   md += "| case | beta (deg) | Poisson | initiation (MPa) | initiation / peak | damage (MPa) | damage / peak | "
-        "residual (MPa) | fragments | largest fragment (area fraction) |\n"
+        "residual (MPa) | fragments | largest fragment (" + std::string(solid ? "volume" : "area") + " fraction) |\n"
         "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& r : results) {
     const auto& s = r.summary;
@@ -177,7 +182,7 @@ std::string signals_table(const std::vector<CaseResult>& results) {
                       defined_or_dash(s, "crack_damage_stress_pa", 1e-6, "{:.2f}"),
                       defined_or_dash(s, "crack_damage_to_peak", 1.0, "{:.3f}"),
                       defined_or_dash(s, "residual_stress_pa", 1e-6, "{:.2f}"), defined_or_dash(f, "count", 1.0, "{:.10g}"),
-                      defined_or_dash(f, "largest_area_fraction", 1.0, "{:.3f}"));
+                      defined_or_dash(f, solid ? "largest_volume_fraction" : "largest_area_fraction", 1.0, "{:.3f}"));
   }
   return md;
 }

@@ -172,16 +172,16 @@ TEST(Signals, FragmentsAreTheBlocksJoinedByIntactBonds) {
   const auto whole = fragments(t, {});
   ASSERT_EQ(whole.size(), 1u);
   EXPECT_EQ(whole[0].blocks, 6);
-  EXPECT_DOUBLE_EQ(whole[0].area, 7.0);
+  EXPECT_DOUBLE_EQ(whole[0].measure, 7.0);
   const auto f = fragments(t, {crack_at(0, 2), crack_at(0, 4), crack_at(0, 0)});
   ASSERT_EQ(f.size(), 3u);
   EXPECT_EQ(f[0].blocks, 3);  // {0, 1, 2}: area 3, centroid x = 1.5
-  EXPECT_DOUBLE_EQ(f[0].area, 3.0);
+  EXPECT_DOUBLE_EQ(f[0].measure, 3.0);
   EXPECT_DOUBLE_EQ(f[0].cx, 1.5);
   EXPECT_EQ(f[1].blocks, 2);  // {3, 4} (area 2) before {5} (area 2): equal areas keep the order of lowest block
   EXPECT_DOUBLE_EQ(f[1].cx, 4.0);
   EXPECT_EQ(f[2].blocks, 1);
-  EXPECT_DOUBLE_EQ(f[2].area, 2.0);
+  EXPECT_DOUBLE_EQ(f[2].measure, 2.0);
   EXPECT_DOUBLE_EQ(f[2].cx, 5.5);
   // Every bond broken: every block alone.
   std::vector<Crack> all;

@@ -49,7 +49,10 @@ struct TestResult {
   std::vector<Frame> frames;    // every output.frame_strain_interval, plus the peak and the final state
   CrackCounts crack_counts;
   std::vector<MaterialCracks> cracks_by_material;  // the materials the specimen has, in material id order
-  double crack_band_angle_deg = 0;  // principal direction of the crack positions, from the horizontal
+  double crack_band_angle_deg = 0;  // principal direction of the crack positions, from the horizontal (3D: the dip
+                                    // of the crack band's plane)
+  double crack_band_dip_direction_deg = std::numeric_limits<double>::quiet_NaN();  // 3D: the band plane's
+  CrackRose crack_rose;             // 3D: cracks by dip and dip direction (empty in 2D)
   double tensile_fraction = 0;      // tensile share of the crack length
   std::string failure_mode;
   // deg: the joints' dip the run had: the scene's joint_set.dip_deg, or for a user mesh the dip measured from its

@@ -77,10 +77,10 @@ double crack_initiation_stress(const std::vector<CurvePoint>& curve, const std::
   return first_level[std::size_t(first)];
 }
 
-double crack_damage_stress(const std::vector<CurvePoint>& curve, double strain_at_peak) {
+double crack_damage_stress(const std::vector<CurvePoint>& curve, double strain_at_peak, int dim) {
   std::size_t n = 0, best = 0;
   for (std::size_t k = 0; k < curve.size() && curve[k].strain <= strain_at_peak; ++k, ++n)
-    if (volumetric_strain(curve[k]) > volumetric_strain(curve[best])) best = k;
+    if (volumetric_strain(curve[k], dim) > volumetric_strain(curve[best], dim)) best = k;
   if (n < 3 || best + 1 >= n) return undefined_signal;
   return curve[best].stress();
 }
@@ -106,6 +106,41 @@ std::vector<double> crack_orientations_deg(const std::vector<Crack>& cracks) {
   out.reserve(cracks.size());
   for (const auto& c : cracks) out.push_back(edge_orientation_deg(c.normal[0], c.normal[1]));
   return out;
+}
+
+int CrackRose::total() const {
+  int n = 0;
+  for (const int c : by_dip) n += c;
+  return n;
+}
+
+CrackRose crack_rose3(const std::vector<Crack>& cracks, double dip_bin_deg, double dip_direction_bin_deg) {
+  auto divides = [](double bin, double range) {
+    const double n = range / bin;
+    return bin > 0 && std::abs(n - std::round(n)) < 1e-9;
+  };
+  if (!divides(dip_bin_deg, 90.0) || !divides(dip_direction_bin_deg, 360.0))
+    throw std::invalid_argument(fmt::format("crack_rose3: bins of {} deg (dip) and {} deg (dip direction) must "
+                                            "divide 90 and 360",
+                                            dip_bin_deg, dip_direction_bin_deg));
+  CrackRose rose;
+  rose.dip_bin_deg = dip_bin_deg, rose.dip_direction_bin_deg = dip_direction_bin_deg;
+  const int nd = int(std::lround(90.0 / dip_bin_deg)), na = int(std::lround(360.0 / dip_direction_bin_deg));
+  rose.by_dip.assign(std::size_t(nd), 0);
+  rose.area_by_dip.assign(std::size_t(nd), 0.0);
+  rose.counts.assign(std::size_t(nd), std::vector<int>(std::size_t(na), 0));
+  // A mesh face on a joint plane of dip 60 deg reads 60 +- 1e-14: the faces of one plane must share a bin, so an
+  // angle within rose_edge_tolerance_deg below an edge counts in the bin above it.
+  auto bin = [](double angle, double width, int bins) {
+    return std::size_t(std::clamp(int(std::floor((angle + rose_edge_tolerance_deg) / width)), 0, bins - 1));
+  };
+  for (const auto& c : cracks) {
+    const PlaneOrientation o = plane_orientation_deg(c.normal);
+    const std::size_t d = bin(o.dip_deg, dip_bin_deg, nd);  // 90 deg: the last bin
+    const std::size_t a = bin(o.dip_direction_deg, dip_direction_bin_deg, na);
+    ++rose.by_dip[d], rose.area_by_dip[d] += c.size, ++rose.counts[d][a];
+  }
+  return rose;
 }
 
 std::vector<CrackRateBin> crack_rate(const std::vector<Crack>& cracks, double strain_end, int bins) {
@@ -156,12 +191,14 @@ std::vector<Fragment> fragments(const Specimen& specimen, const std::vector<Crac
     if (slot[std::size_t(r)] < 0) slot[std::size_t(r)] = int(out.size()), out.emplace_back();
     Fragment& f = out[std::size_t(slot[std::size_t(r)])];
     const double a = specimen.blocks.measure[b];
-    f.blocks += 1, f.area += a, f.cx += a * specimen.centroid(b, 0), f.cy += a * specimen.centroid(b, 1);
+    f.blocks += 1, f.measure += a, f.cx += a * specimen.centroid(b, 0), f.cy += a * specimen.centroid(b, 1);
+    if (specimen.dim == 3) f.cz += a * specimen.centroid(b, 2);
   }
   for (auto& f : out)
-    if (f.area > 0) f.cx /= f.area, f.cy /= f.area;
-  // Fragments were created in order of their lowest block: a stable sort keeps that order among equal areas.
-  std::stable_sort(out.begin(), out.end(), [](const Fragment& a, const Fragment& b) { return a.area > b.area; });
+    if (f.measure > 0) f.cx /= f.measure, f.cy /= f.measure, f.cz /= f.measure;
+  // Fragments were created in order of their lowest block: a stable sort keeps that order among equal measures.
+  std::stable_sort(out.begin(), out.end(),
+                   [](const Fragment& a, const Fragment& b) { return a.measure > b.measure; });
   return out;
 }
 

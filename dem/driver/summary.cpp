@@ -4,9 +4,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 
+#include <Eigen/Eigenvalues>
 #include <fmt/format.h>
 
 #include "dem/materials.hpp"
@@ -45,7 +47,34 @@ std::vector<MaterialCracks> count_cracks_by_material(const std::vector<Crack>& c
   return out;
 }
 
+namespace {
+
+// The principal axes of a symmetric 3 x 3 tensor sum w v v^T, eigenvalues ascending: column 0 is the axis of least
+// spread, column 2 of the most.
+Eigen::Matrix3d principal_axes(const Eigen::Matrix3d& t) {
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(t).eigenvectors();
+}
+
+std::array<double, 3> column(const Eigen::Matrix3d& m, int c) { return {m(0, c), m(1, c), m(2, c)}; }
+
+// 3D: the dip of a mesh's joint faces, from the area-weighted orientation tensor of their normals (its principal
+// axis is the mean normal, whatever each face's sign).
+double joint_dip_deg3(const Specimen& specimen, double fallback) {
+  Eigen::Matrix3d t = Eigen::Matrix3d::Zero();
+  bool any = false;
+  for (std::size_t b = 0; b < specimen.num_bonds(); ++b) {
+    if (specimen.bonds.kind[b] != BondKind::joint) continue;
+    const Eigen::Vector3d n(specimen.normal(b, 0), specimen.normal(b, 1), specimen.normal(b, 2));
+    t += specimen.bonds.size[b] * n * n.transpose(), any = true;
+  }
+  if (!any) return fallback;
+  return plane_orientation_deg(column(principal_axes(t), 2)).dip_deg;
+}
+
+}  // namespace
+
 double joint_dip_deg(const Specimen& specimen, double fallback) {
+  if (specimen.dim == 3) return joint_dip_deg3(specimen, fallback);
   // The mean of the doubled angles (an axial mean: a joint edge at theta and theta + 180 deg is the same line).
   double c = 0, s = 0;
   const auto& N = specimen.bonds;
@@ -87,6 +116,14 @@ std::string classify_failure(const std::vector<Crack>& cracks, const Specimen& s
     const int a = layer[std::size_t(N.i[b])], c = layer[std::size_t(N.j[b])];
     const int f = N.interface[b];
     if (f < 0) return std::array<long, 4>{-1, std::min(a, c), std::max(a, c), 0};  // between layers of a user mesh
+    if (specimen.dim == 3) {  // a plane n . x = r: its orientation (one sign per plane) and its distance
+      const std::array<double, 3> n = upward_normal({specimen.normal(b, 0), specimen.normal(b, 1), specimen.normal(b, 2)});
+      double r = 0;
+      for (int k = 0; k < 3; ++k) r += n[std::size_t(k)] * specimen.midpoint(b, k);
+      // The orientation as the upward normal's horizontal components (n_z follows): no angle to wrap around.
+      const long ox = std::lround(n[0] * 1e4) + 20000, oy = std::lround(n[1] * 1e4) + 20000;
+      return std::array<long, 4>{f, ox * 100000 + oy, std::lround(r / (1e-4 * scale)), 1};
+    }
     double nx = specimen.normal(b, 0), ny = specimen.normal(b, 1);
     if (ny < 0 || (ny == 0 && nx < 0)) nx = -nx, ny = -ny;  // one sign per line
     const double r = nx * specimen.midpoint(b, 0) + ny * specimen.midpoint(b, 1);
@@ -126,6 +163,21 @@ std::string classify_failure(const std::vector<Crack>& cracks, const Specimen& s
   if (opened) return "splitting_along_layers";
   if (rock_t >= rock_s) return dip_deg >= 60.0 ? "splitting_along_layers" : "splitting_across_layers";
   return "shear_through_rock";
+}
+
+PlaneOrientation crack_band_plane(const std::vector<Crack>& cracks) {
+  constexpr double undefined = std::numeric_limits<double>::quiet_NaN();
+  double w = 0;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& k : cracks) w += k.size, mean += k.size * Eigen::Vector3d(k.position[0], k.position[1], k.position[2]);
+  if (cracks.size() < 3 || !(w > 0)) return {undefined, undefined};
+  mean /= w;
+  Eigen::Matrix3d t = Eigen::Matrix3d::Zero();
+  for (const auto& k : cracks) {
+    const Eigen::Vector3d d = Eigen::Vector3d(k.position[0], k.position[1], k.position[2]) - mean;
+    t += k.size * d * d.transpose();
+  }
+  return plane_orientation_deg(column(principal_axes(t), 0));  // the band's normal: the direction of least spread
 }
 
 double crack_band_angle_deg(const std::vector<Crack>& cracks) {
@@ -206,7 +258,9 @@ void summarize(const Scene& scene, const Specimen& specimen, const LoadingProtoc
   r.joint_dip_deg = dip;
   r.failure_mode = classify_failure(r.cracks, specimen, dip, second_set_dip_deg(scene, scene.joint_set.dip_deg),
                                     non_persistent(scene));
-  r.crack_band_angle_deg = crack_band_angle_deg(r.cracks);
+  const PlaneOrientation band = specimen.dim == 3 ? crack_band_plane(r.cracks)  // 3D: a plane, with its azimuth
+                                                  : PlaneOrientation{crack_band_angle_deg(r.cracks), undefined_signal};
+  r.crack_band_angle_deg = band.dip_deg, r.crack_band_dip_direction_deg = band.dip_direction_deg;
   double t_len = 0, all = 0;
   for (const auto& k : r.cracks) {
     all += k.size;
@@ -217,7 +271,7 @@ void summarize(const Scene& scene, const Specimen& specimen, const LoadingProtoc
   const double floor = protocol.stress_floor();
   if (protocol.lateral_signals()) {
     r.poisson_ratio_at_half_peak = poisson_ratio_at_half_peak(r.curve, peak, at_peak.strain, floor);
-    r.crack_damage_stress = crack_damage_stress(r.curve, at_peak.strain);
+    r.crack_damage_stress = crack_damage_stress(r.curve, at_peak.strain, specimen.dim);
   }
   r.crack_initiation_stress = crack_initiation_stress(r.curve, r.cracks, peak, at_peak.strain);
   r.residual_stress = residual_stress(r.curve, at_peak.strain, r.stop_reason);
@@ -226,6 +280,7 @@ void summarize(const Scene& scene, const Specimen& specimen, const LoadingProtoc
 void crack_statistics(const Specimen& specimen, TestResult& r) {
   r.crack_rate = crack_rate(r.cracks, r.curve.empty() ? 0.0 : r.curve.back().strain);
   r.fragments = fragments(specimen, r.cracks);
+  if (specimen.dim == 3) r.crack_rose = crack_rose3(r.cracks);
 }
 
 }  // namespace rbdem

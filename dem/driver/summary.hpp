@@ -24,13 +24,16 @@ std::vector<MaterialCracks> count_cracks_by_material(const std::vector<Crack>& c
 //   no joint broken through: rock cracks, by length, mostly tensile -> splitting, "splitting_along_layers" when the
 //   layers are steep (dip >= 60 deg, cracks parallel to them) else "splitting_across_layers";
 //   mostly shear -> "shear_through_rock"; and "intact" when nothing broke.
-// Joints are grouped by interface (joint set) and layer pair; the second set's joints use dip2_deg. With rock
-// bridges (`bridges`: a non-persistent set), a joint failure whose broken rock length is at least half the broken
-// joint length -> "bridge_fracture" (the failure path runs through the bridges as much as along the joints).
+// Joints are grouped by interface (joint set) and layer pair; the second set's joints use dip2_deg. In 3D a joint
+// is a plane of joint faces (one interface, one orientation, one distance from the origin) and its size is area:
+// the resolved shear on a plane of dip beta under the axial load does not depend on its dip direction, so the
+// same dips decide. With rock bridges (`bridges`: a non-persistent set), a joint failure whose broken rock length is
+// at least half the broken joint length -> "bridge_fracture" (the failure path runs through the bridges as much as
+// along the joints).
 std::string classify_failure(const std::vector<Crack>& cracks, const Specimen& specimen, double dip_deg,
                              double dip2_deg = 0.0, bool bridges = false);
 // The dip (0..90 deg from the horizontal) of a mesh's joints: the length-weighted axial mean direction of its joint
-// edges; `fallback` when it has none. The failure classification of a user mesh uses it.
+// edges (3D: the dip of the principal axis of its joint faces' area-weighted normals); `fallback` when it has none. The failure classification of a user mesh uses it.
 double joint_dip_deg(const Specimen& specimen, double fallback);
 // A warning when a user mesh spans more than 1 m or less than 1 mm (`span`: its larger side, m): coordinates are
 // read in metres, so a mesh drawn in millimetres becomes a specimen a thousand times too large. Empty otherwise.
@@ -41,6 +44,10 @@ bool non_persistent(const Scene& scene);
 // Dip (0..90 deg from the horizontal) of the principal axis of the crack positions, weighted by crack length:
 // near 90 for axial splitting, near 45 + phi/2 for a shear band, the joint dip for slip along a joint.
 double crack_band_angle_deg(const std::vector<Crack>& cracks);
+// 3D: the crack band is a plane, the least-squares plane through the crack positions weighted by face area (its
+// normal is the principal axis of least spread); its dip (summary.json's crack_band_angle_deg, as in 2D: near 90
+// for axial splitting, the joints' dip for slip along them) and dip direction. NaN for fewer than three cracks.
+PlaneOrientation crack_band_plane(const std::vector<Crack>& cracks);
 
 // The result of a completed run: `result` arrives with the record's curve (the peak sample in it), frames, the
 // crack log, the counts and the timing filled in; this adds the peak, E50, the quasi-static checks, the crack
