@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-#include "dem/record_columns.hpp"
+#include "dem/snapshot_records.hpp"
 
 namespace rbdem {
 
@@ -61,22 +61,6 @@ void check_state_fits(const ModelState<2>& s, std::size_t blocks, std::size_t bo
                                             s.x.size(), s.broken.size(), blocks, bonds, bad.substr(1, bad.size() - 2)));
 }
 
-namespace {
-
-// A record column as a snapshot column: enums as bytes, the rest as they are.
-template <class V>
-auto snapshot_column(const std::vector<V>& v) {
-  if constexpr (std::is_enum_v<V>) {
-    std::vector<std::uint8_t> out(v.size());
-    for (std::size_t k = 0; k < v.size(); ++k) out[k] = std::uint8_t(v[k]);
-    return out;
-  } else {
-    return v;
-  }
-}
-
-}  // namespace
-
 void save_state(const ModelState<2>& state, Snapshot& snap) {
   state.fields([&](const char* name, const auto& field, Extent extent, bool) {
     using T = std::decay_t<decltype(field)>;
@@ -96,9 +80,7 @@ void save_state(const ModelState<2>& state, Snapshot& snap) {
       snap.add(n + "/opening_y", extent, field.opening_y);
       snap.add(n + "/key", extent, field.key);
     } else if constexpr (std::is_same_v<T, std::vector<Crack>>) {
-      write_columns(2, field, [&](const Field& f, const auto& column, bool stored) {
-        if (stored) snap.add(n + "/" + f.name, extent, snapshot_column(column));
-      });
+      save_records(2, field, n, extent, snap);
     } else {
       snap.add(n, extent, field);
     }
@@ -125,16 +107,7 @@ void load_state(const Snapshot& snap, ModelState<2>& state) {
       field.opening_y = snap.get<std::vector<double>>(n + "/opening_y");
       field.key = snap.get<std::vector<std::uint64_t>>(n + "/key");
     } else if constexpr (std::is_same_v<T, std::vector<Crack>>) {
-      field = read_columns<Crack>(2, [&](const Field& f, auto& column) {
-        using V = typename std::decay_t<decltype(column)>::value_type;
-        if constexpr (std::is_enum_v<V>) {
-          const auto& bytes = snap.get<std::vector<std::uint8_t>>(n + "/" + f.name);
-          column.resize(bytes.size());
-          for (std::size_t k = 0; k < bytes.size(); ++k) column[k] = V(bytes[k]);
-        } else {
-          column = snap.get<std::vector<V>>(n + "/" + f.name);
-        }
-      });
+      field = load_records<Crack>(2, snap, n);
     } else {
       field = snap.get<T>(n);
     }

@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "dem/record_columns.hpp"
+#include "dem/snapshot_records.hpp"
 
 namespace rbdem {
 
@@ -16,17 +16,7 @@ void save_state(const ModelState<3>& state, Snapshot& snap) {
     using T = std::decay_t<decltype(field)>;
     const std::string n = name;
     if constexpr (std::is_same_v<T, std::vector<Crack>>) {
-      write_columns(3, field, [&](const Field& f, const auto& column, bool stored) {
-        if (!stored) return;
-        using V = typename std::decay_t<decltype(column)>::value_type;
-        if constexpr (std::is_enum_v<V>) {
-          std::vector<std::uint8_t> bytes(column.size());
-          for (std::size_t k = 0; k < column.size(); ++k) bytes[k] = std::uint8_t(column[k]);
-          snap.add(n + "/" + f.name, extent, std::move(bytes));
-        } else {
-          snap.add(n + "/" + f.name, extent, column);
-        }
-      });
+      save_records(3, field, n, extent, snap);
     } else {
       snap.add(n, extent, field);
     }
@@ -39,16 +29,7 @@ void load_state(const Snapshot& snap, ModelState<3>& state, std::size_t blocks, 
     using T = std::decay_t<decltype(field)>;
     const std::string n = name;
     if constexpr (std::is_same_v<T, std::vector<Crack>>) {
-      field = read_columns<Crack>(3, [&](const Field& f, auto& column) {
-        using V = typename std::decay_t<decltype(column)>::value_type;
-        if constexpr (std::is_enum_v<V>) {
-          const auto& bytes = snap.get<std::vector<std::uint8_t>>(n + "/" + f.name);
-          column.resize(bytes.size());
-          for (std::size_t k = 0; k < bytes.size(); ++k) column[k] = V(bytes[k]);
-        } else {
-          column = snap.get<std::vector<V>>(n + "/" + f.name);
-        }
-      });
+      field = load_records<Crack>(3, snap, n);
       for (const Crack& c : field)
         if (c.bond < 0 || std::size_t(c.bond) >= bonds) bad += " cracks: a bond index out of range;";
     } else {
