@@ -59,6 +59,12 @@ class Engine<3> {
   }
   void break_bond(int b);
   void fix_block(int b, bool fixed = true);
+  // Bond b's forces at the state now (the parallel bond's undamaged part and the linear part apart), without
+  // advancing its history.
+  stages::FaceBondOut bond_forces(std::size_t b) const {
+    double keep = 0;
+    return bond_now(b, keep);
+  }
   void attach(BoundaryHooks<3>* hooks) { hooks_.push_back(hooks); }
   const std::vector<BoundaryHooks<3>*>& hooks() const { return hooks_; }
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <map>
 
 #include "dem/boundary/components3.hpp"
@@ -99,6 +100,59 @@ TEST(Engine3, ExplicitStateAtTheStaticSolutionStaysAtRest) {
   sim.run(200);
   EXPECT_NEAR(platens.top_force() / (lambda * st.top_force), 1.0, 5e-3);
   EXPECT_LT(sim.energies().kinetic, 1e-5 * sim.energies().strain);
+}
+
+// Two tetrahedra bonded on their shared face, pressed together with a little shear and relative rotation: when the
+// bond breaks, the linear part goes on in the same face as the broken bond's contact, so its normal force and its
+// shear carry on without a jump (within 1 %); the force between the blocks drops by the parallel bond's share only
+// (docs/theory.md 11.6, the linear parallel bond: the bond's part is what breaks).
+TEST(Engine3, CompressedBondBreaksWithoutForceJumpInTheLinearPart) {
+  const double a = 2e-3;
+  TetMesh m;
+  m.nodes = {{0, 0, 0}, {a, 0, 0}, {0, a, 0}, {0, 0, a}, {a, a, a}};
+  m.tets = {{0, 1, 2, 3}, {4, 2, 1, 3}};
+  m.layer = {0, 0};
+  m.layer_names = {"rock"};
+  m.boundary = {{{4, 2, 3}, 1, FaceTag::top}};
+  Scene scene;
+  scene.numerics.threads = 1;
+  scene.rock.contact_friction = 0.5;
+  SimulationImpl<3> sim(scene, m);
+  Engine<3>& e = sim.engine();
+  ASSERT_EQ(e.model().num_bonds(), 1u);
+  // Block 1 pushed towards block 0 along the face normal (1, 1, 1)/sqrt(3) and turned a little; then slid along
+  // the face by 2e-7 m in one tiny step (the linear part's shear is incremental: it needs the slip's velocity), and
+  // stopped.
+  const double dt = 1e-15, slide = 2e-7 / std::sqrt(2.0);
+  e.edit([&](ModelState<3>& s) {
+    const double push = 1e-6 / std::sqrt(3.0);
+    s.x[1] -= push, s.y[1] -= push, s.z[1] -= push;
+    const Quat q = normalized(Quat{1.0, 2e-5, -1e-5, 3e-5});
+    s.qw[1] = q.w, s.qx[1] = q.x, s.qy[1] = q.y, s.qz[1] = q.z;
+    s.vx[1] = slide / dt, s.vy[1] = -slide / dt;
+  });
+  e.set_dt(dt);
+  e.step();
+  e.edit([](ModelState<3>& s) { s.vx[1] = s.vy[1] = s.vz[1] = s.wx[1] = s.wy[1] = s.wz[1] = 0.0; });
+  e.step();
+  const stages::FaceBondOut before = e.bond_forces(0);
+  ASSERT_GT(before.fn_lin, 0.0) << "the face is not compressed";
+  const double shear_before = std::hypot(before.fs1_lin, before.fs2_lin);
+  ASSERT_GT(shear_before, 0.0);
+  ASSERT_LT(shear_before, scene.rock.contact_friction * before.fn_lin) << "the shear would slip: pick a smaller one";
+  const double total_before = norm(before.f), linear_before = std::hypot(before.fn_lin, shear_before);
+  e.break_bond(0);
+  e.step();
+  const stages::FaceBondOut after = e.bond_forces(0);
+  EXPECT_NEAR(after.fn_lin / before.fn_lin, 1.0, 0.01);
+  EXPECT_NEAR(after.fs1_lin / before.fs1_lin, 1.0, 0.01);
+  EXPECT_NEAR(after.fs2_lin / before.fs2_lin, 1.0, 0.01);
+  // What the blocks feel after the break is the linear part alone; before it, the parallel bond's part as well.
+  EXPECT_NEAR(norm(after.f) / linear_before, 1.0, 0.01);
+  EXPECT_GT(total_before, 1.5 * norm(after.f));
+  std::printf("linear part after / before: normal %.6f, shear %.6f; force between the blocks %.4g N -> %.4g N\n",
+              after.fn_lin / before.fn_lin, std::hypot(after.fs1_lin, after.fs2_lin) / shear_before, total_before,
+              norm(after.f));
 }
 
 // The block-wise estimate stays below the limit; a loaded cylinder (the static state at half the first break) shaken
