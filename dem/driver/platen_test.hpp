@@ -55,7 +55,7 @@ class PlatenTest : public LoadingProtocol {
                      double cap) const;
   // The share of a heterogeneous rock's bonds that would have broken, in the intact linear model, at the end of the
   // start that sets its loading rate (rate_factor).
-  static constexpr double rate_break_share = 0.01;
+  static constexpr double rate_break_share = 0.03;
 
   const Scene& scene_;
   int curve_points_;
