@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "dem/driver/driver.hpp"
+#include "dem/driver/registry.hpp"
 #include "dem/scene.hpp"
 #include "tests/simulations.hpp"
 
@@ -58,6 +59,20 @@ TEST(Loading, TransitFractionFollowsAHeterogeneousRockFromItsBondsStrengths) {
   std::printf("speeds %.4g %.4g (weakest-bond rule %.4g), steps %ld %ld, to peak strain %.0f %.0f (x%.2f), peaks %.2f %.2f MPa\n",
               a.platen_velocity, b.platen_velocity, rule_speed(het, b), a.steps, b.steps,
               steps_to_peak_strain(hom, a), steps_to_peak_strain(het, b), cost, a.peak_stress / 1e6, b.peak_stress / 1e6);
+}
+
+// scenes/realistic.toml reads, sets its platen speed from the rock, and every test its calibration runs accepts it
+// (the Brazilian disc needs a contact arc for a speed that follows the rock).
+TEST(RealisticScene, ReadsAndEveryCalibrationTestAcceptsIt) {
+  const Scene s = load_scene_file(RBDEM_SOURCE_DIR "/scenes/realistic.toml");
+  EXPECT_GT(s.loading.transit_strain_fraction, 0.0);
+  EXPECT_GT(s.rock.weibull_modulus, 0.0);
+  EXPECT_GT(s.joint.weibull_modulus, 0.0);
+  for (const char* test : {"ucs", "brazilian"}) {
+    Scene t = s;
+    for (const auto& [key, value] : protocol_info(test).scene_defaults) set_parameter(t, key, value);
+    EXPECT_NO_THROW(protocol_info(test).check(t)) << test;
+  }
 }
 
 }  // namespace
