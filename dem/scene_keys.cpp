@@ -286,7 +286,8 @@ void declare_loading(Keys& k) {
   k.add(real("loading.transit_strain_fraction", "-", 0.0, 1.0,
              "> 0: the platen speed follows the rock: the platen closes this fraction of the static elastic start's "
              "strain per wave transit of the specimen, v = f eps_s sqrt(E_s / rho) (docs/model.md, Loading rate; "
-             "0.0075 gives the paper scene's 0.01 m/s at 90 deg); 0 = loading.platen_velocity as given",
+             "0.0075 gives the paper scene's 0.01 m/s at 90 deg; with weibull_modulus > 0 the start at the bonds' "
+             "mean strength, at most where 3 % of them would break); 0 = loading.platen_velocity as given",
              [](Scene& s) -> double& { return s.loading.transit_strain_fraction; }));
   k.add(positive("loading.quiet_transits", "-", 100.0,
                  "with fast_factor > 1: wave transits of the specimen without a break before the platen speeds up",

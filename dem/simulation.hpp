@@ -143,6 +143,13 @@ class Simulation {
   // failure test), and that bond; +inf when none does. An empty base is the unloaded specimen.
   virtual double first_break_along(const StaticResult& base, const StaticResult& increment,
                                    int* bond = nullptr) const = 0;
+  // Every bond's own factor of first_break_along (+inf where it never breaks), in bond order; with `mean_strength`
+  // every bond at its material's stated (mean) strength, without the Weibull factor of the heterogeneity. Empty
+  // where the dimension does not provide it (3D): its users then fall back on first_break_along.
+  virtual std::vector<double> break_factors_along(const StaticResult& /*base*/, const StaticResult& /*increment*/,
+                                                  bool /*mean_strength*/) const {
+    return {};
+  }
   // Puts the model into base + lambda x increment (an empty base: the unloaded specimen), with the velocity field of
   // the increment's platen closing at `velocity`; the linear parts' and platens' shear histories and the top
   // platen's position follow, the clock is set to the time the platen needs for lambda x increment.

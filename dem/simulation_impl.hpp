@@ -73,6 +73,10 @@ class SimulationImpl<2> final : public Simulation {
     return rbdem::solve_static(engine_, options);
   }
   double first_break_along(const StaticResult& base, const StaticResult& increment, int* bond = nullptr) const override;
+  std::vector<double> break_factors_along(const StaticResult& base, const StaticResult& increment,
+                                          bool mean_strength) const override {
+    return rbdem::break_factors_along(engine_, base, increment, mean_strength);
+  }
   void apply_static(const StaticResult& base, const StaticResult& increment, double lambda, double velocity) override;
   std::vector<double> pressure_load(double pressure) const override;
 

@@ -497,6 +497,23 @@ double first_break_along(const Engine<2>& e, const StaticResult& base, const Sta
   return best;
 }
 
+std::vector<double> break_factors_along(const Engine<2>& e, const StaticResult& base, const StaticResult& inc,
+                                        bool mean_strength) {
+  const Model<2>& M = e.model();
+  const BondFrames& f = M.frame;
+  const bool rest = base.empty();
+  std::vector<double> factors(M.num_bonds(), std::numeric_limits<double>::infinity());
+  for (std::size_t b = 0; b < M.num_bonds(); ++b) {
+    if (e.state().broken[b]) continue;
+    const double w = mean_strength ? f.strength_factor[b] : 1.0;
+    factors[b] = affine_break_factor(f.tension_limit[b] / w, f.cohesion_A[b] / w, f.tan_phi[b], f.beta_m[b],
+                                     f.inv_L[b], M.law[M.material[b]].bond.moment_arm(), rest ? 0.0 : base.fn_b[b],
+                                     rest ? 0.0 : base.fs_b[b], rest ? 0.0 : base.m_b[b], inc.fn_b[b], inc.fs_b[b],
+                                     inc.m_b[b]);
+  }
+  return factors;
+}
+
 StaticResult superpose(const StaticResult& a, double fa, const StaticResult& b, double fb) {
   StaticResult r = b;
   auto mix = [&](std::vector<double>& out, const std::vector<double>& x, const std::vector<double>& y) {

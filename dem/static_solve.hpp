@@ -32,6 +32,12 @@ StaticResult solve_static(const Engine<2>& engine, const StaticOptions& options 
 double first_break_along(const Engine<2>& engine, const StaticResult& base, const StaticResult& increment,
                          int* bond = nullptr);
 
+// Every bond's own factor along the same path (+inf for a broken bond or one that never breaks), in bond order; with
+// `mean_strength` each bond at its material's stated strength, without its Weibull factor (the same factors without
+// heterogeneity). An empty base is the unloaded specimen.
+std::vector<double> break_factors_along(const Engine<2>& engine, const StaticResult& base,
+                                        const StaticResult& increment, bool mean_strength);
+
 // Puts the engine into base + lambda x increment, with the velocity field of the increment's platen closing at
 // `velocity` (base is static: an isotropic state reached before the axial loading). The engine's clock is set to
 // the time the platen needs for lambda x increment; the components take their part of the state.

@@ -189,7 +189,8 @@ std::vector<Case> plan_cases(const CalibrationSpec& spec, const Scene& s, const 
 }
 
 // Runs `cases` under `dir`. A run whose summary says it was not quasi-static runs again at half, then a quarter of
-// its platen speed (under dir/slower_2x, slower_4x) and its result replaces the first; `quasi_static` says whether
+// its platen speed (its platen_velocity, or its transit_strain_fraction where the speed follows the rock; under
+// dir/slower_2x, slower_4x) and its result replaces the first; `quasi_static` says whether
 // every run ends quasi-static.
 std::vector<CaseResult> run_quasi_static(const std::vector<Case>& cases, const std::filesystem::path& dir,
                                          const SweepOptions& ro, const std::function<void(const std::string&)>& log,
@@ -202,11 +203,14 @@ std::vector<CaseResult> run_quasi_static(const std::vector<Case>& cases, const s
     for (std::size_t k = 0; k < results.size(); ++k) {
       if (!dynamic(results[k])) continue;
       Case c = cases[k];
-      c.scene.loading.platen_velocity = cases[k].scene.loading.platen_velocity / factor;
+      // A speed that follows the rock (loading.transit_strain_fraction) slows down through its fraction.
+      const bool follows = c.scene.loading.transit_strain_fraction > 0.0;
+      double& speed = follows ? c.scene.loading.transit_strain_fraction : c.scene.loading.platen_velocity;
+      speed /= factor;
       if (log)
-        log(fmt::format("   {} {} not quasi-static ({}): run again at loading.platen_velocity = {:g} m/s", c.test, c.id,
+        log(fmt::format("   {} {} not quasi-static ({}): run again at loading.{} = {:g}{}", c.test, c.id,
                         results[k].summary.value("quasi_static_reason", std::string()),
-                        c.scene.loading.platen_velocity));
+                        follows ? "transit_strain_fraction" : "platen_velocity", speed, follows ? "" : " m/s"));
       slow.push_back(k), again.push_back(std::move(c));
     }
     if (slow.empty()) break;

@@ -49,6 +49,13 @@ class PlatenTest : public LoadingProtocol {
   // from its base: loading.platen_velocity, or with loading.transit_strain_fraction > 0 the speed that follows the
   // rock.
   double rock_velocity(double strain, double stress, const Simulation& sim) const;
+  // The load factor along `increment` whose strain and stress give rock_velocity, from the start's own `factor` (a
+  // heterogeneous rock's is its weakest bond's) and no more than `cap`.
+  double rate_factor(const Simulation& sim, const StaticResult& base, const StaticResult& increment, double factor,
+                     double cap) const;
+  // The share of a heterogeneous rock's bonds that would have broken, in the intact linear model, at the end of the
+  // start that sets its loading rate (rate_factor).
+  static constexpr double rate_break_share = 0.03;
 
   const Scene& scene_;
   int curve_points_;

@@ -1,0 +1,79 @@
+// A heterogeneous rock under the loading rate that follows the rock (loading.transit_strain_fraction,
+// dem/driver/platen_test.cpp, rate_factor), and the realistic layered rock of scenes/realistic.toml.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "dem/driver/driver.hpp"
+#include "dem/driver/registry.hpp"
+#include "dem/scene.hpp"
+#include "tests/simulations.hpp"
+
+namespace rbdem {
+namespace {
+
+Scene small_scene(double dip, double weibull_modulus) {
+  Scene s;
+  s.mesh.size = 0.004;
+  s.joint_set.dip_deg = dip;
+  s.numerics.threads = 1;
+  s.rock.weibull_modulus = s.joint.weibull_modulus = weibull_modulus;
+  return s;
+}
+
+// The speed the rule gives from a static start's last curve point (strain, stress): v = f eps sqrt(E_s / rho).
+double rule_speed(const Scene& s, const TestResult& r) {
+  const CurvePoint* last_static = nullptr;
+  for (const auto& p : r.curve)
+    if (p.step == -1) last_static = &p;
+  if (!last_static) return 0.0;
+  const double rho = s.rock.density * s.numerics.mass_scaling;
+  return s.loading.transit_strain_fraction * std::sqrt(last_static->strain * last_static->stress() / rho);
+}
+
+// Platen travel to the peak in time steps: the cost of the loading ramp whatever the start.
+double steps_to_peak_strain(const Scene& s, const TestResult& r) {
+  return r.strain_at_peak * s.specimen.height / (r.platen_velocity * r.dt);
+}
+
+// A heterogeneous rock's static start ends at its weakest bond's break (m = 1.5: a few hundredths of the peak
+// strain). Its speed follows the start with its bonds at their mean strength, capped where 1 % of them would break:
+// never faster than the homogeneous rock's (the mean-strength start is the homogeneous start), many times faster than
+// the weakest bond's start would give, and the platen reaches the peak strain in about as many steps as the
+// homogeneous rock's does.
+TEST(Loading, TransitFractionFollowsAHeterogeneousRockFromItsBondsStrengths) {
+  const double f = 0.015;
+  Scene hom = small_scene(90, 0.0), het = small_scene(90, 1.5);
+  hom.loading.transit_strain_fraction = het.loading.transit_strain_fraction = f;
+  const TestResult a = run_test("ucs", hom, make_mesh(hom));
+  const TestResult b = run_test("ucs", het, make_mesh(het));
+  ASSERT_TRUE(a.completed && b.completed);
+  EXPECT_NEAR(a.platen_velocity, rule_speed(hom, a), 1e-9 * a.platen_velocity);  // homogeneous: the rule as before
+  EXPECT_LE(b.platen_velocity, a.platen_velocity * (1 + 1e-12));
+  EXPECT_GT(b.platen_velocity, 5.0 * rule_speed(het, b));  // the weakest bond's start
+  const double cost = steps_to_peak_strain(het, b) / steps_to_peak_strain(hom, a);
+  EXPECT_LT(cost, 2.5) << "steps to the peak strain, heterogeneous over homogeneous";  // 1.94; 56 at the weakest bond's speed
+  EXPECT_TRUE(a.quasi_static) << a.quasi_static_reason;
+  EXPECT_TRUE(b.quasi_static) << b.quasi_static_reason;
+  std::printf("speeds %.4g %.4g (weakest-bond rule %.4g), steps %ld %ld, to peak strain %.0f %.0f (x%.2f), peaks %.2f %.2f MPa\n",
+              a.platen_velocity, b.platen_velocity, rule_speed(het, b), a.steps, b.steps,
+              steps_to_peak_strain(hom, a), steps_to_peak_strain(het, b), cost, a.peak_stress / 1e6, b.peak_stress / 1e6);
+}
+
+// scenes/realistic.toml reads, sets its platen speed from the rock, and every test its calibration runs accepts it
+// (the Brazilian disc needs a contact arc for a speed that follows the rock).
+TEST(RealisticScene, ReadsAndEveryCalibrationTestAcceptsIt) {
+  const Scene s = load_scene_file(RBDEM_SOURCE_DIR "/scenes/realistic.toml");
+  EXPECT_GT(s.loading.transit_strain_fraction, 0.0);
+  EXPECT_GT(s.rock.weibull_modulus, 0.0);
+  EXPECT_GT(s.joint.weibull_modulus, 0.0);
+  for (const char* test : {"ucs", "brazilian"}) {
+    Scene t = s;
+    for (const auto& [key, value] : protocol_info(test).scene_defaults) set_parameter(t, key, value);
+    EXPECT_NO_THROW(protocol_info(test).check(t)) << test;
+  }
+}
+
+}  // namespace
+}  // namespace rbdem
