@@ -117,7 +117,10 @@ struct SpdSolver3::Impl {
   Static3Solver requested, used = Static3Solver::automatic;
   std::size_t direct_dof_limit;
   double cg_tolerance;
-  int iterations = 0, analyses = 0;
+  int iterations = 0, analyses = 0, factorizations = 0;
+  double factor_nonzeros = 0, factor_flops = 0;  // CHOLMOD's count of the last factor
+  SpMat near;        // update()'s matrix, solved by CG on the factor of another
+  bool has_near = false;
   std::vector<int> outer, inner;  // the pattern of the last symbolic factorisation
 #ifdef RBDEM_HAVE_CHOLMOD
   std::unique_ptr<CholmodLlt> cholmod;
@@ -125,6 +128,9 @@ struct SpdSolver3::Impl {
   std::unique_ptr<Ldlt> ldlt;
   std::unique_ptr<Cg> cg;
   SpMat cg_matrix;  // CG keeps a reference to its matrix, so it lives here
+
+  Eigen::VectorXd direct_solve(const Eigen::VectorXd& f) const;
+  bool refine(const Eigen::VectorXd& f, double tolerance, Eigen::VectorXd& x);
 
   Static3Solver choose(std::size_t n) const {
     if (requested == Static3Solver::cholmod && !cholmod_available())
@@ -159,6 +165,8 @@ void SpdSolver3::factor(const SpMat& K_in) {
   const SpMat& K = K_in.isCompressed() ? K_in : compressed;
   const Static3Solver method = s.choose(std::size_t(K.rows()));
   const bool fresh = s.analyse(K, method);
+  s.has_near = false, s.near = SpMat();
+  ++s.factorizations;
   auto not_definite = [](long dof) {
     return std::runtime_error(
         "the 3D static solve: the stiffness is not positive definite" +
@@ -171,6 +179,7 @@ void SpdSolver3::factor(const SpMat& K_in) {
 #ifdef RBDEM_HAVE_CHOLMOD
     if (fresh || !s.cholmod) s.cholmod = std::make_unique<CholmodLlt>(), s.cholmod->analyzePattern(K);
     s.cholmod->factorize(K);
+    s.factor_nonzeros = s.cholmod->cholmod().lnz, s.factor_flops = s.cholmod->cholmod().fl;
     if (s.cholmod->info() != Eigen::Success) throw not_definite(s.cholmod->failed_column());
 #endif
   } else if (method == Static3Solver::ldlt) {
@@ -188,13 +197,49 @@ void SpdSolver3::factor(const SpMat& K_in) {
   }
 }
 
+void SpdSolver3::update(const SpMat& K) {
+  Impl& s = *impl_;
+  if (s.used == Static3Solver::cg || s.factorizations == 0 || K.rows() != long(s.outer.size()) - 1) return factor(K);
+  s.near = K, s.has_near = true;
+}
+
+Eigen::VectorXd SpdSolver3::Impl::direct_solve(const Eigen::VectorXd& f) const {
+#ifdef RBDEM_HAVE_CHOLMOD
+  if (used == Static3Solver::cholmod) return cholmod->solve(f);
+#endif
+  return ldlt->solve(f);
+}
+
+// CG on `near` preconditioned by the factor (see update()). False when it has not converged in `max_iterations`.
+bool SpdSolver3::Impl::refine(const Eigen::VectorXd& f, double tolerance, Eigen::VectorXd& x) {
+  const int max_iterations = 200;
+  x = Eigen::VectorXd::Zero(f.size());
+  Eigen::VectorXd r = f, z = direct_solve(r), p = z;
+  double rz = r.dot(z);
+  const double stop = tolerance * tolerance * rz;
+  for (int it = 0; it < max_iterations; ++it) {
+    if (rz <= stop) return true;
+    const Eigen::VectorXd q = near * p;
+    const double alpha = rz / p.dot(q);
+    x += alpha * p, r -= alpha * q;
+    z = direct_solve(r);
+    const double next = r.dot(z);
+    p = z + (next / rz) * p;
+    rz = next;
+    ++iterations;
+  }
+  return rz <= stop;
+}
+
 Eigen::VectorXd SpdSolver3::solve(const Eigen::VectorXd& f) {
   Impl& s = *impl_;
-#ifdef RBDEM_HAVE_CHOLMOD
-  if (s.used == Static3Solver::cholmod) return s.cholmod->solve(f);
-#endif
-  if (s.used == Static3Solver::ldlt) return s.ldlt->solve(f);
-  if (!s.cg) throw std::logic_error("SpdSolver3::solve before factor");
+  if (s.factorizations == 0) throw std::logic_error("SpdSolver3::solve before factor");
+  if (s.has_near) {
+    Eigen::VectorXd x;
+    if (s.refine(f, refine_tolerance, x)) return x;
+    factor(SpMat(s.near));  // too far from the factor's matrix for it to precondition: factorise this one
+  }
+  if (s.used != Static3Solver::cg) return s.direct_solve(f);
   Eigen::VectorXd x = s.cg->solve(f);
   if (s.cg->info() != Eigen::Success)
     throw std::runtime_error("the 3D static solve: CG did not converge; use a direct solver (cholmod or ldlt)");
@@ -205,6 +250,9 @@ Eigen::VectorXd SpdSolver3::solve(const Eigen::VectorXd& f) {
 Static3Solver SpdSolver3::used() const { return impl_->used; }
 int SpdSolver3::iterations() const { return impl_->iterations; }
 int SpdSolver3::analyses() const { return impl_->analyses; }
+int SpdSolver3::factorizations() const { return impl_->factorizations; }
+double SpdSolver3::factor_nonzeros() const { return impl_->factor_nonzeros; }
+double SpdSolver3::factor_flops() const { return impl_->factor_flops; }
 
 namespace {
 
@@ -347,6 +395,7 @@ Eigen::VectorXd solve_system(const Assembly& a, const Static3Options& o, Static3
   solver.factor(a.K);
   Eigen::VectorXd x = solver.solve(a.f);
   r.solver = solver.used(), r.direct = solver.direct(), r.iterations = solver.iterations();
+  r.factor_nonzeros = solver.factor_nonzeros(), r.factor_flops = solver.factor_flops();
   return x;
 }
 

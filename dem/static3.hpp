@@ -72,12 +72,26 @@ class SpdSolver3 {
   SpdSolver3& operator=(const SpdSolver3&) = delete;
 
   void factor(const Eigen::SparseMatrix<double>& K);
+  // A matrix K close to the factorised one K_f, c K_f <= K <= K_f for some c in (0, 1] (the stiffness of an active
+  // set against the all-closed one: opening a linear part removes at most half of its bond's stiffness, c = 1/2):
+  // the factor is kept and solve() runs CG on K preconditioned by it. The preconditioned operator's spectrum lies in
+  // [c, 1], so CG converges in a number of iterations set by c alone (about 20 for c = 1/2 to refine_tolerance), a
+  // small part of a new factorisation. Where CG does not converge in 200 iterations (K far from K_f), K is
+  // factorised. For the method cg, update() is factor().
+  void update(const Eigen::SparseMatrix<double>& K);
   Eigen::VectorXd solve(const Eigen::VectorXd& f);
 
   Static3Solver used() const;  // the method chosen for the last factor() (never automatic)
   bool direct() const { return used() != Static3Solver::cg; }
   int iterations() const;      // CG's, summed over the solves
   int analyses() const;        // symbolic factorisations done (1 while the pattern stays)
+  int factorizations() const;  // numeric ones
+  // CHOLMOD's counts for the last factorisation: nonzeros of L and floating-point operations (0 for the others)
+  double factor_nonzeros() const;
+  double factor_flops() const;
+  // The CG of update(): stops when the residual's norm in the factor's inverse, sqrt(r^T K_f^-1 r), is this
+  // fraction of the right-hand side's (the error's energy norm to within 1 / sqrt(c) of it).
+  double refine_tolerance = 1e-13;
 
  private:
   struct Impl;
@@ -122,6 +136,7 @@ struct Static3Result {
   bool direct = false;  // a direct solver (else CG)
   Static3Solver solver = Static3Solver::automatic;  // the one used
   int iterations = 0;   // CG's
+  double factor_nonzeros = 0, factor_flops = 0;  // CHOLMOD's factor: nonzeros of L, operations
   double strain_energy = 0;  // J, 1/2 u^T K u
   double platen_work = 0;    // J, 1/2 F_top delta
 };

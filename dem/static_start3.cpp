@@ -125,7 +125,11 @@ StaticResult solve_static(const Engine<3>& e, const StaticOptions& o, Static3Sol
     add_stiffness(m, closed, rows, map, T);
     SpMat K(n, n);
     K.setFromTriplets(T.begin(), T.end());
-    spd.factor(K);
+    // The first stiffness (every linear part closed) is factorised; the active sets after it lie within a factor 2
+    // of it (an opened linear part takes away its k_n A and k_s A, no more than the parallel bond beside it keeps)
+    // and are solved by CG preconditioned with that factor (SpdSolver3::update).
+    if (it == 0) spd.factor(K);
+    else spd.update(K);
     const Eigen::VectorXd x = spd.solve(f);
     r.u.assign(map.size(), 0.0);
     for (std::size_t k = 0; k < map.size(); ++k)
