@@ -4,7 +4,8 @@
 //
 // Static3Solver.DISABLED_Timing prints the solve times of CG + incomplete Cholesky, CHOLMOD (and the LDLT with
 // RBDEM_STATIC3_LDLT=1) on the cylinder at mesh size RBDEM_STATIC3_H mm (default 4) and dip RBDEM_STATIC3_DIP (60)
-// and the 3D run's static start (RBDEM_STATIC3_START_NO_CG=1 leaves out CG there, minutes at 4 mm):
+// and the 3D run's static start (RBDEM_STATIC3_START_NO_CG=1 leaves out CG there, minutes at 4 mm;
+// RBDEM_STATIC3_NO_CG=1 everywhere):
 //   RBDEM_STATIC3_H=4 build/tests/test_static3_solver --gtest_also_run_disabled_tests
 //       --gtest_filter=Static3Solver.DISABLED_Timing
 #include <gtest/gtest.h>
@@ -175,6 +176,7 @@ TEST(Static3Solver, DISABLED_Timing) {
   const double h = env_or("RBDEM_STATIC3_H", 4.0) * 1e-3;
   std::vector<Static3Solver> solvers{Static3Solver::cg, Static3Solver::cholmod};
   if (std::getenv("RBDEM_STATIC3_LDLT")) solvers.push_back(Static3Solver::ldlt);
+  if (std::getenv("RBDEM_STATIC3_NO_CG")) solvers.erase(solvers.begin());
 
   const TetMesh m = cylinder(env_or("RBDEM_STATIC3_DIP", 60.0), h);
   std::printf("h = %g mm, %zu blocks\nelastic network (solve_static3):\n", h * 1e3, m.num_tets());
@@ -198,7 +200,7 @@ TEST(Static3Solver, DISABLED_Timing) {
   so.platen_displacement = 1e-6 * sim.specimen().height();
   std::printf("static start of the run (solve_static, active set and first break):\n");
   first.clear();
-  if (std::getenv("RBDEM_STATIC3_START_NO_CG")) solvers.erase(solvers.begin());
+  if (std::getenv("RBDEM_STATIC3_START_NO_CG") && !std::getenv("RBDEM_STATIC3_NO_CG")) solvers.erase(solvers.begin());
   for (Static3Solver s : solvers) {
     const double c0 = cpu_seconds();
     const StaticResult r = solve_static(sim.engine(), so, s);
