@@ -479,7 +479,7 @@ TEST(Static3, DISABLED_JointDistances) {
 // The joints' share of Goodman's normal compliance against the joint's stiffness: E' of the 0 deg prism with the
 // joint's E* from the rock's (the jointed mesh with rock bonds across the planes) down to an eighth of it, against
 // the unjointed prism's E_r and against the jointed mesh's own E' at E*_j = E*_r (8 mm, joints 25 mm apart: a few
-// seconds each; RBDEM_STATIC3_H, RBDEM_STATIC3_SPACING in mm).
+// seconds each; RBDEM_STATIC3_H, RBDEM_STATIC3_SPACING in mm, RBDEM_STATIC3_EJ one joint E* in GPa).
 TEST(Static3, DISABLED_JointShareAgainstStiffness) {
   const double h = (std::getenv("RBDEM_STATIC3_H") ? std::atof(std::getenv("RBDEM_STATIC3_H")) : 8.0) * 1e-3;
   const double spacing = std::getenv("RBDEM_STATIC3_SPACING") ? std::atof(std::getenv("RBDEM_STATIC3_SPACING")) * 1e-3
@@ -491,7 +491,9 @@ TEST(Static3, DISABLED_JointShareAgainstStiffness) {
   const double E_mesh = solve(m, same).fit_modulus;
   std::printf("E_r (unjointed prism) %.2f GPa; the jointed prism with rock bonds across the planes %.2f GPa\n",
               iso.E / 1e9, E_mesh / 1e9);
-  for (double Ej : {120e9, 80e9, 50e9, 20e9}) {
+  std::vector<double> joint_moduli{120e9, 80e9, 50e9, 20e9};
+  if (const char* e = std::getenv("RBDEM_STATIC3_EJ")) joint_moduli = {std::atof(e) * 1e9};  // GPa
+  for (double Ej : joint_moduli) {
     Static3Options o;
     o.joint.modulus = Ej;
     const Static3Result r = solve(m, o);
