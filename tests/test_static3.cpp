@@ -395,6 +395,14 @@ TEST(Static3, DISABLED_GaugeAgainstFit) {
     g.poisson_strike = -e[1] / e[2], g.poisson_dip = -e[0] / e[2];  // dip direction 0: strike y, dip x
     return compare::virtual_test3(g, dip);
   };
+  for (Shape3 shape : {Shape3::prism, Shape3::cylinder}) {  // the unjointed specimens
+    const TetMesh& m = specimen(shape, false, 0.0, h, spacing);
+    const Static3Result r = solve(m);
+    std::printf("unjointed %s: fit %.2f gauge %.2f platen %.2f GPa, %zu blocks\n",
+                shape == Shape3::prism ? "prism" : "cylinder", r.fit_modulus / 1e9,
+                gauge_test(m, r, 0.0).modulus / 1e9, r.platen_modulus / 1e9, r.blocks);
+    std::fflush(stdout);
+  }
   std::map<double, compare::VirtualTest3> fit, gauge;
   for (double dip : {0.0, 45.0, 90.0}) {
     const TetMesh& m = specimen(Shape3::prism, true, dip, h, spacing);
@@ -503,6 +511,22 @@ TEST(Static3, DISABLED_JointShareAgainstStiffness) {
                 "the jointed mesh's own %.3f\n",
                 Ej / 1e9, r.fit_modulus / 1e9, g.E_prime / 1e9, (1 / r.fit_modulus - 1 / iso.E) / goodman,
                 (1 / r.fit_modulus - 1 / E_mesh) / goodman);
+    std::fflush(stdout);
+  }
+}
+
+// The cylinder at one dip with its joint planes shifted (offset in mm, a comma list): where the planes cut thin
+// circular segments off the side, and where they do not. RBDEM_STATIC3_H (mm, default 3), RBDEM_STATIC3_DIP (90).
+TEST(Static3, DISABLED_CylinderOffsets) {
+  const double h = (std::getenv("RBDEM_STATIC3_H") ? std::atof(std::getenv("RBDEM_STATIC3_H")) : 3.0) * 1e-3;
+  const double dip = std::getenv("RBDEM_STATIC3_DIP") ? std::atof(std::getenv("RBDEM_STATIC3_DIP")) : 90.0;
+  for (double offset : {0.0, 2.5, 5.0}) {
+    SpecimenGeometry3 g;
+    g.joints = true;
+    g.set1 = {dip, 0.0, 0.01, offset * 1e-3};
+    const Static3Result r = solve(mesh_specimen3(g, h));
+    std::printf("cylinder, dip %.0f, joints offset %.1f mm: fit %.2f platen %.2f GPa, %zu blocks\n", dip, offset,
+                r.fit_modulus / 1e9, r.platen_modulus / 1e9, r.blocks);
     std::fflush(stdout);
   }
 }
