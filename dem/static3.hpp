@@ -48,8 +48,9 @@ struct FaceMaterial {
 
 // How the symmetric positive definite systems of the 3D static solves are solved:
 //   cholmod: CHOLMOD's supernodal Cholesky factorisation (SuiteSparse; fill-reducing ordering by AMD or METIS,
-//            whichever fills less), the fastest on tetrahedral networks; needs a build with CHOLMOD
-//            (cholmod_available());
+//            whichever fills less); its work is dense blocks in the BLAS, so its speed is the BLAS's (8 times
+//            CG's with OpenBLAS at 4 mm, 1.5 times with the reference BLAS; docs/performance.md); needs a build
+//            with CHOLMOD (cholmod_available());
 //   ldlt:    Eigen's simplicial LDLT with AMD ordering (its fill on tetrahedra costs minutes above ~100,000 dofs);
 //   cg:      conjugate gradients with an incomplete Cholesky preconditioner, to a relative residual cg_tolerance;
 //   automatic: cholmod where available, else ldlt up to direct_dof_limit dofs and cg above.
