@@ -14,6 +14,10 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
+#ifdef RBDEM_HAVE_CHOLMOD
+#include <Eigen/CholmodSupport>
+#endif
+
 #include "dem/geometry3.hpp"
 
 namespace rbdem {
@@ -57,6 +61,198 @@ FaceBondMatrix face_bond_stiffness(const stages::FaceBondFrame& b, bool linear_c
     }
   return K;
 }
+
+
+// --- the SPD solver ---------------------------------------------------------------------------------------------
+
+namespace {
+
+using SpMat = Eigen::SparseMatrix<double>;
+
+#ifdef RBDEM_HAVE_CHOLMOD
+// CHOLMOD's supernodal LLT, with the column where a factorisation stopped (L->minor, in the permuted order, mapped
+// back through L->Perm): the dof whose pivot was not positive.
+struct CholmodLlt : Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
+  CholmodLlt() {
+    cholmod().print = 0;  // the failure is reported by the exception below, not on stdout
+  }
+  long failed_column() const {
+    const cholmod_factor* L = this->m_cholmodFactor;
+    if (!L || L->minor >= L->n) return -1;
+    return L->Perm ? long(static_cast<const int*>(L->Perm)[L->minor]) : long(L->minor);
+  }
+};
+#endif
+
+using Ldlt = Eigen::SimplicialLDLT<SpMat, Eigen::Lower, Eigen::AMDOrdering<int>>;
+using Cg = Eigen::ConjugateGradient<SpMat, Eigen::Lower | Eigen::Upper,
+                                    Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>>>;
+
+bool same_pattern(const SpMat& K, const std::vector<int>& outer, const std::vector<int>& inner) {
+  return std::size_t(K.outerSize() + 1) == outer.size() && std::size_t(K.nonZeros()) == inner.size() &&
+         std::equal(outer.begin(), outer.end(), K.outerIndexPtr()) &&
+         std::equal(inner.begin(), inner.end(), K.innerIndexPtr());
+}
+
+}  // namespace
+
+bool cholmod_available() {
+#ifdef RBDEM_HAVE_CHOLMOD
+  return true;
+#else
+  return false;
+#endif
+}
+
+const char* solver_name(Static3Solver s) {
+  switch (s) {
+    case Static3Solver::cholmod: return "cholmod";
+    case Static3Solver::ldlt: return "ldlt";
+    case Static3Solver::cg: return "cg";
+    default: return "automatic";
+  }
+}
+
+struct SpdSolver3::Impl {
+  Static3Solver requested, used = Static3Solver::automatic;
+  std::size_t direct_dof_limit;
+  double cg_tolerance;
+  int iterations = 0, analyses = 0, factorizations = 0;
+  double factor_nonzeros = 0, factor_flops = 0;  // CHOLMOD's count of the last factor
+  SpMat near;        // update()'s matrix, solved by CG on the factor of another
+  bool has_near = false;
+  std::vector<int> outer, inner;  // the pattern of the last symbolic factorisation
+#ifdef RBDEM_HAVE_CHOLMOD
+  std::unique_ptr<CholmodLlt> cholmod;
+#endif
+  std::unique_ptr<Ldlt> ldlt;
+  std::unique_ptr<Cg> cg;
+  SpMat cg_matrix;  // CG keeps a reference to its matrix, so it lives here
+
+  Eigen::VectorXd direct_solve(const Eigen::VectorXd& f) const;
+  bool refine(const Eigen::VectorXd& f, double tolerance, Eigen::VectorXd& x);
+
+  Static3Solver choose(std::size_t n) const {
+    if (requested == Static3Solver::cholmod && !cholmod_available())
+      throw std::invalid_argument("the 3D static solve: solver cholmod was asked for, but this build has no "
+                                  "CHOLMOD; configure with -DRBDEM_WITH_CHOLMOD=ON (libsuitesparse-dev) or use "
+                                  "ldlt or cg");
+    if (requested != Static3Solver::automatic) return requested;
+    if (cholmod_available()) return Static3Solver::cholmod;
+    return n <= direct_dof_limit ? Static3Solver::ldlt : Static3Solver::cg;
+  }
+  // Redo the symbolic analysis only when the method or the pattern changed.
+  bool analyse(const SpMat& K, Static3Solver method) {
+    if (method == used && same_pattern(K, outer, inner)) return false;
+    used = method;
+    outer.assign(K.outerIndexPtr(), K.outerIndexPtr() + K.outerSize() + 1);
+    inner.assign(K.innerIndexPtr(), K.innerIndexPtr() + K.nonZeros());
+    ++analyses;
+    return true;
+  }
+};
+
+SpdSolver3::SpdSolver3(Static3Solver solver, std::size_t direct_dof_limit, double cg_tolerance)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->requested = solver, impl_->direct_dof_limit = direct_dof_limit, impl_->cg_tolerance = cg_tolerance;
+}
+SpdSolver3::~SpdSolver3() = default;
+
+void SpdSolver3::factor(const SpMat& K_in) {
+  Impl& s = *impl_;
+  SpMat compressed;
+  if (!K_in.isCompressed()) compressed = K_in, compressed.makeCompressed();
+  const SpMat& K = K_in.isCompressed() ? K_in : compressed;
+  const Static3Solver method = s.choose(std::size_t(K.rows()));
+  const bool fresh = s.analyse(K, method);
+  s.has_near = false, s.near = SpMat();
+  ++s.factorizations;
+  auto not_definite = [](long dof) {
+    return std::runtime_error(
+        "the 3D static solve: the stiffness is not positive definite" +
+        (dof >= 0 ? " (pivot of reduced dof " + std::to_string(dof) + ", block " + std::to_string(dof / 6) +
+                        " or near it)"
+                  : std::string()) +
+        ": a block or a rigid motion is held by nothing (a block without bonds, platens missing?)");
+  };
+  if (method == Static3Solver::cholmod) {
+#ifdef RBDEM_HAVE_CHOLMOD
+    if (fresh || !s.cholmod) s.cholmod = std::make_unique<CholmodLlt>(), s.cholmod->analyzePattern(K);
+    s.cholmod->factorize(K);
+    s.factor_nonzeros = s.cholmod->cholmod().lnz, s.factor_flops = s.cholmod->cholmod().fl;
+    if (s.cholmod->info() != Eigen::Success) throw not_definite(s.cholmod->failed_column());
+#endif
+  } else if (method == Static3Solver::ldlt) {
+    if (fresh || !s.ldlt) s.ldlt = std::make_unique<Ldlt>(), s.ldlt->analyzePattern(K);
+    s.ldlt->factorize(K);
+    if (s.ldlt->info() != Eigen::Success) throw not_definite(-1);
+  } else {
+    s.cg = std::make_unique<Cg>();
+    s.cg->setTolerance(s.cg_tolerance);
+    s.cg->setMaxIterations(K.rows());
+    s.cg_matrix = K;
+    s.cg->compute(s.cg_matrix);
+    if (s.cg->info() != Eigen::Success)
+      throw std::runtime_error("the 3D static solve: the incomplete Cholesky preconditioner failed");
+  }
+}
+
+void SpdSolver3::update(const SpMat& K) {
+  Impl& s = *impl_;
+  if (s.used == Static3Solver::cg || s.factorizations == 0 || K.rows() != long(s.outer.size()) - 1) return factor(K);
+  s.near = K, s.has_near = true;
+}
+
+Eigen::VectorXd SpdSolver3::Impl::direct_solve(const Eigen::VectorXd& f) const {
+#ifdef RBDEM_HAVE_CHOLMOD
+  if (used == Static3Solver::cholmod) return cholmod->solve(f);
+#endif
+  return ldlt->solve(f);
+}
+
+// CG on `near` preconditioned by the factor (see update()). False when it has not converged in `max_iterations`.
+bool SpdSolver3::Impl::refine(const Eigen::VectorXd& f, double tolerance, Eigen::VectorXd& x) {
+  const int max_iterations = 200;
+  x = Eigen::VectorXd::Zero(f.size());
+  Eigen::VectorXd r = f, z = direct_solve(r), p = z;
+  double rz = r.dot(z);
+  const double stop = tolerance * tolerance * rz;
+  for (int it = 0; it < max_iterations; ++it) {
+    if (rz <= stop) return true;
+    const Eigen::VectorXd q = near * p;
+    const double alpha = rz / p.dot(q);
+    x += alpha * p, r -= alpha * q;
+    z = direct_solve(r);
+    const double next = r.dot(z);
+    p = z + (next / rz) * p;
+    rz = next;
+    ++iterations;
+  }
+  return rz <= stop;
+}
+
+Eigen::VectorXd SpdSolver3::solve(const Eigen::VectorXd& f) {
+  Impl& s = *impl_;
+  if (s.factorizations == 0) throw std::logic_error("SpdSolver3::solve before factor");
+  if (s.has_near) {
+    Eigen::VectorXd x;
+    if (s.refine(f, refine_tolerance, x)) return x;
+    factor(SpMat(s.near));  // too far from the factor's matrix for it to precondition: factorise this one
+  }
+  if (s.used != Static3Solver::cg) return s.direct_solve(f);
+  Eigen::VectorXd x = s.cg->solve(f);
+  if (s.cg->info() != Eigen::Success)
+    throw std::runtime_error("the 3D static solve: CG did not converge; use a direct solver (cholmod or ldlt)");
+  s.iterations += int(s.cg->iterations());
+  return x;
+}
+
+Static3Solver SpdSolver3::used() const { return impl_->used; }
+int SpdSolver3::iterations() const { return impl_->iterations; }
+int SpdSolver3::analyses() const { return impl_->analyses; }
+int SpdSolver3::factorizations() const { return impl_->factorizations; }
+double SpdSolver3::factor_nonzeros() const { return impl_->factor_nonzeros; }
+double SpdSolver3::factor_flops() const { return impl_->factor_flops; }
 
 namespace {
 
@@ -194,27 +390,12 @@ Assembly assemble(const TetMesh& mesh, const Blocks& B, const std::vector<Platen
   return a;
 }
 
-// The sparse LDLT below options.direct_dof_limit; above it, its fill on tetrahedra costs minutes (about 100,000
-// dofs at 4 mm), and CG with an incomplete Cholesky preconditioner takes its place.
 Eigen::VectorXd solve_system(const Assembly& a, const Static3Options& o, Static3Result& r) {
-  using SpMat = Eigen::SparseMatrix<double>;
-  if (std::size_t(a.K.rows()) <= o.direct_dof_limit) {
-    Eigen::SimplicialLDLT<SpMat, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt(a.K);
-    if (ldlt.info() != Eigen::Success) throw std::runtime_error("solve_static3: the stiffness is singular");
-    r.direct = true;
-    return ldlt.solve(a.f);
-  }
-  Eigen::ConjugateGradient<SpMat, Eigen::Lower | Eigen::Upper,
-                           Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>>>
-      cg;
-  cg.setTolerance(o.cg_tolerance);
-  cg.setMaxIterations(long(a.K.rows()));
-  cg.compute(a.K);
-  if (cg.info() != Eigen::Success) throw std::runtime_error("solve_static3: the preconditioner failed");
-  Eigen::VectorXd x = cg.solve(a.f);
-  if (cg.info() != Eigen::Success)
-    throw std::runtime_error("solve_static3: CG did not converge; raise direct_dof_limit to use the direct solver");
-  r.iterations = int(cg.iterations());
+  SpdSolver3 solver(o.solver, o.direct_dof_limit, o.cg_tolerance);
+  solver.factor(a.K);
+  Eigen::VectorXd x = solver.solve(a.f);
+  r.solver = solver.used(), r.direct = solver.direct(), r.iterations = solver.iterations();
+  r.factor_nonzeros = solver.factor_nonzeros(), r.factor_flops = solver.factor_flops();
   return x;
 }
 

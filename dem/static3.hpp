@@ -17,7 +17,11 @@
 
 #include <array>
 #include <cstddef>
+#include <memory>
+#include <string>
 #include <vector>
+
+#include <Eigen/SparseCore>
 
 #include "dem/stages/face_bond_kernel.hpp"
 #include "mesh/tetmesh.hpp"
@@ -42,6 +46,59 @@ struct FaceMaterial {
   double modulus = 0, kappa = 1;
 };
 
+// How the symmetric positive definite systems of the 3D static solves are solved:
+//   cholmod: CHOLMOD's supernodal Cholesky factorisation (SuiteSparse; fill-reducing ordering by AMD or METIS,
+//            whichever fills less); its work is dense blocks in the BLAS, so its speed is the BLAS's (8 times
+//            CG's with OpenBLAS at 4 mm, 1.5 times with the reference BLAS; docs/performance.md); needs a build
+//            with CHOLMOD (cholmod_available());
+//   ldlt:    Eigen's simplicial LDLT with AMD ordering (its fill on tetrahedra costs minutes above ~100,000 dofs);
+//   cg:      conjugate gradients with an incomplete Cholesky preconditioner, to a relative residual cg_tolerance;
+//   automatic: cholmod where available, else ldlt up to direct_dof_limit dofs and cg above.
+enum class Static3Solver { automatic, cholmod, ldlt, cg };
+
+// Whether this build links CHOLMOD (the CMake option RBDEM_WITH_CHOLMOD).
+bool cholmod_available();
+const char* solver_name(Static3Solver s);
+
+// A factorised stiffness: factor(K) once per matrix, then solve(f) for any number of right-hand sides. Where the
+// matrix changes but its sparsity pattern does not (the linear parts of an active-set iteration opening and
+// closing), factor() keeps the fill-reducing ordering and symbolic factorisation and redoes only the numeric one.
+// Throws std::runtime_error naming the cause when K is not positive definite (a block or a rigid mode held by
+// nothing) or an iterative solve does not converge.
+class SpdSolver3 {
+ public:
+  SpdSolver3(Static3Solver solver, std::size_t direct_dof_limit = 30000, double cg_tolerance = 1e-10);
+  ~SpdSolver3();
+  SpdSolver3(const SpdSolver3&) = delete;
+  SpdSolver3& operator=(const SpdSolver3&) = delete;
+
+  void factor(const Eigen::SparseMatrix<double>& K);
+  // A matrix K close to the factorised one K_f, c K_f <= K <= K_f for some c in (0, 1] (the stiffness of an active
+  // set against the all-closed one: opening a linear part removes at most half of its bond's stiffness, c = 1/2):
+  // the factor is kept and solve() runs CG on K preconditioned by it. The preconditioned operator's spectrum lies in
+  // [c, 1], so CG converges in a number of iterations set by c alone (about 20 for c = 1/2 to refine_tolerance), a
+  // small part of a new factorisation. Where CG does not converge in 200 iterations (K far from K_f), K is
+  // factorised. For the method cg, update() is factor().
+  void update(const Eigen::SparseMatrix<double>& K);
+  Eigen::VectorXd solve(const Eigen::VectorXd& f);
+
+  Static3Solver used() const;  // the method chosen for the last factor() (never automatic)
+  bool direct() const { return used() != Static3Solver::cg; }
+  int iterations() const;      // CG's, summed over the solves
+  int analyses() const;        // symbolic factorisations done (1 while the pattern stays)
+  int factorizations() const;  // numeric ones
+  // CHOLMOD's counts for the last factorisation: nonzeros of L and floating-point operations (0 for the others)
+  double factor_nonzeros() const;
+  double factor_flops() const;
+  // The CG of update(): stops when the residual's norm in the factor's inverse, sqrt(r^T K_f^-1 r), is this
+  // fraction of the right-hand side's (the error's energy norm to within 1 / sqrt(c) of it).
+  double refine_tolerance = 1e-13;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 struct Static3Options {
   FaceMaterial rock{160e9, 1.5};   // the paper scene's rock (scenes/paper.toml)
   FaceMaterial joint{50e9, 1.5};   // and joint
@@ -49,8 +106,9 @@ struct Static3Options {
   // The axes the lateral strains are read along: the strike (-sin dd, cos dd, 0) and the horizontal dip direction
   // (cos dd, sin dd, 0) of joints of dip direction dd (deg), as theory::plane_axes.
   double dip_direction_deg = 0;
-  // The sparse LDLT up to this many dofs, CG with an incomplete Cholesky preconditioner above (to a relative
-  // residual of cg_tolerance).
+  Static3Solver solver = Static3Solver::automatic;
+  // Without CHOLMOD (solver automatic): the sparse LDLT up to this many dofs, CG with an incomplete Cholesky
+  // preconditioner above (to a relative residual of cg_tolerance).
   std::size_t direct_dof_limit = 30000;
   double cg_tolerance = 1e-10;
 };
@@ -76,8 +134,10 @@ struct Static3Result {
   double joint_d_mean = 0, joint_d_harmonic = 0;
   std::vector<double> u;    // 6 per block
   double assemble_seconds = 0, solve_seconds = 0;
-  bool direct = false;  // the direct solver (else CG)
+  bool direct = false;  // a direct solver (else CG)
+  Static3Solver solver = Static3Solver::automatic;  // the one used
   int iterations = 0;   // CG's
+  double factor_nonzeros = 0, factor_flops = 0;  // CHOLMOD's factor: nonzeros of L, operations
   double strain_energy = 0;  // J, 1/2 u^T K u
   double platen_work = 0;    // J, 1/2 F_top delta
 };

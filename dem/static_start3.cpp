@@ -7,11 +7,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include <Eigen/IterativeLinearSolvers>
-#include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
-
-#include "dem/static3.hpp"
 
 namespace rbdem {
 
@@ -100,28 +96,9 @@ std::vector<int> free_dofs(const Model<3>& m, const std::vector<PlatenRow3>& row
   return map;
 }
 
-Eigen::VectorXd solve_system(const SpMat& K, const Eigen::VectorXd& f, StaticResult& r) {
-  if (K.rows() <= 30000) {
-    Eigen::SimplicialLDLT<SpMat, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt(K);
-    if (ldlt.info() != Eigen::Success)
-      throw std::runtime_error("the 3D static solve: the stiffness is singular (a block held by no bond?)");
-    return ldlt.solve(f);
-  }
-  Eigen::ConjugateGradient<SpMat, Eigen::Lower | Eigen::Upper,
-                           Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>>>
-      cg;
-  cg.setTolerance(1e-10);
-  cg.setMaxIterations(K.rows());
-  cg.compute(K);
-  Eigen::VectorXd x = cg.solve(f);
-  if (cg.info() != Eigen::Success) throw std::runtime_error("the 3D static solve: CG did not converge");
-  r.krylov_iterations += int(cg.iterations());
-  return x;
-}
-
 }  // namespace
 
-StaticResult solve_static(const Engine<3>& e, const StaticOptions& o) {
+StaticResult solve_static(const Engine<3>& e, const StaticOptions& o, Static3Solver solver) {
   const auto t0 = std::chrono::steady_clock::now();
   const Model<3>& m = e.model();
   const std::vector<PlatenRow3> rows = o.platens ? platen_rows(e) : std::vector<PlatenRow3>{};
@@ -142,12 +119,18 @@ StaticResult solve_static(const Engine<3>& e, const StaticOptions& o) {
   r.dim = 3, r.platen_displacement = delta;
   std::vector<std::uint8_t> closed(m.num_bonds(), 1), changes(m.num_bonds(), 0);
   const int max_it = o.linear_parts_always_closed ? 1 : std::max(o.max_iterations, 1);
+  SpdSolver3 spd(solver);
   for (int it = 0; it < max_it; ++it) {
     std::vector<Eigen::Triplet<double>> T;
     add_stiffness(m, closed, rows, map, T);
     SpMat K(n, n);
     K.setFromTriplets(T.begin(), T.end());
-    const Eigen::VectorXd x = solve_system(K, f, r);
+    // The first stiffness (every linear part closed) is factorised; the active sets after it lie within a factor 2
+    // of it (an opened linear part takes away its k_n A and k_s A, no more than the parallel bond beside it keeps)
+    // and are solved by CG preconditioned with that factor (SpdSolver3::update).
+    if (it == 0) spd.factor(K);
+    else spd.update(K);
+    const Eigen::VectorXd x = spd.solve(f);
     r.u.assign(map.size(), 0.0);
     for (std::size_t k = 0; k < map.size(); ++k)
       if (map[k] >= 0) r.u[k] = x[map[k]];
@@ -166,6 +149,7 @@ StaticResult solve_static(const Engine<3>& e, const StaticOptions& o) {
     }
     if (changed == 0) break;
   }
+  r.krylov_iterations = spd.iterations();
   r.linear_state.resize(m.num_bonds());
   r.fn_lin.resize(m.num_bonds());
   for (std::size_t b = 0; b < m.num_bonds(); ++b) {

@@ -13,11 +13,15 @@
 #pragma once
 
 #include "dem/engine3.hpp"
+#include "dem/static3.hpp"
 #include "dem/static_result.hpp"
 
 namespace rbdem {
 
-StaticResult solve_static(const Engine<3>& engine, const StaticOptions& options);
+// The system is factorised once per stiffness by `solver` (dem/static3.hpp; automatic: CHOLMOD where the build has
+// it); an active-set iteration changes the values, not the pattern, and redoes only the numeric factorisation.
+StaticResult solve_static(const Engine<3>& engine, const StaticOptions& options,
+                          Static3Solver solver = Static3Solver::automatic);
 
 // The smallest lambda >= 0 at which some intact bond reaches its strength under base + lambda x increment (an
 // empty base: the unloaded specimen) by FaceBond's failure test on the parallel bond's forces, and that bond; +inf
