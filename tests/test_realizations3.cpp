@@ -2,12 +2,17 @@
 // another tetrahedral mesh of the same solid and the same joint planes, of the same size and quality; the same seed
 // gives the same mesh bit for bit, and seed 0 is the reference mesh.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <numbers>
 #include <set>
 
+#include "dem/mesh_cache.hpp"
 #include "dem/scene.hpp"
 #include "dem/specimen_mesh3.hpp"
 
@@ -104,6 +109,45 @@ TEST(Realizations3, SceneSeedReachesTheMesh) {
   const TetMesh m = mesh_scene3(s);
   EXPECT_EQ(m.nodes, paper_mesh(2).nodes);
   EXPECT_EQ(m.tets, paper_mesh(2).tets);
+}
+
+// The mesh cache keeps 3D meshes as it keeps 2D ones (dem/mesh_cache.hpp): the cached mesh is the mesh gmsh made,
+// every value equal; each seed is a file of its own; a damaged file is ignored and written anew.
+TEST(Realizations3, MeshCacheGivesBackTheSeededMesh) {
+  const auto dir = std::filesystem::temp_directory_path() / ("rbdem-mesh3-cache-test-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  ::setenv("RBDEM_CACHE_DIR", dir.c_str(), 1);
+  ::setenv("RBDEM_MESH_CACHE", "on", 1);
+  Scene scene = parse_scene("[specimen]\ndimension = 3\n[mesh]\nsize = 0.01\nseed = 1\n", "3d");
+  const TetMesh& fresh = paper_mesh(1);
+  auto equal = [](const TetMesh& a, const TetMesh& b) {
+    bool same = a.nodes == b.nodes && a.tets == b.tets && a.layer == b.layer && a.layer_names == b.layer_names &&
+                a.layer_rows == b.layer_rows && a.notes == b.notes && a.boundary.size() == b.boundary.size();
+    for (std::size_t k = 0; same && k < a.boundary.size(); ++k)
+      same = a.boundary[k].nodes == b.boundary[k].nodes && a.boundary[k].tet == b.boundary[k].tet &&
+             a.boundary[k].tag == b.boundary[k].tag;
+    return same;
+  };
+  bool cached = true;
+  EXPECT_TRUE(equal(make_mesh3_cached(scene, &cached), fresh));
+  EXPECT_FALSE(cached);
+  const auto file = mesh_cache_file(scene);
+  ASSERT_TRUE(std::filesystem::exists(file));
+  EXPECT_TRUE(equal(make_mesh3_cached(scene, &cached), fresh));
+  EXPECT_TRUE(cached);
+  Scene other = scene;
+  other.mesh.seed = 2;
+  EXPECT_NE(mesh_cache_file(other), file);
+  {  // one byte changed in the middle: the checksum fails, the mesh is made again
+    std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(std::streamoff(std::filesystem::file_size(file) / 2));
+    f.put('\x5a');
+  }
+  EXPECT_TRUE(equal(make_mesh3_cached(scene, &cached), fresh));
+  EXPECT_FALSE(cached);
+  ::unsetenv("RBDEM_MESH_CACHE");
+  ::unsetenv("RBDEM_CACHE_DIR");
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
