@@ -7,7 +7,7 @@
 #
 # BETA = 60 (slip on the joints) takes a few minutes for the four default sizes; BETA = 90 (splitting along the
 # layers) longer. Each run skips the elastic gate and uses the scene's default threads; the 3D mesh is made by
-# gmsh in every run (its time is in "wall", not in "run"). Writes OUT_DIR/size_study3_beta<BETA>.json and prints
+# gmsh in every run (the mesh cache is off; its time is in "wall", not in "run"). Writes OUT_DIR/size_study3_beta<BETA>.json and prints
 # the table. The load average (uptime) at the start of each run is recorded beside it: run it on an idle machine.
 #
 # Columns: wall = the whole command (meshing, static start, explicit run, output); run = summary.json's
@@ -25,6 +25,7 @@ rbdem="$build/bin/rbdem"
 [ -x "$rbdem" ] || { echo "size_study3: $rbdem not built (scripts/setup.sh build)" >&2; exit 2; }
 [ -x /usr/bin/time ] || { echo "size_study3: needs GNU time (/usr/bin/time; Debian package 'time')" >&2; exit 2; }
 mkdir -p "$out"
+export RBDEM_MESH_CACHE=off
 work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
 records="$work/records.txt"
 : > "$records"
