@@ -7,6 +7,7 @@
 #include <exception>
 #include <map>
 #include <numbers>
+#include <random>
 #include <set>
 
 #include <fmt/format.h>
@@ -128,6 +129,38 @@ std::vector<int> group_layers(const MeshJob3& job, std::vector<std::string>& nam
   return tags;
 }
 
+// Largest log-ratio of the last to the first segment of a graded curve, as in 2D (gmsh_mesher.cpp): spacings
+// within exp(+-0.05 / 2) of the mean, about +-2.5 %.
+constexpr double grading_amplitude3 = 0.05;
+
+// A mesh realization (see mesh_specimen3 in specimen_mesh3.hpp): grades the 1D mesh of every curve of the model
+// (the rims of the ends, the seam, the traces of the joint planes on the surface and on each other) by a seeded
+// geometric progression. Each curve keeps the segment count gmsh gives it at the size options already set, read
+// from a 1D mesh made first (as line elements, so that a closed curve, whose one vertex is both ends, counts
+// right). The surfaces are then meshed from moved curve nodes, and the volumes from moved surface nodes, so the
+// whole tetrahedral mesh differs while its size and quality stay those of the reference mesh.
+void grade_curves3(int seed) {
+  gmsh::model::mesh::generate(1);
+  gmsh::vectorpair curves;
+  gmsh::model::getEntities(curves, 1);
+  std::vector<std::pair<int, int>> segments;  // curve tag, segment count
+  for (const auto& [dim, tag] : curves) {
+    std::vector<std::size_t> etags, enodes;
+    gmsh::model::mesh::getElementsByType(1, etags, enodes, tag);
+    segments.push_back({tag, int(etags.size())});
+  }
+  gmsh::model::mesh::clear();
+  // mt19937_64 is the same sequence on every platform; the uniform variate is built by hand because
+  // std::uniform_real_distribution is not.
+  std::mt19937_64 random(static_cast<std::uint64_t>(seed));
+  for (const auto& [tag, count] : segments) {
+    const double u = double(random() >> 11) * 0x1.0p-53;  // [0, 1)
+    if (count < 2) continue;                                // one segment: nothing to move
+    const double ratio = std::exp(grading_amplitude3 * (2.0 * u - 1.0) / double(count - 1));
+    gmsh::model::mesh::setTransfiniteCurve(tag, count + 1, "Progression", ratio);
+  }
+}
+
 // The first-order tetrahedra of the layers (each a list of volume entities), with the nodes they use (in order of
 // first use).
 TetMesh collect_tets(const std::vector<std::vector<int>>& layer_volumes, std::vector<std::string> names) {
@@ -201,6 +234,7 @@ TetMesh mesh_specimen3_now(const MeshJob3& job) {
     gmsh::option::setNumber("Mesh.MeshSizeMax", job.h);
     gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
     gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
+    if (job.seed != 0) grade_curves3(job.seed);
     gmsh::model::mesh::generate(3);
     std::vector<std::vector<int>> layer_volumes;
     for (const int v : layers) layer_volumes.push_back({v});

@@ -45,6 +45,7 @@ struct MeshJob3 {
   std::vector<JointPlane> planes;
   std::array<double, 3> centre{};  // SpecimenGeometry3::centre() (the module links none of the DEM library)
   double h = 0.0;                  // target edge length, m
+  int seed = 0;                    // mesh realization (mesh.seed): 0 = the reference mesh (mesh_specimen3)
 };
 
 struct MeshOutcome3 {
@@ -53,7 +54,7 @@ struct MeshOutcome3 {
 };
 
 // Bumped whenever a signature below or a struct it passes changes; the sizes catch a stale module as well.
-inline constexpr int gmsh_module_abi = 5;
+inline constexpr int gmsh_module_abi = 6;
 
 struct GmshModule {
   int abi = gmsh_module_abi;

@@ -22,14 +22,16 @@
 #include <gmsh.h>
 
 #include "dem/specimen_mesh.hpp"
+#include "dem/specimen_mesh3.hpp"
 #include "dem/version.hpp"
 
 namespace rbdem {
 
 namespace {
 
-// Bumped whenever the file layout or the meaning of a cached mesh changes.
+// Bumped whenever the file layout or the meaning of a cached mesh changes (of a triangle mesh, of a tetrahedral one).
 constexpr std::string_view header = "rbdem-mesh-cache-1\n";
+constexpr std::string_view header3 = "rbdem-mesh3-cache-1\n";
 
 bool starts_with(std::string_view s, std::string_view prefix) { return s.substr(0, prefix.size()) == prefix; }
 
@@ -138,6 +140,65 @@ std::optional<TriMesh> decode(const std::string& key_text, std::string_view file
   return m;
 }
 
+// A boundary face as five ints (its nodes, its tetrahedron, its tag): the struct's padding is not written.
+std::vector<std::array<int, 5>> boundary_rows(const std::vector<BoundaryFace>& faces) {
+  std::vector<std::array<int, 5>> rows;
+  rows.reserve(faces.size());
+  for (const auto& f : faces) rows.push_back({f.nodes[0], f.nodes[1], f.nodes[2], f.tet, int(f.tag)});
+  return rows;
+}
+
+std::string encode(const std::string& key_text, const TetMesh& m) {
+  Writer w;
+  w.text(header3);
+  w.text(key_text);
+  w.raw(m.nodes), w.raw(m.tets), w.raw(m.layer), w.raw(m.layer_rows), w.raw(boundary_rows(m.boundary));
+  w.raw(std::vector<double>{m.mesh_seconds});
+  w.count(m.layer_names.size());
+  for (const auto& s : m.layer_names) w.text(s);
+  w.count(m.notes.size());
+  for (const auto& s : m.notes) w.text(s);
+  return w.finish();
+}
+
+std::optional<TetMesh> decode3(const std::string& key_text, std::string_view file) {
+  if (file.size() < sizeof(std::uint64_t)) return std::nullopt;
+  const std::string_view body = file.substr(0, file.size() - sizeof(std::uint64_t));
+  std::uint64_t sum = 0;
+  std::memcpy(&sum, file.data() + body.size(), sizeof sum);
+  if (sum != fnv1a(body)) return std::nullopt;
+  Reader r(body);
+  std::string head, key;
+  TetMesh m;
+  std::vector<std::array<int, 5>> rows;
+  std::vector<double> seconds;
+  if (!r.text(head) || head != header3 || !r.text(key) || key != key_text) return std::nullopt;
+  if (!r.raw(m.nodes) || !r.raw(m.tets) || !r.raw(m.layer) || !r.raw(m.layer_rows) || !r.raw(rows) ||
+      !r.raw(seconds) || seconds.size() != 1)
+    return std::nullopt;
+  m.mesh_seconds = seconds[0];
+  for (const auto& f : rows) {
+    if (f[4] < 0 || f[4] > int(FaceTag::lateral)) return std::nullopt;
+    m.boundary.push_back({{f[0], f[1], f[2]}, f[3], FaceTag(f[4])});
+  }
+  std::uint64_t n = 0;
+  for (auto* texts : {&m.layer_names, &m.notes}) {
+    if (!r.count(n) || n > body.size()) return std::nullopt;  // checked before anything is allocated for it
+    texts->resize(std::size_t(n));
+    for (auto& s : *texts)
+      if (!r.text(s)) return std::nullopt;
+  }
+  if (!r.at_end()) return std::nullopt;
+  return m;
+}
+
+std::optional<TriMesh> decode_as(const TriMesh*, const std::string& key_text, std::string_view file) {
+  return decode(key_text, file);
+}
+std::optional<TetMesh> decode_as(const TetMesh*, const std::string& key_text, std::string_view file) {
+  return decode3(key_text, file);
+}
+
 }  // namespace
 
 std::uint64_t fnv1a(std::string_view s) {
@@ -179,22 +240,25 @@ std::filesystem::path cache_file(const Scene& scene, const std::string& key_text
 
 std::filesystem::path mesh_cache_file(const Scene& scene) { return cache_file(scene, mesh_cache_key_text(scene)); }
 
-TriMesh make_mesh_cached(const Scene& scene, bool* from_cache) {
+namespace {
+// The scene's mesh from the cache file when one holds it, else made by `make` and written there.
+template <class Mesh, class Make>
+Mesh mesh_through_cache(const Scene& scene, bool* from_cache, const Make& make) {
   if (from_cache) *from_cache = false;
   const std::string key_text = mesh_cache_key_text(scene);
   const std::filesystem::path file = cache_file(scene, key_text);
-  if (file.empty()) return make_mesh(scene);
+  if (file.empty()) return make();
   {
     std::ifstream in(file, std::ios::binary);
     if (in) {
       const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-      if (auto m = decode(key_text, bytes)) {
+      if (auto m = decode_as(static_cast<const Mesh*>(nullptr), key_text, bytes)) {
         if (from_cache) *from_cache = true;
         return std::move(*m);
       }
     }
   }
-  TriMesh mesh = make_mesh(scene);
+  Mesh mesh = make();
   // The cache only saves time: a folder that cannot be written leaves the run as it is.
   std::error_code ec;
   std::filesystem::create_directories(file.parent_path(), ec);
@@ -214,6 +278,15 @@ TriMesh make_mesh_cached(const Scene& scene, bool* from_cache) {
   std::filesystem::rename(mine, file, ec);
   if (ec) std::filesystem::remove(mine, ec);
   return mesh;
+}
+}  // namespace
+
+TriMesh make_mesh_cached(const Scene& scene, bool* from_cache) {
+  return mesh_through_cache<TriMesh>(scene, from_cache, [&] { return make_mesh(scene); });
+}
+
+TetMesh make_mesh3_cached(const Scene& scene, bool* from_cache) {
+  return mesh_through_cache<TetMesh>(scene, from_cache, [&] { return mesh_scene3(scene); });
 }
 
 }  // namespace rbdem

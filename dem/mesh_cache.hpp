@@ -1,4 +1,4 @@
-// The mesh cache: a generated specimen mesh, kept on disk by its scene, so that a run of a scene meshed before
+// The mesh cache: a generated specimen mesh (triangles in 2D, tetrahedra in 3D), kept on disk by its scene, so that a run of a scene meshed before
 // skips gmsh (docs/performance.md, "The mesh cache").
 //
 // The key is every scene value the mesh can depend on (the [specimen], [joint_set], [joint_set2] and [mesh]
@@ -14,6 +14,7 @@
 #include <string_view>
 
 #include "dem/scene.hpp"
+#include "mesh/tetmesh.hpp"
 #include "mesh/trimesh.hpp"
 
 namespace rbdem {
@@ -28,6 +29,9 @@ std::uint64_t fnv1a(std::string_view s);
 // on turns it on for any build.
 // `from_cache`, when given, tells whether the mesh came from the cache.
 TriMesh make_mesh_cached(const Scene& scene, bool* from_cache = nullptr);
+// The same for a 3D scene (specimen.dimension = 3): mesh_scene3(scene) through the cache, every seed of a 3D
+// study's realizations a file of its own (mesh.seed is in the key).
+TetMesh make_mesh3_cached(const Scene& scene, bool* from_cache = nullptr);
 
 // The text the cache key hashes, and the file a scene's mesh is kept in ("" when the cache does not apply).
 std::string mesh_cache_key_text(const Scene& scene);

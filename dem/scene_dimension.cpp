@@ -101,9 +101,6 @@ void validate_3d_others(const Scene& s) {
     unused("mesh.structured", "true", 3,
            "the structured grid is of right triangles (rbdem shear sets it: the direct shear test is 2D only, "
            "its boxes are block groups); remove the key or run shear on a 2D scene");
-  if (s.mesh.seed != m.seed)
-    unused("mesh.seed", std::to_string(s.mesh.seed), 3,
-           "mesh realizations grade the 2D mesh's boundary nodes; use mesh.seed = 0 in 3D");
   for (const auto& [name, set] : {std::pair<const char*, const JointSetParams*>{"joint_set", &s.joint_set},
                                   std::pair<const char*, const JointSetParams*>{"joint_set2", &s.joint_set2}})
     if (set->enabled && set->persistence < 1.0)

@@ -118,7 +118,7 @@ std::vector<JointPlane> joint_planes(const SpecimenGeometry3& g, double min_piec
   return out;
 }
 
-TetMesh mesh_specimen3(const SpecimenGeometry3& g, double h) {
+TetMesh mesh_specimen3(const SpecimenGeometry3& g, double h, int seed) {
   check_geometry(g, h);
   std::vector<std::string> notes;
   gmsh_io::MeshJob3 job;
@@ -127,6 +127,7 @@ TetMesh mesh_specimen3(const SpecimenGeometry3& g, double h) {
   job.planes = joint_planes(g, 0.5 * h, &notes);
   job.centre = g.centre();
   job.h = h;
+  job.seed = seed;
   TetMesh mesh = gmsh_io::mesh3_with_gmsh(job);
   notes.insert(notes.end(), mesh.notes.begin(), mesh.notes.end());
   mesh.notes = std::move(notes);
@@ -177,7 +178,7 @@ TetMesh read_msh3(const std::filesystem::path& path) {
 
 TetMesh mesh_scene3(const Scene& scene) {
   if (!scene.mesh.file.empty()) return read_msh3(scene.mesh.file);
-  return mesh_specimen3(specimen_geometry3(scene), scene.mesh.size);
+  return mesh_specimen3(specimen_geometry3(scene), scene.mesh.size, scene.mesh.seed);
 }
 
 }  // namespace rbdem

@@ -5,7 +5,6 @@
 
 #include "dem/driver/registry.hpp"
 #include "dem/mesh_cache.hpp"
-#include "dem/specimen_mesh3.hpp"
 #include "io/results.hpp"
 
 namespace rbdem::io {
@@ -19,8 +18,8 @@ CaseRun run_case(const std::string& test, const Scene& scene, const CaseOptions&
     out.specimen = sim.specimen();
     if (options.ready) options.ready(sim, out.mesh_cached);
   };
-  if (scene.specimen.dimension == 3) {  // tetrahedral blocks: meshed afresh (about a second at the default size)
-    const TetMesh mesh = mesh_scene3(run_scene);
+  if (scene.specimen.dimension == 3) {  // tetrahedral blocks
+    const TetMesh mesh = make_mesh3_cached(run_scene, &out.mesh_cached);
     out.result = run_test(test, run_scene, mesh, options.run, ready);
   } else {
     const TriMesh mesh = make_mesh_cached(run_scene, &out.mesh_cached);

@@ -89,7 +89,6 @@ TEST(Scene3, KeysWithoutMeaningInThreeDimensionsAreRefused) {
       {d3 + "thickness = 0.05\n", "specimen.thickness"},
       {d3 + "contact_arc_deg = 0\n", "specimen.contact_arc_deg"},
       {d3 + "[mesh]\nstructured = true\n", "mesh.structured"},
-      {d3 + "[mesh]\nseed = 3\n", "mesh.seed"},
       {d3 + "[joint_set]\npersistence = 0.5\n", "joint_set.persistence"},
       {d3 + "[joint_set2]\nenabled = true\npersistence = 0.5\nspacing = 0.02\n", "joint_set2.persistence"},
       {d3 + "[beds]\npattern = [\"rock\", \"rock2\"]\n", "beds.pattern"},
