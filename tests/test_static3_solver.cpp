@@ -2,18 +2,10 @@
 // form, the factor kept while only the values change, a singular stiffness reported by name; CHOLMOD against
 // Eigen's LDLT on the 3D elastic network (solve_static3) and on the static start of a 3D run (dem/static_start3.hpp).
 //
-// Static3Solver.DISABLED_Timing prints the solve times of CG + incomplete Cholesky, CHOLMOD (and the LDLT with
-// RBDEM_STATIC3_LDLT=1) on the cylinder at mesh size RBDEM_STATIC3_H mm (default 4) and dip RBDEM_STATIC3_DIP (60)
-// and the 3D run's static start (RBDEM_STATIC3_START_NO_CG=1 leaves out CG there, minutes at 4 mm;
-// RBDEM_STATIC3_NO_CG=1 everywhere):
-//   RBDEM_STATIC3_H=4 build/tests/test_static3_solver --gtest_also_run_disabled_tests
-//       --gtest_filter=Static3Solver.DISABLED_Timing
+// Their times are benchmarks/bench_static3.cpp (docs/performance.md, "The 3D static solve").
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <ctime>
-#include <cstdio>
-#include <cstdlib>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -161,56 +153,6 @@ TEST(Static3Solver, CholmodMatchesLdltInTheStaticStart) {
   EXPECT_LT(relative_difference(chol.u, ldlt.u), 1e-9);
   EXPECT_EQ(chol.first_break_bond, ldlt.first_break_bond);
   EXPECT_NEAR(chol.first_break_factor / ldlt.first_break_factor, 1.0, 1e-9);
-}
-
-// The process's CPU seconds: on a machine shared with other builds the wall time of a solve depends on the load,
-// its CPU time much less.
-double cpu_seconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
-
-double env_or(const char* name, double fallback) {
-  const char* v = std::getenv(name);
-  return v ? std::atof(v) : fallback;
-}
-
-TEST(Static3Solver, DISABLED_Timing) {
-  const double h = env_or("RBDEM_STATIC3_H", 4.0) * 1e-3;
-  std::vector<Static3Solver> solvers{Static3Solver::cg, Static3Solver::cholmod};
-  if (std::getenv("RBDEM_STATIC3_LDLT")) solvers.push_back(Static3Solver::ldlt);
-  if (std::getenv("RBDEM_STATIC3_NO_CG")) solvers.erase(solvers.begin());
-
-  const TetMesh m = cylinder(env_or("RBDEM_STATIC3_DIP", 60.0), h);
-  std::printf("h = %g mm, %zu blocks\nelastic network (solve_static3):\n", h * 1e3, m.num_tets());
-  std::vector<double> first;
-  for (Static3Solver s : solvers) {
-    Static3Options o;
-    o.solver = s;
-    const double c0 = cpu_seconds();
-    const Static3Result r = solve_static3(m, o);
-    if (first.empty()) first = r.u;
-    std::printf("  %-7s dofs %zu assembly %.2f s solve %.2f s (wall; CPU %.2f s in all) CG it %d L nonzeros %.3g "
-                "flops %.3g modulus %.6f GPa |u - u_first|/|u_first| %.2e\n",
-                solver_name(s), r.dofs, r.assemble_seconds, r.solve_seconds, cpu_seconds() - c0, r.iterations,
-                r.factor_nonzeros, r.factor_flops, r.fit_modulus / 1e9, relative_difference(r.u, first));
-    std::fflush(stdout);
-  }
-  Scene scene;
-  SimulationImpl<3> sim(scene, m);
-  sim.add_platens({0.0, 0.0});
-  StaticOptions so;
-  so.platen_displacement = 1e-6 * sim.specimen().height();
-  std::printf("static start of the run (solve_static, active set and first break):\n");
-  first.clear();
-  if (std::getenv("RBDEM_STATIC3_START_NO_CG") && !std::getenv("RBDEM_STATIC3_NO_CG")) solvers.erase(solvers.begin());
-  for (Static3Solver s : solvers) {
-    const double c0 = cpu_seconds();
-    const StaticResult r = solve_static(sim.engine(), so, s);
-    if (first.empty()) first = r.u;
-    std::printf("  %-7s %.2f s (wall; CPU %.2f s), %d active-set iterations, %zu open, CG it %d, first break %.9g "
-                "(bond %d), |u - u_first|/|u_first| %.2e\n",
-                solver_name(s), r.seconds, cpu_seconds() - c0, r.active_set_iterations, r.open_bonds,
-                r.krylov_iterations, r.first_break_factor, r.first_break_bond, relative_difference(r.u, first));
-    std::fflush(stdout);
-  }
 }
 
 }  // namespace
