@@ -48,9 +48,10 @@ struct FaceMaterial {
 
 // How the symmetric positive definite systems of the 3D static solves are solved:
 //   cholmod: CHOLMOD's supernodal Cholesky factorisation (SuiteSparse; fill-reducing ordering by AMD or METIS,
-//            whichever fills less); its work is dense blocks in the BLAS, so its speed is the BLAS's (8 times
-//            CG's with OpenBLAS at 4 mm, 1.5 times with the reference BLAS; docs/performance.md); needs a build
-//            with CHOLMOD (cholmod_available());
+//            whichever fills less); its work is dense blocks in the BLAS, so its speed is the BLAS's (one solve
+//            at 4 mm: 5.9 times less CPU than CG with OpenBLAS, 1.1 times with the reference BLAS); its factor,
+//            reused, makes the static start's later active sets cheap (7 times less CPU at 6 mm;
+//            benchmarks/bench_static3.cpp, docs/performance.md); needs a build with CHOLMOD (cholmod_available());
 //   ldlt:    Eigen's simplicial LDLT with AMD ordering (its fill on tetrahedra costs minutes above ~100,000 dofs);
 //   cg:      conjugate gradients with an incomplete Cholesky preconditioner, to a relative residual cg_tolerance;
 //   automatic: cholmod where available, else ldlt up to direct_dof_limit dofs and cg above.
