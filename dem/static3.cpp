@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <omp.h>
+
 #include <Eigen/Dense>
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
@@ -83,6 +85,21 @@ struct CholmodLlt : Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
   }
 };
 #endif
+
+// One OpenMP thread while CHOLMOD and its BLAS work. Debian's OpenBLAS (libopenblas0-openmp) runs its kernels on
+// an OpenMP team of omp_get_max_threads(): on two cores that team, spinning in its barriers beside the caller's,
+// took the 4 mm factorisation from 2.6 s on one thread to 6-8 s (benchmarks/bench_static3.cpp); the reference BLAS
+// ignores the setting.
+class OneOmpThread {
+ public:
+  OneOmpThread() : threads_(omp_get_max_threads()) { omp_set_num_threads(1); }
+  ~OneOmpThread() { omp_set_num_threads(threads_); }
+  OneOmpThread(const OneOmpThread&) = delete;
+  OneOmpThread& operator=(const OneOmpThread&) = delete;
+
+ private:
+  int threads_;
+};
 
 using Ldlt = Eigen::SimplicialLDLT<SpMat, Eigen::Lower, Eigen::AMDOrdering<int>>;
 using Cg = Eigen::ConjugateGradient<SpMat, Eigen::Lower | Eigen::Upper,
@@ -177,6 +194,7 @@ void SpdSolver3::factor(const SpMat& K_in) {
   };
   if (method == Static3Solver::cholmod) {
 #ifdef RBDEM_HAVE_CHOLMOD
+    const OneOmpThread serial;
     if (fresh || !s.cholmod) s.cholmod = std::make_unique<CholmodLlt>(), s.cholmod->analyzePattern(K);
     s.cholmod->factorize(K);
     s.factor_nonzeros = s.cholmod->cholmod().lnz, s.factor_flops = s.cholmod->cholmod().fl;
@@ -205,7 +223,10 @@ void SpdSolver3::update(const SpMat& K) {
 
 Eigen::VectorXd SpdSolver3::Impl::direct_solve(const Eigen::VectorXd& f) const {
 #ifdef RBDEM_HAVE_CHOLMOD
-  if (used == Static3Solver::cholmod) return cholmod->solve(f);
+  if (used == Static3Solver::cholmod) {
+    const OneOmpThread serial;
+    return cholmod->solve(f);
+  }
 #endif
   return ldlt->solve(f);
 }

@@ -16,7 +16,7 @@ case "$mode" in run|test|build) ;; *) echo "usage: scripts/setup.sh [run|test|bu
 packages=(
   build-essential cmake pkg-config git
   libdeal.ii-dev libeigen3-dev libgmsh-dev libsundials-dev libhdf5-dev libhdf5-openmpi-dev libopenmpi-dev
-  libsuitesparse-dev
+  libsuitesparse-dev libopenblas0-openmp
   libtomlplusplus-dev libcli11-dev libfmt-dev nlohmann-json3-dev zlib1g-dev
   libgtest-dev libbenchmark-dev
   python3 python3-matplotlib python3-h5py python3-numpy
