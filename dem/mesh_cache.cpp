@@ -97,6 +97,21 @@ class Reader {
   std::size_t at_ = 0;
 };
 
+// The file's body (all but its trailing checksum) when the checksum holds and the body opens with `head` and the
+// key text `key_text`: a reader placed after them.
+std::optional<Reader> open_body(std::string_view file, std::string_view head, const std::string& key_text,
+                                std::string_view& body) {
+  if (file.size() < sizeof(std::uint64_t)) return std::nullopt;
+  body = file.substr(0, file.size() - sizeof(std::uint64_t));
+  std::uint64_t sum = 0;
+  std::memcpy(&sum, file.data() + body.size(), sizeof sum);
+  if (sum != fnv1a(body)) return std::nullopt;
+  Reader r(body);
+  std::string h, key;
+  if (!r.text(h) || h != head || !r.text(key) || key != key_text) return std::nullopt;
+  return r;
+}
+
 std::string encode(const std::string& key_text, const TriMesh& m) {
   Writer w;
   w.text(header);
@@ -112,16 +127,12 @@ std::string encode(const std::string& key_text, const TriMesh& m) {
 }
 
 std::optional<TriMesh> decode(const std::string& key_text, std::string_view file) {
-  if (file.size() < sizeof(std::uint64_t)) return std::nullopt;
-  const std::string_view body = file.substr(0, file.size() - sizeof(std::uint64_t));
-  std::uint64_t sum = 0;
-  std::memcpy(&sum, file.data() + body.size(), sizeof sum);
-  if (sum != fnv1a(body)) return std::nullopt;
-  Reader r(body);
-  std::string head, key;
+  std::string_view body;
+  std::optional<Reader> opened = open_body(file, header, key_text, body);
+  if (!opened) return std::nullopt;
+  Reader& r = *opened;
   TriMesh m;
   std::uint64_t n = 0;
-  if (!r.text(head) || head != header || !r.text(key) || key != key_text) return std::nullopt;
   if (!r.raw(m.nodes) || !r.raw(m.triangles) || !r.raw(m.layer)) return std::nullopt;
   // Counts are checked against the bytes left before anything is allocated for them.
   auto sized = [&](auto& v) {
@@ -162,17 +173,13 @@ std::string encode(const std::string& key_text, const TetMesh& m) {
 }
 
 std::optional<TetMesh> decode3(const std::string& key_text, std::string_view file) {
-  if (file.size() < sizeof(std::uint64_t)) return std::nullopt;
-  const std::string_view body = file.substr(0, file.size() - sizeof(std::uint64_t));
-  std::uint64_t sum = 0;
-  std::memcpy(&sum, file.data() + body.size(), sizeof sum);
-  if (sum != fnv1a(body)) return std::nullopt;
-  Reader r(body);
-  std::string head, key;
+  std::string_view body;
+  std::optional<Reader> opened = open_body(file, header3, key_text, body);
+  if (!opened) return std::nullopt;
+  Reader& r = *opened;
   TetMesh m;
   std::vector<std::array<int, 5>> rows;
   std::vector<double> seconds;
-  if (!r.text(head) || head != header3 || !r.text(key) || key != key_text) return std::nullopt;
   if (!r.raw(m.nodes) || !r.raw(m.tets) || !r.raw(m.layer) || !r.raw(m.layer_rows) || !r.raw(rows) ||
       !r.raw(seconds) || seconds.size() != 1)
     return std::nullopt;
