@@ -5,7 +5,6 @@
 #include <cmath>
 #include <exception>
 #include <numbers>
-#include <random>
 #include <set>
 
 #include <fmt/format.h>
@@ -39,15 +38,7 @@ void grade_curves(int seed) {
     nodes.push_back({tag, int(tags.size())});
   }
   gmsh::model::mesh::clear();
-  // mt19937_64 is the same sequence on every platform; the uniform variate is built by hand because
-  // std::uniform_real_distribution is not.
-  std::mt19937_64 random(static_cast<std::uint64_t>(seed));
-  for (const auto& [tag, count] : nodes) {
-    const double u = double(random() >> 11) * 0x1.0p-53;  // [0, 1)
-    if (count < 3) continue;                                // one segment: nothing to move
-    const double ratio = std::exp(grading_amplitude * (2.0 * u - 1.0) / double(count - 2));
-    gmsh::model::mesh::setTransfiniteCurve(tag, count, "Progression", ratio);
-  }
+  grade_by_progression(nodes, seed, grading_amplitude);
 }
 
 // The specimen's outline as one plane surface of the current model: a rectangle, a disc, or a disc flattened over

@@ -7,7 +7,6 @@
 #include <exception>
 #include <map>
 #include <numbers>
-#include <random>
 #include <set>
 
 #include <fmt/format.h>
@@ -143,22 +142,14 @@ void grade_curves3(int seed) {
   gmsh::model::mesh::generate(1);
   gmsh::vectorpair curves;
   gmsh::model::getEntities(curves, 1);
-  std::vector<std::pair<int, int>> segments;  // curve tag, segment count
+  std::vector<std::pair<int, int>> points;  // curve tag, segments + 1
   for (const auto& [dim, tag] : curves) {
     std::vector<std::size_t> etags, enodes;
     gmsh::model::mesh::getElementsByType(1, etags, enodes, tag);
-    segments.push_back({tag, int(etags.size())});
+    points.push_back({tag, int(etags.size()) + 1});
   }
   gmsh::model::mesh::clear();
-  // mt19937_64 is the same sequence on every platform; the uniform variate is built by hand because
-  // std::uniform_real_distribution is not.
-  std::mt19937_64 random(static_cast<std::uint64_t>(seed));
-  for (const auto& [tag, count] : segments) {
-    const double u = double(random() >> 11) * 0x1.0p-53;  // [0, 1)
-    if (count < 2) continue;                                // one segment: nothing to move
-    const double ratio = std::exp(grading_amplitude3 * (2.0 * u - 1.0) / double(count - 1));
-    gmsh::model::mesh::setTransfiniteCurve(tag, count + 1, "Progression", ratio);
-  }
+  grade_by_progression(points, seed, grading_amplitude3);
 }
 
 // The first-order tetrahedra of the layers (each a list of volume entities), with the nodes they use (in order of

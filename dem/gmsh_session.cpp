@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <map>
+#include <random>
 
 #include <fmt/format.h>
 #include <gmsh.h>
@@ -15,6 +16,17 @@ namespace rbdem::gmsh_io {
 namespace {
 std::mutex gmsh_mutex;
 }  // namespace
+
+void grade_by_progression(const std::vector<std::pair<int, int>>& points, int seed, double amplitude) {
+  // The uniform variate is built by hand because std::uniform_real_distribution is not the same everywhere.
+  std::mt19937_64 random(static_cast<std::uint64_t>(seed));
+  for (const auto& [tag, count] : points) {
+    const double u = double(random() >> 11) * 0x1.0p-53;  // [0, 1)
+    if (count < 3) continue;                                // one segment: nothing to move
+    const double ratio = std::exp(amplitude * (2.0 * u - 1.0) / double(count - 2));
+    gmsh::model::mesh::setTransfiniteCurve(tag, count, "Progression", ratio);
+  }
+}
 
 GmshSession::GmshSession() : lock_(gmsh_mutex), omp_threads_(omp_get_max_threads()) {
   gmsh::initialize(0, nullptr, false);

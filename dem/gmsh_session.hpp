@@ -4,6 +4,7 @@
 
 #include <mutex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mesh/trimesh.hpp"
@@ -27,6 +28,12 @@ class GmshSession {
   std::lock_guard<std::mutex> lock_;
   int omp_threads_;
 };
+
+// A mesh realization's grading: for each (curve tag, point count with both ends) of the current model, in order,
+// the curve's 1D mesh set to that many points in a geometric progression whose log-ratio from its first to its
+// last segment is amplitude x (2u - 1), u uniform in [0, 1) from a std::mt19937_64 seeded with `seed` (one draw per
+// curve, the same sequence on every platform). A curve of fewer than three points is left as it is.
+void grade_by_progression(const std::vector<std::pair<int, int>>& points, int seed, double amplitude);
 
 // The last gmsh error message, or `fallback`.
 std::string gmsh_error(const std::string& fallback);
