@@ -14,7 +14,8 @@ import sys
 
 CONSTANTS = ["E", "nu", "E_prime", "nu_prime", "G_prime"]
 ANGLE_KEYS = ["beta_deg", "amadei_pa", "dem_static_pa", "fe_pa", "fe_goodman_pa", "amadei_goodman_pa",
-              "dem_platen_pa", "fe_platen_pa", "poisson_strike", "poisson_dip", "blocks"]
+              "amadei_goodman_jointed_mesh_pa", "dem_platen_pa", "fe_platen_pa", "poisson_strike", "poisson_dip",
+              "blocks"]
 
 
 def fail(msg):
@@ -39,7 +40,7 @@ def main():
     j = json.loads((out / "elastic.json").read_text())
     if j.get("dimension") != 3:
         fail("dimension is not 3")
-    for which in ("dem", "goodman"):
+    for which in ("dem", "goodman", "goodman_jointed_mesh"):
         for k in CONSTANTS:
             v = j["constants"][which].get(k)
             if not isinstance(v, (int, float)) or not math.isfinite(v):

@@ -62,16 +62,27 @@ DemConstants3 measure_dem_constants3(const Scene& scene, int threads) {
   DemConstants3 out;
   out.prism = constants_prism(scene);
   const Static3Options o = static3_options(scene);
-  // The unjointed prism, then the jointed ones at 0, 45 and 90 deg.
-  std::vector<std::pair<bool, double>> cases{{false, 0.0}};
-  if (out.prism.joints)
-    for (double dip : {0.0, 45.0, 90.0}) cases.push_back({true, dip});
+  Static3Options fabric = o;  // rock bonds across the joint planes
+  fabric.joint = fabric.rock;
+  // The unjointed prism, the jointed ones at 0, 45 and 90 deg, and the same jointed meshes with rock bonds.
+  struct Case {
+    bool joints = false;
+    double dip = 0;
+    const Static3Options* options = nullptr;
+    std::size_t mesh = 0;
+  };
+  std::vector<Case> cases{{false, 0.0, &o, 0}};
+  if (out.prism.joints) {
+    for (double dip : {0.0, 45.0, 90.0}) cases.push_back({true, dip, &o, cases.size()});
+    for (std::size_t k = 1; k <= 3; ++k) cases.push_back({true, cases[k].dip, &fabric, k});
+  }
   std::vector<TetMesh> meshes;
   std::vector<double> seconds;
-  for (const auto& [joints, dip] : cases) {
+  for (const Case& c : cases) {
+    if (c.mesh < meshes.size()) continue;
     const auto t = std::chrono::steady_clock::now();
     SpecimenGeometry3 g = out.prism;
-    g.joints = joints, g.set1.dip_deg = dip;
+    g.joints = c.joints, g.set1.dip_deg = c.dip;
     meshes.push_back(mesh_specimen3(g, scene.mesh.size));
     seconds.push_back(since(t));
   }
@@ -79,19 +90,24 @@ DemConstants3 measure_dem_constants3(const Scene& scene, int threads) {
   const int workers = threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));
   parallel_map(cases.size(), workers, [&](std::size_t k) {
     const auto t = std::chrono::steady_clock::now();
-    const Static3Result r = solve_static3(meshes[k], o);
-    tests[k] = virtual_test3(r, cases[k].second, seconds[k] + since(t));
+    const Static3Result r = solve_static3(meshes[cases[k].mesh], *cases[k].options);
+    const double mesh_seconds = cases[k].options == &o ? seconds[cases[k].mesh] : 0.0;
+    tests[k] = virtual_test3(r, cases[k].dip, mesh_seconds + since(t));
   });
   out.intact = tests[0];
   const theory::TIConstants rock = isotropic_constants3(out.intact);
   out.dem = rock;
   double d_mean = 0;
   if (out.prism.joints) {
-    out.tests.assign(tests.begin() + 1, tests.end());
+    out.tests.assign(tests.begin() + 1, tests.begin() + 4);
+    out.fabric_tests.assign(tests.begin() + 4, tests.end());
     out.dem = ti_constants3(out.tests[0], out.tests[1], out.tests[2]);
+    out.fabric = ti_constants3(out.fabric_tests[0], out.fabric_tests[1], out.fabric_tests[2]);
     d_mean = out.tests[0].joint_d_mean;
   }
   out.goodman = goodman_estimate(scene, rock, d_mean);
+  if (out.prism.joints)
+    out.goodman_fabric = theory::add_joints(out.fabric, out.goodman.k_n, out.goodman.k_s, out.goodman.spacing);
   out.seconds = since(t0);
   return out;
 }

@@ -8,6 +8,11 @@
 //   dip 45: Amadei's 1/E_45 = (1/E + 1/E' + 1/G' - 2 nu'/E') / 4 gives G'.
 // Goodman's constants beside them: the unjointed prism's E_r and nu_r cut by joints of the bonds' extra compliance
 // at the joint bonds' mean centroid distance (compare/gate/dem_constants.hpp, goodman_estimate).
+// Goodman's on the jointed mesh: the mesher makes the tetrahedra conform to the joint planes, a fabric that makes
+// the jointed mesh stiffer across the planes before any joint is weakened (docs/theory.md, "The 3D network against
+// its continuum"). So the jointed prisms are also solved with rock bonds across the planes (E*_j = E*_r, kappa_j =
+// kappa_r): their five constants are the rock as the jointed mesh carries it, and the same joints' compliance added
+// to them (theory::add_joints: 1/E' += 1/(k_n s), 1/G' += 1/(k_s s)) is Goodman's estimate from that baseline.
 #pragma once
 
 #include <vector>
@@ -45,6 +50,11 @@ struct DemConstants3 {
   VirtualTest3 intact;           // the unjointed prism
   std::vector<VirtualTest3> tests;  // the jointed prisms at 0, 45, 90 deg (none without joints)
   GoodmanEstimate goodman;       // Goodman's constants from intact and the scene's bonds
+  // The jointed prisms at 0, 45, 90 deg with rock bonds across the planes, their constants, and Goodman's from
+  // them (the joints' k_n, k_s, spacing of `goodman`); empty and zero without joints.
+  std::vector<VirtualTest3> fabric_tests;
+  theory::TIConstants fabric;
+  theory::TIConstants goodman_fabric;
   SpecimenGeometry3 prism;       // the prism they were measured on
   double seconds = 0;
 };

@@ -95,6 +95,8 @@ void measure_angle(const Scene& scene, const TetMesh& mesh, const Elastic3Report
   a.amadei = am.modulus;
   a.amadei_poisson_strike = am.poisson_strike, a.amadei_poisson_dip = am.poisson_dip;
   a.amadei_goodman = theory::amadei_uniaxial_3d(rep.constants.goodman.constants, beta).modulus;
+  if (rep.constants.goodman_fabric.admissible())
+    a.amadei_goodman_fabric = theory::amadei_uniaxial_3d(rep.constants.goodman_fabric, beta).modulus;
   if (with_fe) fe_columns(a, mesh, rep, dd);
 }
 

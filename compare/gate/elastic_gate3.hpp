@@ -11,7 +11,8 @@
 //   fe         = the FE twin (continuum/fe_3d.hpp) with the DEM's constants, its mean-strain modulus (fe_platen:
 //                the platens' reading),
 //   fe_goodman = the same with Goodman's constants,
-//   amadei     = Amadei's 1 / S'_33 with the DEM's constants (amadei_goodman: with Goodman's),
+//   amadei     = Amadei's 1 / S'_33 with the DEM's constants (amadei_goodman: with Goodman's;
+//                amadei_goodman_fabric: with Goodman's from the jointed mesh's rock, dem_constants3.hpp),
 // and the apparent Poisson's ratios along the joints' strike and dip direction of each. The gate passes when
 // max over beta |dem_static / fe - 1| <= elastic.tolerance; without the FE module (a build without deal.II) Amadei
 // with the DEM's constants decides. The joints as interfaces in the 3D FE model are not built: the FE twin with the
@@ -43,6 +44,7 @@ struct Elastic3Angle {
   static constexpr double nan = std::numeric_limits<double>::quiet_NaN();
   double beta_deg = 0;
   double amadei = 0, amadei_goodman = 0;  // Pa
+  double amadei_goodman_fabric = nan;     // Pa, Amadei with Goodman's constants on the jointed mesh's rock
   double dem_static = 0, dem_platen = 0;  // Pa
   double fe = nan, fe_platen = nan, fe_goodman = nan;  // Pa
   // Apparent Poisson's ratios -eps_lateral / eps_zz along the strike and the horizontal dip direction.

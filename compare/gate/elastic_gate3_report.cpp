@@ -45,13 +45,24 @@ nlohmann::json constants_section(const Elastic3Report& r) {
   auto intact = constants_json(isotropic_constants3(c.intact));
   intact["dem_static_pa"] = c.intact.modulus;
   intact["virtual_test"] = test_json(c.intact);
-  return {{"dem", dem}, {"goodman", good}, {"intact", intact}};
+  nlohmann::json sections = {{"dem", dem}, {"goodman", good}, {"intact", intact}};
+  if (!c.fabric_tests.empty()) {
+    auto rock = constants_json(c.fabric);
+    rock["virtual_tests"] = nlohmann::json::array();
+    for (const auto& t : c.fabric_tests) rock["virtual_tests"].push_back(test_json(t));
+    auto jm = constants_json(c.goodman_fabric);
+    jm["rock"] = rock;
+    sections["goodman_jointed_mesh"] = jm;
+  }
+  return sections;
 }
 
 nlohmann::json angle_json(const Elastic3Angle& a) {
   return {{"beta_deg", a.beta_deg},
           {"amadei_pa", a.amadei},
           {"amadei_goodman_pa", a.amadei_goodman},
+          {"amadei_goodman_jointed_mesh_pa", number(a.amadei_goodman_fabric)},
+          {"dem_static_vs_amadei_goodman_jointed_mesh", number(a.dem_static / a.amadei_goodman_fabric - 1.0)},
           {"dem_static_pa", a.dem_static},
           {"dem_platen_pa", a.dem_platen},
           {"fe_pa", number(a.fe)},
@@ -109,12 +120,13 @@ std::string elastic3_table(const Elastic3Report& r) {
       "elastic gate (3D {}, mesh {:g} mm, dip direction {:g} deg, frictionless platens): DEM static moduli vs the FE "
       "twin with the DEM's constants (FE), Amadei and the FE twin with Goodman's constants\n",
       r.shape, 1e3 * r.mesh_size, r.dip_direction_deg);
-  s += " beta DEM stat       FE  DEM-FE   Amadei DEM-Am FE Goodm | nu_strike DEM  Am    FE | nu_dip DEM   Am    FE "
-       "| blocks\n";
-  s += "  deg      GPa      GPa       %      GPa      %      GPa |\n";
+  s += " beta DEM stat       FE  DEM-FE   Amadei DEM-Am FE Goodm    Gd jm DEM-Gd | nu_strike DEM  Am    FE | nu_dip DEM "
+       "  Am    FE | blocks\n";
+  s += "  deg      GPa      GPa       %      GPa      %      GPa      GPa      % |\n";
   for (const auto& a : r.angles)
-    s += fmt::format("{:5g} {} {} {} {} {} {} |    {} {} {} | {} {} {} | {}{}\n", a.beta_deg, gpa(a.dem_static),
-                     gpa(a.fe), pct(a.deviation_fe()), gpa(a.amadei), pct(a.deviation_amadei()), gpa(a.fe_goodman),
+    s += fmt::format("{:5g} {} {} {} {} {} {} {} {} |    {} {} {} | {} {} {} | {}{}\n", a.beta_deg,
+                     gpa(a.dem_static), gpa(a.fe), pct(a.deviation_fe()), gpa(a.amadei), pct(a.deviation_amadei()),
+                     gpa(a.fe_goodman), gpa(a.amadei_goodman_fabric), pct(a.dem_static / a.amadei_goodman_fabric - 1.0),
                      ratio(a.dem_poisson_strike), ratio(a.amadei_poisson_strike), ratio(a.fe_poisson_strike),
                      ratio(a.dem_poisson_dip), ratio(a.amadei_poisson_dip), ratio(a.fe_poisson_dip), a.blocks,
                      a.beta_deg == r.gate.worst_beta_deg && !r.gate.passed ? "  <- worst" : "");
@@ -129,6 +141,20 @@ std::string elastic3_table(const Elastic3Report& r) {
                    "E_r {:.2f} GPa, nu_r {:.3f}; k_n {:.3g} Pa/m, k_s {:.3g} Pa/m at d_mean {:.3g} mm, s {:g} m)\n",
                    g.constants.E / 1e9, g.constants.nu, g.constants.E_prime / 1e9, g.constants.nu_prime,
                    g.constants.G_prime / 1e9, g.E_r / 1e9, g.nu_r, g.k_n, g.k_s, 1e3 * g.d_mean, g.spacing);
+  if (!r.constants.fabric_tests.empty()) {
+    const auto& f = r.constants.fabric;
+    const auto& j = r.constants.goodman_fabric;
+    s += fmt::format("Goodman on the jointed mesh: E {:.2f} GPa, nu {:.3f}, E' {:.2f} GPa, nu' {:.3f}, G' {:.2f} GPa (its "
+                     "rock, rock bonds across the planes: E {:.2f} GPa, nu {:.3f}, E' {:.2f} GPa, nu' {:.3f}, G' {:.2f} "
+                     "GPa)\n",
+                     j.E / 1e9, j.nu, j.E_prime / 1e9, j.nu_prime, j.G_prime / 1e9, f.E / 1e9, f.nu, f.E_prime / 1e9,
+                     f.nu_prime, f.G_prime / 1e9);
+    s += fmt::format("DEM / Goodman - 1: E {} %, nu {} %, E' {} %, nu' {} %, G' {} % (on the jointed mesh's rock); E' {} "
+                     "%, G' {} % (on the unjointed rock)\n",
+                     pct(c.E / j.E - 1.0), pct(c.nu / j.nu - 1.0), pct(c.E_prime / j.E_prime - 1.0),
+                     pct(c.nu_prime / j.nu_prime - 1.0), pct(c.G_prime / j.G_prime - 1.0),
+                     pct(c.E_prime / g.constants.E_prime - 1.0), pct(c.G_prime / g.constants.G_prime - 1.0));
+  }
   s += fmt::format("gate (dem_static vs {}): {}\n", r.gate.comparison, r.gate.message);
   if (!r.gate.passed) s += "  " + r.gate.reason + "\n";
   return s;
