@@ -404,6 +404,7 @@ void Engine<3>::step() {
     const auto blocks = share(m.num_blocks(), t, nt);  // the components' sums start from zero, cleared in parallel
     std::fill(ext_f_.begin() + long(blocks[0]), ext_f_.begin() + long(blocks[1]), Vec3{});
     std::fill(ext_m_.begin() + long(blocks[0]), ext_m_.begin() + long(blocks[1]), Vec3{});
+    for (BoundaryHooks<3>* h : hooks_) h->prepare_forces(m, s, s.dt, t, nt);
 #pragma omp barrier
 #pragma omp master
     {

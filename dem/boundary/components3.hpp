@@ -54,6 +54,9 @@ class PlatensImpl<3> : public Platens, public BoundaryHooks<3> {
 
   double add_forces(const Model<3>& m, const ModelState<3>& s, std::vector<Vec3>& force, std::vector<Vec3>& moment,
                     double dt, bool advance) override;
+  // Each candidate's contact (its overlap with the platen, the costly part) for the thread's share of candidates;
+  // add_forces sums them in candidate order.
+  void prepare_forces(const Model<3>& m, const ModelState<3>& s, double dt, int thread, int threads) override;
   void after_step(const Model<3>&, ModelState<3>&, double dt) override { top_z_ -= velocity_ * dt; }
   void loads(const Model<3>& m, const ModelState<3>& s, int component, BoundaryLoads& out) const override;
   void add_stiffness(const Model<3>& m, std::vector<BlockStiffness3>& k) const override;
@@ -83,6 +86,9 @@ class PlatensImpl<3> : public Platens, public BoundaryHooks<3> {
   PlatenServo servo_;
   double top_force_ = 0, bottom_force_ = 0, energy_ = 0, work_ = 0;
   std::vector<double> fs_;  // the shear history of each candidate (top first), x and y (N)
+  // workspace: the contacts prepare_forces computed for this step's add_forces (prepared_ until it used them)
+  std::vector<Contact> contacts_;
+  bool prepared_ = false;
 };
 
 template <>

@@ -35,6 +35,13 @@ class BoundaryHooks<3> {
   // history, no energy booked). Returns the work its friction dissipated in the step (J, not negative).
   virtual double add_forces(const Model<3>& m, const ModelState<3>& s, std::vector<Vec3>& force,
                             std::vector<Vec3>& moment, double dt, bool advance) = 0;
+  // The part of the next add_forces(..., advance = true) that each of the step's `threads` threads may compute side
+  // by side before it, thread `thread` its share (the engine calls it on every thread of the step, between the
+  // bonds and the serial part, with the state not moving). A component that uses it keeps each item's result and
+  // add_forces then sums them in its fixed order, so the step is the same at any thread count. Default: none.
+  virtual void prepare_forces(const Model<3>& m, const ModelState<3>& s, double dt, int thread, int threads) {
+    (void)m, (void)s, (void)dt, (void)thread, (void)threads;
+  }
   // After the integrator: the component's own motion (the top platen).
   virtual void after_step(const Model<3>&, ModelState<3>&, double dt) { (void)dt; }
   // The forces it puts on the blocks now, each at its point (Simulation::boundary_loads()).

@@ -4,7 +4,8 @@
 // does on the overlap area: F_n = k_n V on the overlap volume V (so a face of area A pressed by d carries
 // k_n A d, the static solve's spring), at the overlap's centroid, and the incremental shear dF_s = -(k_n / kappa)
 // A_c v_s dt on the section area A_c, Coulomb-limited to mu F_n. The candidates are the blocks within one block
-// radius of a platen at rest; the contacts are summed serially in candidate order (the top platen's first).
+// radius of a platen at rest; their contacts are computed side by side on the step's threads (prepare_forces) and
+// summed serially in candidate order (the top platen's first), so the sums do not depend on the thread count.
 #include <algorithm>
 #include <cmath>
 
@@ -89,6 +90,7 @@ PlatensImpl<3>::PlatensImpl(const Model<3>& m, const PlatenSettings& settings)
     if (lo < zmin_ + reach) bottom_candidates_.push_back(int(b));
   }
   fs_.assign(2 * (top_candidates_.size() + bottom_candidates_.size()), 0.0);
+  contacts_.resize(top_candidates_.size() + bottom_candidates_.size());
 }
 
 std::vector<std::pair<std::string, double>> PlatensImpl<3>::readings() const {
@@ -134,6 +136,23 @@ PlatensImpl<3>::Contact PlatensImpl<3>::contact(const Model<3>& m, const ModelSt
   return c;
 }
 
+void PlatensImpl<3>::prepare_forces(const Model<3>& m, const ModelState<3>& s, double dt, int thread, int threads) {
+  const std::size_t ntop = top_candidates_.size();
+  const std::size_t n = ntop + bottom_candidates_.size();
+  // contacts_ holds one entry per candidate from the constructor on; thread 0 alone marks it filled (add_forces
+  // reads the mark after the engine's barrier).
+  if (thread == 0) prepared_ = true;
+  const std::size_t lo = n * std::size_t(thread) / std::size_t(threads);
+  const std::size_t hi = n * std::size_t(thread + 1) / std::size_t(threads);
+  for (std::size_t k = lo; k < hi; ++k) {
+    const bool top = k < ntop;
+    const int b = top ? top_candidates_[k] : bottom_candidates_[k - ntop];
+    Vec3 fs{fs_[2 * k], fs_[2 * k + 1], 0.0};
+    contacts_[k] = contact(m, s, b, top, dt, fs);
+    fs_[2 * k] = fs.x, fs_[2 * k + 1] = fs.y;
+  }
+}
+
 double PlatensImpl<3>::add_forces(const Model<3>& m, const ModelState<3>& s, std::vector<Vec3>& force,
                                   std::vector<Vec3>& moment, double dt, bool advance) {
   if (advance && servo_on_)
@@ -141,12 +160,19 @@ double PlatensImpl<3>::add_forces(const Model<3>& m, const ModelState<3>& s, std
   double totals[2] = {0, 0}, energy = 0, friction = 0;
   const std::size_t ntop = top_candidates_.size();
   const std::size_t n = ntop + bottom_candidates_.size();
+  const bool prepared = advance && prepared_;
+  prepared_ = false;
   for (std::size_t k = 0; k < n; ++k) {
     const bool top = k < ntop;
     const int b = top ? top_candidates_[k] : bottom_candidates_[k - ntop];
-    Vec3 fs{fs_[2 * k], fs_[2 * k + 1], 0.0};
-    const Contact c = contact(m, s, b, top, dt, fs);
-    if (advance) fs_[2 * k] = fs.x, fs_[2 * k + 1] = fs.y;
+    Contact c;
+    if (prepared) {
+      c = contacts_[k];
+    } else {
+      Vec3 fs{fs_[2 * k], fs_[2 * k + 1], 0.0};
+      c = contact(m, s, b, top, dt, fs);
+      if (advance) fs_[2 * k] = fs.x, fs_[2 * k + 1] = fs.y;
+    }
     if (!c.touching) continue;
     force[std::size_t(b)] += c.force;
     moment[std::size_t(b)] += cross(c.point - s.position(std::size_t(b)), c.force);
