@@ -18,7 +18,7 @@ Runner add_test_command(CLI::App& app, const ProtocolInfo& test);
 Runner add_sweep_command(CLI::App& app);
 Runner add_calibrate_command(CLI::App& app);
 Runner add_verify_command(CLI::App& app);
-Runner add_elastic_command(CLI::App& app);  // only in the deal.II build (RBDEM_HAVE_CONTINUUM)
+Runner add_elastic_command(CLI::App& app);  // without deal.II: the FE columns empty, Amadei decides
 // The main job with no arguments.
 // The default dip study; with realizations > 1, that many meshes per dip (mesh.seed 0 .. realizations - 1) into
 // runs/default_realizations, with the mean, sd and 95 % interval of each dip's peak.

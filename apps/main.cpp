@@ -113,9 +113,7 @@ int main(int argc, char** argv) {
   add(add_calibrate_command(app));
   add(add_mesh_command(app));
   add(add_verify_command(app));
-#ifdef RBDEM_HAVE_CONTINUUM
   add(add_elastic_command(app));
-#endif
 
   // The first word that is not an option names the command (rbdem's own options take no values but
   // --realizations).
