@@ -418,7 +418,10 @@ JointedFe3Result solve_elastic_3d_jointed(const TetMesh& mesh, const std::vector
   r.interface_faces = interfaces.size();
   r.copies = split.copy_node.size();
   for (int c : split.copies_per_node) r.duplicated_nodes += c > 1 ? std::size_t(c - 1) : 0;
-  for (const InterfaceElement3& e : split.interfaces) r.glued_faces += e.glued ? 1 : 0;
+  for (const InterfaceElement3& e : split.interfaces) {
+    r.glued_faces += e.glued ? 1 : 0;
+    r.inert_faces += e.copy[0] == e.copy[1] ? 1 : 0;
+  }
 
   // ---- Triangulation of the copies, DoFs, constraints, sparsity.
   const Extent z = extent_of(mesh);

@@ -71,6 +71,10 @@ struct InterfaceFace {
 struct JointedFe3Result : Fe3Result {
   std::size_t interface_faces = 0;   // = interfaces.size(): interface elements + glued faces
   std::size_t glued_faces = 0;       // of which infinitely stiff (constraints)
+  // Interface faces with no jump at all: every node keeps one copy on both sides (all three on the edge of the
+  // joint: an isolated face, a joint strip one face wide). They are accepted and do nothing; a joint must be more
+  // than one face across to open.
+  std::size_t inert_faces = 0;
   std::size_t copies = 0;            // vertices after the split (the triangulation's)
   std::size_t duplicated_nodes = 0;  // copies - nodes used: the sum over nodes of (copies - 1)
   std::size_t constrained_dofs = 0;  // platen values, pins, and the ties of glued copies

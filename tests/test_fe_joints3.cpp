@@ -216,6 +216,45 @@ TEST(FeJoints3, JointEndingInsideTheSpecimenKeepsOneCopyAtItsEdge) {
   EXPECT_EQ(r_half.duplicated_nodes, split);
   EXPECT_LT(r_whole.apparent_modulus, r_half.apparent_modulus * (1 - 1e-3));
   EXPECT_LT(r_half.apparent_modulus, none * (1 - 1e-3));
+  EXPECT_EQ(r_half.inert_faces, 0u);
+  // One face alone: all its nodes lie on its edge, so it has no jump and changes nothing (reported as inert).
+  const JointedFe3Result r_one = solve_elastic_3d_jointed(m, same_for_all(m, rock), 0, 0, {whole[whole.size() / 2]},
+                                                          direct());
+  EXPECT_EQ(r_one.inert_faces, 1u);
+  EXPECT_EQ(r_one.duplicated_nodes, 0u);
+  EXPECT_NEAR(r_one.apparent_modulus / none, 1.0, 1e-12);
+}
+
+// ---- A material per layer ----------------------------------------------------------------------------------------
+
+// The volume of each layer, m^3.
+std::vector<double> layer_volumes(const TetMesh& m) {
+  std::vector<double> v(m.num_layers(), 0.0);
+  for (std::size_t t = 0; t < m.num_tets(); ++t) v[std::size_t(m.layer[t])] += tet_volume(m, t);
+  return v;
+}
+
+// Layers alternating two rocks (E 20 and 50 GPa). Horizontal layers with joints, no Poisson effect (nu = 0): the
+// layers in series under one stress, H / E_app = sum h_l / E_l + n / k_n. Vertical layers with joints, one
+// Poisson's ratio: the layers in parallel under one strain, no joint loaded, E_app = sum V_l E_l / V. Both exact.
+TEST(FeJoints3, LayersOfTwoRocksInSeriesAndInParallel) {
+  const double E[2] = {20e9, 50e9}, kn = 0.5 * E[0] / H;
+  for (const double dip : {0.0, 90.0}) {
+    const double nu = dip == 0 ? 0.0 : 0.25;
+    const TetMesh& m = specimen(Shape3::prism, {dip, 0, dip == 0 ? 0.025 : 0.0125, 0.0}, 0.0125);
+    std::vector<TIConstants> rocks;
+    for (std::size_t l = 0; l < m.num_layers(); ++l) rocks.push_back(TIConstants::isotropic(E[l % 2], nu));
+    const auto f = joint_interfaces(m, kn, 0.4 * kn);
+    const JointedFe3Result r = solve_elastic_3d_jointed(m, rocks, dip, 0, f, direct());
+    const std::vector<double> v = layer_volumes(m);
+    double series = double(m.num_layers() - 1) / kn, parallel = 0;  // compliance H / E, modulus
+    for (std::size_t l = 0; l < v.size(); ++l) series += v[l] / (W * W) / E[l % 2], parallel += v[l] * E[l % 2];
+    const double expected = dip == 0 ? H / series : parallel / (W * W * H);
+    std::printf("two rocks dip %2.0f (%zu layers): E_app %.12e Pa, closed form %.12e Pa, error %.1e\n", dip,
+                m.num_layers(), r.apparent_modulus, expected, r.apparent_modulus / expected - 1);
+    EXPECT_EQ(m.num_layers(), 4u);
+    EXPECT_NEAR(r.apparent_modulus / expected, 1.0, 1e-11) << "dip " << dip;
+  }
 }
 
 // ---- A fine joint set tends to Goodman's continuum ---------------------------------------------------------------
@@ -240,6 +279,27 @@ TEST(FeJoints3, JointSetAt45TendsToGoodman) {
   }
   for (std::size_t k = 1; k < error.size(); ++k) EXPECT_LT(error[k], error[k - 1]);
   EXPECT_LT(error.back(), 0.1);
+}
+
+// The convergence table of docs/continuum.md: isotropic rock (as JointSetAt45TendsToGoodman) and the layered TI
+// rock with joints (theory::add_joints), k_n s = E', k_s s = 0.4 E', s / W down to 1/8, two elements per layer.
+TEST(FeJoints3, DISABLED_GoodmanConvergenceTable) {
+  std::printf("rock       s/W    tets    DoFs    E_app (GPa)  TI medium (GPa)  error      nu_strike (medium)  "
+              "nu_dip (medium)   time (s)\n");
+  for (const bool ti : {false, true}) {
+    const TIConstants rock = ti ? layered : TIConstants::isotropic(20e9, 0.25);
+    for (const double s : {0.025, 0.0125, 0.00833, 0.00625}) {
+      const double kn = rock.E_prime / s, ks = 0.4 * rock.E_prime / s;
+      const TetMesh& m = specimen(Shape3::prism, {45, 0, s, 0.0}, s / 2);
+      const JointedFe3Result r =
+          solve_elastic_3d_jointed(m, same_for_all(m, rock), 45, 0, joint_interfaces(m, kn, ks));
+      const theory::Uniaxial3 g = theory::amadei_uniaxial_3d(theory::add_joints(rock, kn, ks, s), 45);
+      std::printf("%-9s  %.3f  %6zu  %6zu  %11.4f  %15.4f  %9.2e  %.4f (%.4f)   %.4f (%.4f)   %6.2f\n",
+                  ti ? "TI" : "isotropic", s / W, m.num_tets(), r.dofs, r.apparent_modulus / 1e9, g.modulus / 1e9,
+                  r.apparent_modulus / g.modulus - 1, r.poisson_strike, g.poisson_strike, r.poisson_dip,
+                  g.poisson_dip, r.seconds);
+    }
+  }
 }
 
 // ---- Stiff joints tend to the unjointed rock ---------------------------------------------------------------------
