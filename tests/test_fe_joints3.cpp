@@ -33,14 +33,18 @@ const TIConstants layered{60e9, 0.2, 25e9, 0.12, 9e9};  // clearly anisotropic: 
 constexpr double W = 0.05, H = 0.1;                      // the prism: 50 x 50 x 100 mm
 
 // A mesh of the prism or the cylinder cut by one set (and optionally a second) of joint planes.
-const TetMesh& specimen(Shape3 shape, JointPlaneSet set1, double h, bool second = false, JointPlaneSet set2 = {}) {
-  static std::map<std::tuple<int, double, double, double, double, bool, double, double, double>, TetMesh> cache;
+// `depth`: the prism's along y (the strike at dip direction 0).
+const TetMesh& specimen(Shape3 shape, JointPlaneSet set1, double h, bool second = false, JointPlaneSet set2 = {},
+                        double depth = W) {
+  static std::map<std::tuple<int, double, double, double, double, bool, double, double, double, double>, TetMesh>
+      cache;
   const auto key = std::make_tuple(int(shape), set1.dip_deg, set1.dip_direction_deg, set1.spacing, h, second,
-                                   set2.dip_deg, set2.dip_direction_deg, set2.spacing);
+                                   set2.dip_deg, set2.dip_direction_deg, set2.spacing, depth);
   auto it = cache.find(key);
   if (it == cache.end()) {
     SpecimenGeometry3 g;
     g.shape = shape;
+    g.depth = depth;
     g.set1 = set1;
     g.second_set = second;
     g.set2 = set2;
@@ -261,12 +265,14 @@ TEST(FeJoints3, LayersOfTwoRocksInSeriesAndInParallel) {
 
 // Isotropic rock with joints at spacing s dipping 45 deg, k_n s and k_s s fixed, so that Goodman's TI medium
 // (theory::goodman: 1/E' = 1/E + 1/(k_n s), 1/G' = 1/G + 1/(k_s s)) is the same for every s; two elements across a
-// layer. The blocks cut by the free sides (a boundary layer about s wide) make the error fall with s / W.
+// layer. The blocks cut by the free sides x = 0, W (a boundary layer about s wide) make the error fall with s / W;
+// the sides along the strike (y = 0, depth) carry none, the medium's stress being uniaxial there too, so the prism
+// is 12.5 mm deep (DISABLED_GoodmanConvergenceTable compares 50 mm).
 TEST(FeJoints3, JointSetAt45TendsToGoodman) {
   const double E = 20e9, nu = 0.25, kns = 1.0 * E, kss = 0.4 * E;  // E' = E / 2, G' = G / 2
   std::vector<double> error;
   for (const double s : {0.025, 0.0125, 0.00833}) {
-    const TetMesh& m = specimen(Shape3::prism, {45, 0, s, 0.0}, s / 2);
+    const TetMesh& m = specimen(Shape3::prism, {45, 0, s, 0.0}, s / 2, false, {}, W / 4);
     const auto f = joint_interfaces(m, kns / s, kss / s);
     const JointedFe3Result r =
         solve_elastic_3d_jointed(m, same_for_all(m, TIConstants::isotropic(E, nu)), 45, 0, f);
@@ -282,24 +288,40 @@ TEST(FeJoints3, JointSetAt45TendsToGoodman) {
 }
 
 // The convergence table of docs/continuum.md: isotropic rock (as JointSetAt45TendsToGoodman) and the layered TI
-// rock with joints (theory::add_joints), k_n s = E', k_s s = 0.4 E', s / W down to 1/8, two elements per layer.
+// rock with joints (theory::add_joints), k_n s = E', k_s s = 0.4 E', s / W down to 1/8; prisms 50 and 12.5 mm
+// deep (the sides along the strike carry no error: the medium's stress is uniaxial there too), two and three
+// elements across a layer. A s/V: the joint area per volume times s (1 for Goodman's medium).
 TEST(FeJoints3, DISABLED_GoodmanConvergenceTable) {
-  std::printf("rock       s/W    tets    DoFs    E_app (GPa)  TI medium (GPa)  error      nu_strike (medium)  "
-              "nu_dip (medium)   time (s)\n");
-  for (const bool ti : {false, true}) {
-    const TIConstants rock = ti ? layered : TIConstants::isotropic(20e9, 0.25);
-    for (const double s : {0.025, 0.0125, 0.00833, 0.00625}) {
-      const double kn = rock.E_prime / s, ks = 0.4 * rock.E_prime / s;
-      const TetMesh& m = specimen(Shape3::prism, {45, 0, s, 0.0}, s / 2);
-      const JointedFe3Result r =
-          solve_elastic_3d_jointed(m, same_for_all(m, rock), 45, 0, joint_interfaces(m, kn, ks));
-      const theory::Uniaxial3 g = theory::amadei_uniaxial_3d(theory::add_joints(rock, kn, ks, s), 45);
-      std::printf("%-9s  %.3f  %6zu  %6zu  %11.4f  %15.4f  %9.2e  %.4f (%.4f)   %.4f (%.4f)   %6.2f\n",
-                  ti ? "TI" : "isotropic", s / W, m.num_tets(), r.dofs, r.apparent_modulus / 1e9, g.modulus / 1e9,
-                  r.apparent_modulus / g.modulus - 1, r.poisson_strike, g.poisson_strike, r.poisson_dip,
-                  g.poisson_dip, r.seconds);
-    }
-  }
+  std::printf("rock       depth (mm)  elements/s  s/W    A s/V   tets    DoFs    E_app (GPa)  TI medium (GPa)  "
+              "error      nu_strike (medium)  nu_dip (medium)   time (s)\n");
+  for (const bool ti : {false, true})
+    for (const double depth : {W, W / 4})
+      for (const double per_layer : {2.0, 3.0, 4.0, 6.0})
+        for (const double s : {0.025, 0.0125, 0.00833, 0.00625}) {
+          // the mesh's size: more elements per layer only on the thin prism, and only at s / W = 1/4 beyond 3
+          if (per_layer * W / s > (depth < W ? 24.5 : 16.5) || (per_layer > 3 && (depth == W || s != 0.0125)))
+            continue;
+          const TIConstants rock = ti ? layered : TIConstants::isotropic(20e9, 0.25);
+          const double kn = rock.E_prime / s, ks = 0.4 * rock.E_prime / s;
+          const TetMesh& m = specimen(Shape3::prism, {45, 0, s, 0.0}, s / per_layer, false, {}, depth);
+          const JointedFe3Result r =
+              solve_elastic_3d_jointed(m, same_for_all(m, rock), 45, 0, joint_interfaces(m, kn, ks));
+          const theory::Uniaxial3 g = theory::amadei_uniaxial_3d(theory::add_joints(rock, kn, ks, s), 45);
+          double area = 0;
+          for (const SharedFace& f : shared_faces(m)) {
+            if (!f.joint) continue;
+            const auto &a = m.nodes[std::size_t(f.nodes[0])], &b = m.nodes[std::size_t(f.nodes[1])],
+                       &c = m.nodes[std::size_t(f.nodes[2])];
+            const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+            area += 0.5 * std::sqrt(std::pow(u[1] * v[2] - u[2] * v[1], 2) + std::pow(u[2] * v[0] - u[0] * v[2], 2) +
+                                    std::pow(u[0] * v[1] - u[1] * v[0], 2));
+          }
+          std::printf("%-9s  %10.1f  %10.0f  %.3f  %.4f  %6zu  %6zu  %11.4f  %15.4f  %9.2e  %.4f (%.4f)   "
+                      "%.4f (%.4f)   %6.2f\n",
+                      ti ? "TI" : "isotropic", depth * 1e3, per_layer, s / W, area * s / r.volume, m.num_tets(), r.dofs,
+                      r.apparent_modulus / 1e9, g.modulus / 1e9, r.apparent_modulus / g.modulus - 1,
+                      r.poisson_strike, g.poisson_strike, r.poisson_dip, g.poisson_dip, r.seconds);
+        }
 }
 
 // ---- Stiff joints tend to the unjointed rock ---------------------------------------------------------------------
