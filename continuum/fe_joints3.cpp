@@ -183,6 +183,7 @@ std::vector<double> prescribed_values(const TetMesh& mesh, const Split3& split, 
   const bool bonded = o.platens == Platens::bonded;
   const std::size_t none = cdof.size();
   std::size_t first = none, last = none;  // the bottom copies with the least and the greatest x (ties by y)
+  bool any_top = false;
   auto before = [&](std::size_t a, std::size_t b) {
     const auto &p = mesh.nodes[std::size_t(split.copy_node[a])], &q = mesh.nodes[std::size_t(split.copy_node[b])];
     return p[0] != q[0] ? p[0] < q[0] : p[1] < q[1];
@@ -192,11 +193,16 @@ std::vector<double> prescribed_values(const TetMesh& mesh, const Split3& split, 
     const bool top = std::abs(zc - z.zmax) < z.tol, bottom = std::abs(zc - z.zmin) < z.tol;
     if (!top && !bottom) continue;
     fixed[cdof[c][2]] = top ? -o.platen_displacement : 0.0;
+    any_top |= top;
     if (bonded) fixed[cdof[c][0]] = fixed[cdof[c][1]] = 0.0;
     if (!bottom) continue;
     if (first == none || before(c, first)) first = c;
     if (last == none || before(last, c)) last = c;
   }
+  if (first == none || !any_top)
+    fail(std::string("no tetrahedron has a node on the ") + (any_top ? "bottom (z = zmin)" : "top (z = zmax)") +
+         " of the mesh's nodes; the specimen must stand on its lowest z and be loaded at its highest (remove nodes "
+         "that no tetrahedron uses)");
   if (!bonded) {
     fixed[cdof[first][0]] = fixed[cdof[first][1]] = 0.0;  // the horizontal translations
     fixed[cdof[last][1]] = 0.0;                           // the rotation about z

@@ -398,6 +398,14 @@ TEST(FeJoints3, RejectsBadInputNamingTheProblem) {
   outside[0].tet_a = -1;
   refused(layers, outside, {}, "outside");
   EXPECT_THROW(solve_elastic_3d_jointed(TetMesh{}, {layered}, 0, 0, {}), std::invalid_argument);
+  TetMesh stray = m;  // a node no tetrahedron uses, below the specimen: nothing stands on the bottom
+  stray.nodes.push_back({0.0, 0.0, -0.01});
+  try {
+    solve_elastic_3d_jointed(stray, layers, 0, 0, good, direct());
+    ADD_FAILURE() << "a mesh with nothing on its bottom was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("bottom"), std::string::npos) << e.what();
+  }
   EXPECT_THROW(joint_interfaces(m, 1, 1, 2), std::invalid_argument);
 }
 
