@@ -60,4 +60,10 @@ Fe3Result solve_elastic_3d(const TetMesh& mesh, const theory::TIConstants& c, do
   return module().solve_elastic_3d(mesh, c, dip_deg, dip_direction_deg, options);
 }
 
+JointedFe3Result solve_elastic_3d_jointed(const TetMesh& mesh, const std::vector<theory::TIConstants>& layer_constants,
+                                          double dip_deg, double dip_direction_deg,
+                                          const std::vector<InterfaceFace>& interfaces, const Fe3Options& options) {
+  return module().solve_elastic_3d_jointed(mesh, layer_constants, dip_deg, dip_direction_deg, interfaces, options);
+}
+
 }  // namespace rbdem::continuum

@@ -14,6 +14,7 @@ extern "C" __attribute__((visibility("default"))) const rbdem::continuum::FeModu
     m.count_node_copies = &count_node_copies;
     m.dealii_version = &dealii_version;
     m.solve_elastic_3d = &solve_elastic_3d;
+    m.solve_elastic_3d_jointed = &solve_elastic_3d_jointed;
     return m;
   }();
   return &table;
