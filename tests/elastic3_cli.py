@@ -14,8 +14,8 @@ import sys
 
 CONSTANTS = ["E", "nu", "E_prime", "nu_prime", "G_prime"]
 ANGLE_KEYS = ["beta_deg", "amadei_pa", "dem_static_pa", "fe_pa", "fe_goodman_pa", "amadei_goodman_pa",
-              "amadei_goodman_jointed_mesh_pa", "dem_platen_pa", "fe_platen_pa", "poisson_strike", "poisson_dip",
-              "blocks"]
+              "amadei_goodman_jointed_mesh_pa", "fe_joints_pa", "dem_platen_pa", "fe_platen_pa", "poisson_strike",
+              "poisson_dip", "blocks"]
 
 
 def fail(msg):

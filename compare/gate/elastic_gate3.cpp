@@ -2,6 +2,7 @@
 #include "compare/gate/elastic_gate3.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <mutex>
@@ -17,6 +18,7 @@
 
 #ifdef RBDEM_HAVE_CONTINUUM
 #include "continuum/fe_3d.hpp"
+#include "continuum/fe_joints3.hpp"
 #endif
 
 namespace rbdem::compare {
@@ -48,9 +50,40 @@ void check_scene(const Scene& scene) {
                      "(transverse isotropy); set joint_set2.enabled = false");
 }
 
-// The FE twin on the dip's mesh with the constants c (DEM-measured or Goodman's); NaN where the module is missing
-// or the constants are not admissible (the table says which).
-void fe_columns(Elastic3Angle& a, const TetMesh& mesh, const Elastic3Report& rep, double dd) {
+#ifdef RBDEM_HAVE_CONTINUUM
+// The joint faces of the dip's mesh as interfaces of the DEM's own joint compliance: a joint bond of centroid
+// distance d (along the face normal) adds d c_n, d c_s over the rock bond it replaces (joint_compliance), so its
+// face gets k_n = 1 / (d c_n), k_s = 1 / (d c_s); a joint no softer than the rock (c <= 0) is glued.
+std::vector<continuum::InterfaceFace> dem_joint_faces(const TetMesh& mesh, const JointCompliance& c) {
+  auto centroid = [&](int t) {
+    std::array<double, 3> x{};
+    for (int n : mesh.tets[std::size_t(t)])
+      for (int k = 0; k < 3; ++k) x[std::size_t(k)] += 0.25 * mesh.nodes[std::size_t(n)][std::size_t(k)];
+    return x;
+  };
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<continuum::InterfaceFace> faces;
+  for (const SharedFace& f : shared_faces(mesh)) {
+    if (!f.joint) continue;
+    const auto& a = mesh.nodes[std::size_t(f.nodes[0])];
+    const auto& b = mesh.nodes[std::size_t(f.nodes[1])];
+    const auto& e = mesh.nodes[std::size_t(f.nodes[2])];
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {e[0] - a[0], e[1] - a[1], e[2] - a[2]};
+    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    const auto ci = centroid(f.tets[0]), cj = centroid(f.tets[1]);
+    const double d = std::abs(n[0] * (cj[0] - ci[0]) + n[1] * (cj[1] - ci[1]) + n[2] * (cj[2] - ci[2])) /
+                     std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    const bool soft = c.c_n > 0 && c.c_s > 0;
+    faces.push_back({f.tets[0], f.tets[1], soft ? 1.0 / (d * c.c_n) : inf, soft ? 1.0 / (d * c.c_s) : inf});
+  }
+  return faces;
+}
+#endif
+
+// The FE twins on the dip's mesh: with the DEM's constants, with Goodman's, and with the joints as interfaces in
+// the jointed mesh's rock; NaN where the module is missing or the constants are not admissible (the table says
+// which).
+void fe_columns(Elastic3Angle& a, const TetMesh& mesh, const Elastic3Report& rep, const Scene& scene, double dd) {
 #ifdef RBDEM_HAVE_CONTINUUM
   const auto t = Clock::now();
   if (rep.constants.dem.admissible()) {
@@ -63,8 +96,19 @@ void fe_columns(Elastic3Angle& a, const TetMesh& mesh, const Elastic3Report& rep
     a.fe_goodman = continuum::solve_elastic_3d(mesh, rep.constants.goodman.constants, a.beta_deg, dd)
                        .mean_strain_modulus;
   a.fe_seconds = since(t);
+  if (!rep.constants.fabric_tests.empty() && rep.constants.fabric.admissible()) {
+    const auto tj = Clock::now();
+    const std::vector<continuum::InterfaceFace> faces = dem_joint_faces(mesh, joint_compliance(scene));
+    const std::vector<theory::TIConstants> layers(std::max<std::size_t>(mesh.num_layers(), 1),
+                                                  rep.constants.fabric);
+    const continuum::JointedFe3Result fj =
+        continuum::solve_elastic_3d_jointed(mesh, layers, a.beta_deg, dd, faces);
+    a.fe_joints = fj.mean_strain_modulus, a.fe_joints_platen = fj.apparent_modulus;
+    a.fe_joints_poisson_strike = fj.poisson_strike, a.fe_joints_poisson_dip = fj.poisson_dip;
+    a.fe_joints_seconds = since(tj);
+  }
 #else
-  (void)a, (void)mesh, (void)rep, (void)dd;
+  (void)a, (void)mesh, (void)rep, (void)scene, (void)dd;
 #endif
 }
 
@@ -97,7 +141,7 @@ void measure_angle(const Scene& scene, const TetMesh& mesh, const Elastic3Report
   a.amadei_goodman = theory::amadei_uniaxial_3d(rep.constants.goodman.constants, beta).modulus;
   if (rep.constants.goodman_fabric.admissible())
     a.amadei_goodman_fabric = theory::amadei_uniaxial_3d(rep.constants.goodman_fabric, beta).modulus;
-  if (with_fe) fe_columns(a, mesh, rep, dd);
+  if (with_fe) fe_columns(a, mesh, rep, scene, dd);
 }
 
 void verdict(Elastic3Report& rep, double tolerance) {
@@ -165,7 +209,8 @@ Elastic3Report run_elastic_gate3(const Scene& scene, const Elastic3Options& opti
                     a.mesh_seconds, a.dem_seconds, a.fe_seconds));
   });
   for (const auto& a : rep.angles)
-    rep.mesh_seconds += a.mesh_seconds, rep.dem_seconds += a.dem_seconds, rep.fe_seconds += a.fe_seconds;
+    rep.mesh_seconds += a.mesh_seconds, rep.dem_seconds += a.dem_seconds, rep.fe_seconds += a.fe_seconds,
+    rep.fe_joints_seconds += a.fe_joints_seconds;
   verdict(rep, scene.elastic.tolerance);
   rep.seconds = since(t0);
   return rep;

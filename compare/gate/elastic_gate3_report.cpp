@@ -68,14 +68,17 @@ nlohmann::json angle_json(const Elastic3Angle& a) {
           {"fe_pa", number(a.fe)},
           {"fe_platen_pa", number(a.fe_platen)},
           {"fe_goodman_pa", number(a.fe_goodman)},
+          {"fe_joints_pa", number(a.fe_joints)},
+          {"fe_joints_platen_pa", number(a.fe_joints_platen)},
+          {"dem_static_vs_fe_joints", number(a.dem_static / a.fe_joints - 1.0)},
           {"dem_static_vs_fe", number(a.deviation_fe())},
           {"dem_static_vs_amadei", a.deviation_amadei()},
           {"fe_vs_amadei", number(a.fe / a.amadei - 1.0)},
           {"dem_static_vs_fe_goodman", number(a.dem_static / a.fe_goodman - 1.0)},
           {"poisson_strike", {{"dem", a.dem_poisson_strike}, {"amadei", a.amadei_poisson_strike},
-                              {"fe", number(a.fe_poisson_strike)}}},
+                              {"fe", number(a.fe_poisson_strike)}, {"fe_joints", number(a.fe_joints_poisson_strike)}}},
           {"poisson_dip", {{"dem", a.dem_poisson_dip}, {"amadei", a.amadei_poisson_dip},
-                           {"fe", number(a.fe_poisson_dip)}}},
+                           {"fe", number(a.fe_poisson_dip)}, {"fe_joints", number(a.fe_joints_poisson_dip)}}},
           {"blocks", a.blocks},
           {"bonds", a.bonds},
           {"joint_bonds", a.joint_bonds},
@@ -83,7 +86,8 @@ nlohmann::json angle_json(const Elastic3Angle& a) {
           {"fe_dofs", a.fe_dofs},
           {"mesh_seconds", a.mesh_seconds},
           {"static_solve_seconds", a.dem_seconds},
-          {"fe_seconds", a.fe_seconds}};
+          {"fe_seconds", a.fe_seconds},
+          {"fe_joints_seconds", a.fe_joints_seconds}};
 }
 
 }  // namespace
@@ -110,7 +114,8 @@ nlohmann::json elastic3_json(const Elastic3Report& r, const Scene& scene) {
                  {"constants_seconds", r.constants_seconds},
                  {"mesh_seconds", r.mesh_seconds},
                  {"dem_seconds", r.dem_seconds},
-                 {"fe_seconds", r.fe_seconds}};
+                 {"fe_seconds", r.fe_seconds},
+                 {"fe_joints_seconds", r.fe_joints_seconds}};
   j["scene"] = scene_json(scene);
   return j;
 }
@@ -120,13 +125,14 @@ std::string elastic3_table(const Elastic3Report& r) {
       "elastic gate (3D {}, mesh {:g} mm, dip direction {:g} deg, frictionless platens): DEM static moduli vs the FE "
       "twin with the DEM's constants (FE), Amadei and the FE twin with Goodman's constants\n",
       r.shape, 1e3 * r.mesh_size, r.dip_direction_deg);
-  s += " beta DEM stat       FE  DEM-FE   Amadei DEM-Am FE Goodm    Gd jm DEM-Gd | nu_strike DEM  Am    FE | nu_dip DEM "
-       "  Am    FE | blocks\n";
-  s += "  deg      GPa      GPa       %      GPa      %      GPa      GPa      % |\n";
+  s += " beta DEM stat       FE  DEM-FE   Amadei DEM-Am FE Goodm    Gd jm DEM-Gd FE jnts DEM-FEj | nu_strike DEM  Am    "
+       "FE | nu_dip DEM   Am    FE | blocks\n";
+  s += "  deg      GPa      GPa       %      GPa      %      GPa      GPa      %      GPa       % |\n";
   for (const auto& a : r.angles)
-    s += fmt::format("{:5g} {} {} {} {} {} {} {} {} |    {} {} {} | {} {} {} | {}{}\n", a.beta_deg,
+    s += fmt::format("{:5g} {} {} {} {} {} {} {} {} {} {} |    {} {} {} | {} {} {} | {}{}\n", a.beta_deg,
                      gpa(a.dem_static), gpa(a.fe), pct(a.deviation_fe()), gpa(a.amadei), pct(a.deviation_amadei()),
                      gpa(a.fe_goodman), gpa(a.amadei_goodman_fabric), pct(a.dem_static / a.amadei_goodman_fabric - 1.0),
+                     gpa(a.fe_joints), pct(a.dem_static / a.fe_joints - 1.0),
                      ratio(a.dem_poisson_strike), ratio(a.amadei_poisson_strike), ratio(a.fe_poisson_strike),
                      ratio(a.dem_poisson_dip), ratio(a.amadei_poisson_dip), ratio(a.fe_poisson_dip), a.blocks,
                      a.beta_deg == r.gate.worst_beta_deg && !r.gate.passed ? "  <- worst" : "");
