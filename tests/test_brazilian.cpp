@@ -3,10 +3,14 @@
 // unloading wave has crossed the disc, at any platen speed. Flats of 20 deg load the same disc as a whole.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <string>
+#include <unistd.h>
 
 #include "dem/driver/driver.hpp"
 #include "dem/specimen_mesh.hpp"
+#include "study/calibrate.hpp"
 
 namespace rbdem {
 namespace {
@@ -36,6 +40,7 @@ TEST(Brazilian, NarrowFlatsOfACoarseDiscCrushAndUnloadTheirPlatenAtAnySpeed) {
     ASSERT_TRUE(t->completed);
     EXPECT_GE(t->own_value("platen_cracks_before_peak"), 1.0);
     EXPECT_FALSE(t->quasi_static);
+    EXPECT_EQ(t->own_value("crushed_at_flats"), 1.0);
     EXPECT_NE(t->quasi_static_reason.find("specimen.contact_arc_deg"), std::string::npos) << t->quasi_static_reason;
   }
   // An inertial error halves with the speed; the unloading after a crush does not.
@@ -49,10 +54,36 @@ TEST(Brazilian, FlatsOf20DegLoadACoarseDiscQuasiStatically) {
   const TestResult r = run_test("brazilian", wide, make_mesh(wide));
   ASSERT_TRUE(r.completed);
   EXPECT_EQ(r.own_value("platen_cracks_before_peak"), 0.0);
+  EXPECT_EQ(r.own_value("crushed_at_flats"), 0.0);
   EXPECT_TRUE(r.quasi_static) << r.quasi_static_reason;
   EXPECT_LE(r.platen_force_mismatch, 0.05);
   // The crush under narrow flats ends the test early: the disc loaded as a whole is stronger.
   EXPECT_GT(r.own_value("tensile_strength_pa"), 1.2 * crushed.own_value("tensile_strength_pa"));
+}
+
+// A calibration does not run a crushed disc again slower (a slower platen does not help it): the evaluation is
+// flagged as not quasi-static at once, and the log names the flats.
+TEST(Brazilian, CalibrationDoesNotSlowACrushedDisc) {
+  const auto dir = std::filesystem::temp_directory_path() / ("rbdem_crushed_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "c.toml") << "[calibrate]\nbase = \"" RBDEM_SOURCE_DIR "/scenes/paper.toml\"\n"
+                                << "tolerance = 0.5\n[calibrate.set]\n\"mesh.size\" = 0.003\n"
+                                << "\"rock.effective_modulus\" = 20e9\n\"joint.effective_modulus\" = 6.25e9\n"
+                                << "\"numerics.threads\" = 1\n[[parameter]]\nname = \"c\"\nkeys = [\"rock.cohesion\"]\n"
+                                << "start = 8.6365e6\n[[target]]\nquantity = \"tensile_strength\"\nbeta = 0\n"
+                                << "value = 3.5e6\n";
+  std::string log;
+  study::CalibrateOptions o;
+  o.workers = 1;
+  o.log = [&](const std::string& line) { log += line + "\n"; };
+  const auto result = study::calibrate(study::load_calibration(dir / "c.toml"), dir / "out", o);
+  ASSERT_EQ(result.history.size(), 1u);
+  EXPECT_FALSE(result.history[0].quasi_static);
+  EXPECT_FALSE(result.converged);
+  EXPECT_NE(log.find("not run again slower"), std::string::npos) << log;
+  EXPECT_NE(log.find("specimen.contact_arc_deg"), std::string::npos) << log;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out/eval_00/brazilian/slower_2x"));
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
