@@ -190,18 +190,30 @@ std::vector<Case> plan_cases(const CalibrationSpec& spec, const Scene& s, const 
 
 // Runs `cases` under `dir`. A run whose summary says it was not quasi-static runs again at half, then a quarter of
 // its platen speed (its platen_velocity, or its transit_strain_fraction where the speed follows the rock; under
-// dir/slower_2x, slower_4x) and its result replaces the first; `quasi_static` says whether
-// every run ends quasi-static.
+// dir/slower_2x, slower_4x) and its result replaces the first, unless a disc crushed under its flats; `quasi_static`
+// says whether every run ends quasi-static.
 std::vector<CaseResult> run_quasi_static(const std::vector<Case>& cases, const std::filesystem::path& dir,
                                          const SweepOptions& ro, const std::function<void(const std::string&)>& log,
                                          bool& quasi_static) {
   auto results = run_cases(cases, dir, ro);
   const auto dynamic = [](const CaseResult& r) { return !r.summary.value("quasi_static", true); };
+  // A disc that crushed under its flats (its summary's crushed_at_flats) is dynamic at any platen speed: it is not
+  // run again, and its reason names the flats (docs/model.md, "The Brazilian test").
+  const auto crushed = [](const CaseResult& r) {
+    const auto v = r.summary.find("crushed_at_flats");  // null where the run did not complete
+    return v != r.summary.end() && v->is_number() && v->get<double>() > 0.5;
+  };
   for (int factor = 2; factor <= 4; factor *= 2) {
     std::vector<std::size_t> slow;
     std::vector<Case> again;
     for (std::size_t k = 0; k < results.size(); ++k) {
       if (!dynamic(results[k])) continue;
+      if (crushed(results[k])) {
+        if (log && factor == 2)
+          log(fmt::format("   {} {} not quasi-static ({}): not run again slower", cases[k].test, cases[k].id,
+                          results[k].summary.value("quasi_static_reason", std::string())));
+        continue;
+      }
       Case c = cases[k];
       // A speed that follows the rock (loading.transit_strain_fraction) slows down through its fraction.
       const bool follows = c.scene.loading.transit_strain_fraction > 0.0;

@@ -19,7 +19,7 @@ namespace rbdem {
 namespace {
 // The quasi-static verdict's limits (docs/theory.md, section 8 asks for about 1 % force agreement; explicit samples
 // on a rising branch of a coarse specimen scatter by a few per cent even at quasi-static rates, hence 5 %).
-constexpr double quasi_static_force_mismatch = 0.05;
+constexpr double quasi_static_force_mismatch = quasi_static_force_mismatch_limit;
 constexpr double quasi_static_kinetic_ratio = 0.05;
 }  // namespace
 

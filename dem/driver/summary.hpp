@@ -49,6 +49,9 @@ double crack_band_angle_deg(const std::vector<Crack>& cracks);
 // for axial splitting, the joints' dip for slip along them) and dip direction. NaN for fewer than three cracks.
 PlaneOrientation crack_band_plane(const std::vector<Crack>& cracks);
 
+// The quasi-static verdict's limit on the platen forces' difference while loading, over their mean.
+inline constexpr double quasi_static_force_mismatch_limit = 0.05;
+
 // The result of a completed run: `result` arrives with the record's curve (the peak sample in it), frames, the
 // crack log, the counts and the timing filled in; this adds the peak, E50, the quasi-static checks, the crack
 // statistics and the failure mode, and the signals of dem/driver/signals.hpp (Poisson's ratio at half the peak,
