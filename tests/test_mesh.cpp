@@ -147,8 +147,11 @@ TEST(Mesh, StructuredMeshGivesEveryJointBondTheSameCentroidDistance) {
   expect_conforming(mesh, topo);
   EXPECT_EQ(mesh.triangles.size(), std::size_t(2 * 20 * (12 + 12 + 12 + 4)));
   EXPECT_EQ(topo.count(BondKind::joint), std::size_t(3 * 20));
-  for (std::size_t b = 0; b < topo.bonds.size(); ++b)
-    if (topo.bonds.kind[b] == BondKind::joint) EXPECT_NEAR(topo.bonds.d[b], 2.0 * h / 3.0, 1e-12);
+  for (std::size_t b = 0; b < topo.bonds.size(); ++b) {
+    if (topo.bonds.kind[b] == BondKind::joint) {
+      EXPECT_NEAR(topo.bonds.d[b], 2.0 * h / 3.0, 1e-12);
+    }
+  }
   const auto refused = [&](SpecimenGeometry bad, const std::string& key) {
     try {
       mesh_specimen(bad, h);
