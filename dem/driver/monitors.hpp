@@ -40,7 +40,7 @@ struct StepView {
 class LoadRate {
  public:
   explicit LoadRate(const Scene& scene);
-  bool adapts() const { return fast_ > 1.0; }
+  bool adapts() const { return fast_ > 1.0 || mismatch_stop_ > 0.0; }
   // The run's base speed (m/s) when the protocol set it (TestRecord::platen_velocity > 0, loading.
   // transit_strain_fraction): the fast speed is fast_factor times it.
   void follow(const TestRecord& record) {
@@ -50,6 +50,9 @@ class LoadRate {
 
  private:
   double slow_ = 0, fast_ = 1, quiet_transits_ = 0, wave_speed_ = 0;  // m/s, -, -, m/s
+  int quiet_breaks_ = 0;
+  double ramp_force_fraction_ = 0, density_ = 0;  // -, kg/m^3 (with its mass scaling)
+  double mismatch_stop_ = 0;
 };
 
 // The peak of the mean platen stress; its sample and frame refreshed at most every 100 steps of a rising curve
