@@ -108,6 +108,29 @@ TEST(Loading, PlatenThatFollowsTheRockKeepsItsRuleStepByStep) {
               sim->cracks().size());
 }
 
+// loading.mismatch_stop slows the platen within the acceleration bound, so it needs ramp_force_fraction > 0; the
+// tests that drive their platen themselves (hold, cyclic) or have none (shear) refuse it with the key's name.
+TEST(Loading, MismatchStopNeedsItsAccelerationBoundAndAPlatenToSlow) {
+  Scene s;
+  s.loading.mismatch_stop = 0.05;
+  EXPECT_THROW(validate(s), SceneError);
+  s.loading.ramp_force_fraction = 0.02;
+  EXPECT_NO_THROW(validate(s));
+  for (const char* test : {"hold", "cyclic", "shear"}) {
+    Scene t = s;
+    for (const auto& [key, value] : protocol_info(test).scene_defaults) set_parameter(t, key, value);
+    t.loading.mismatch_stop = 0;
+    ASSERT_NO_THROW(protocol_info(test).check(t)) << test;
+    t.loading.mismatch_stop = 0.05;
+    try {
+      protocol_info(test).check(t);
+      ADD_FAILURE() << test << " accepted loading.mismatch_stop";
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find("mismatch_stop"), std::string::npos) << e.what();
+    }
+  }
+}
+
 // scenes/realistic.toml reads, sets its platen speed from the rock, and every test its calibration runs accepts it
 // (the Brazilian disc needs a contact arc for a speed that follows the rock).
 TEST(RealisticScene, ReadsAndEveryCalibrationTestAcceptsIt) {
