@@ -108,6 +108,31 @@ TEST(Loading, PlatenThatFollowsTheRockKeepsItsRuleStepByStep) {
               sim->cracks().size());
 }
 
+// What the platen that follows the rock's state buys: on a heterogeneous rock (m = 1.5, 4 mm mesh, 90 deg) a run
+// at twice the speed with the rule keeps its platen forces as close as the constant run at the base speed, in fewer
+// steps, where the same speed held constant is not quasi-static. Measured: mismatch 4.3 % at f = 0.02, 6.4 % at
+// 0.04, 3.4 % at 0.04 with the rule, for 0.64 of the steps of f = 0.02.
+TEST(Loading, PlatenThatFollowsTheRockMatchesASlowerRunsMismatchInFewerSteps) {
+  const TriMesh mesh = make_mesh(small_scene(90, 1.5));
+  const auto run = [&](double f, bool rule) {
+    Scene s = small_scene(90, 1.5);
+    s.loading.transit_strain_fraction = f;
+    if (rule) s.loading.ramp_force_fraction = 0.02, s.loading.mismatch_stop = 0.05;
+    const TestResult r = run_test("ucs", s, mesh);
+    EXPECT_TRUE(r.completed);
+    return r;
+  };
+  const TestResult slow = run(0.02, false), fast = run(0.04, false), ruled = run(0.04, true);
+  EXPECT_TRUE(slow.quasi_static) << slow.quasi_static_reason;
+  EXPECT_GT(fast.platen_force_mismatch, slow.platen_force_mismatch) << "the faster platen shakes the rock more";
+  EXPECT_LE(ruled.platen_force_mismatch, slow.platen_force_mismatch);
+  EXPECT_TRUE(ruled.quasi_static) << ruled.quasi_static_reason;
+  EXPECT_LT(double(ruled.steps), 0.8 * double(slow.steps));
+  std::printf("mismatch %.2f %% (f 0.02), %.2f %% (0.04), %.2f %% (0.04 with the rule); steps %ld, %ld, %ld\n",
+              100 * slow.platen_force_mismatch, 100 * fast.platen_force_mismatch, 100 * ruled.platen_force_mismatch,
+              slow.steps, fast.steps, ruled.steps);
+}
+
 // loading.mismatch_stop slows the platen within the acceleration bound, so it needs ramp_force_fraction > 0; the
 // tests that drive their platen themselves (hold, cyclic) or have none (shear) refuse it with the key's name.
 TEST(Loading, MismatchStopNeedsItsAccelerationBoundAndAPlatenToSlow) {
@@ -136,6 +161,8 @@ TEST(Loading, MismatchStopNeedsItsAccelerationBoundAndAPlatenToSlow) {
 TEST(RealisticScene, ReadsAndEveryCalibrationTestAcceptsIt) {
   const Scene s = load_scene_file(RBDEM_SOURCE_DIR "/scenes/realistic.toml");
   EXPECT_GT(s.loading.transit_strain_fraction, 0.0);
+  EXPECT_GT(s.loading.ramp_force_fraction, 0.0);
+  EXPECT_GT(s.loading.mismatch_stop, 0.0);
   EXPECT_GT(s.rock.weibull_modulus, 0.0);
   EXPECT_GT(s.joint.weibull_modulus, 0.0);
   for (const char* test : {"ucs", "brazilian"}) {
