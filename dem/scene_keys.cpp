@@ -297,9 +297,9 @@ void declare_loading(Keys& k) {
                 "quiet_transits wave transits (docs/model.md, Platens); 0 = only while none broke",
                 [](Scene& s) -> int& { return s.loading.quiet_breaks; }));
   k.add(real("loading.ramp_force_fraction", "-", 0.0, 1.0,
-             "with fast_factor > 1 and > 0: the platen changes its speed no faster than makes the specimen's inertial "
-             "force, rho H A dv/dt, this fraction of the platen force (docs/model.md, Platens); 0 = from slow to fast "
-             "in one wave transit, back in a quarter of one",
+             "> 0: the top platen changes its speed (fast_factor's spells, mismatch_stop's slowing) no faster than "
+             "makes the specimen's inertial force, rho H A dv/dt, this fraction of the platen force (docs/model.md, "
+             "Platens); 0 = fast_factor's spells rise in one wave transit and fall in a quarter of one",
              [](Scene& s) -> double& { return s.loading.ramp_force_fraction; }));
   k.add(real("loading.mismatch_stop", "-", 0.0, 1.0,
              "> 0 (with ramp_force_fraction > 0): the top platen slows in proportion as its force exceeds the bottom "

@@ -37,6 +37,11 @@ struct StepView {
 // snapshot) and the time of the last break in the crack log, so a resumed run goes on exactly as the
 // uninterrupted one, and the run is the same at any thread count. docs/model.md, "Platens", says why and what it
 // costs in accuracy.
+// The platen that follows the rock's state extends it: a quiet spell may hold loading.quiet_breaks breaks; with
+// loading.ramp_force_fraction eps > 0 the speed moves towards its target by at most eps sigma dt / (rho H) a step
+// (the specimen's inertial force within eps of the platen force sigma A), and with loading.mismatch_stop s > 0 the
+// target is scaled by 1 - m / s (within 0 and 1), m the top platen's force ahead of the bottom one's over their mean.
+// It reads only the platen forces of the step and the crack log, so the same holds.
 class LoadRate {
  public:
   explicit LoadRate(const Scene& scene);
