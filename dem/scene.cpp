@@ -525,6 +525,11 @@ void validate(const Scene& scene) {
                                  "start, and numerics.elastic_start = false: set numerics.elastic_start = true, or "
                                  "loading.transit_strain_fraction = 0 and loading.platen_velocity",
                                  fmt_real(scene.loading.transit_strain_fraction)));
+  if (scene.loading.mismatch_stop > 0.0 && !(scene.loading.ramp_force_fraction > 0.0))
+    throw SceneError(fmt::format("loading.mismatch_stop = {} slows the platen within the acceleration bound of "
+                                 "loading.ramp_force_fraction, which is 0: set loading.ramp_force_fraction (0.02 in "
+                                 "scenes/realistic.toml), or loading.mismatch_stop = 0",
+                                 fmt_real(scene.loading.mismatch_stop)));
 }
 
 // Every stress of a scene is in Pa. A value in MPa or GPa written as a bare number lands a million or a billion

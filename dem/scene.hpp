@@ -96,6 +96,11 @@ struct LoadingParams {
   double confining_pressure = 0.0;  // Pa, lateral pressure of a confined (triaxial) test; 0 = uniaxial
   double fast_factor = 1.0;       // -, the top platen's speed while no bond breaks, x platen_velocity; 1 = constant
   double quiet_transits = 3.0;    // -, wave transits without a break before the platen speeds up
+  int quiet_breaks = 0;           // -, breaks a quiet spell may hold (over quiet_transits transits); 0 = none
+  // -, > 0: the fast platen changes its speed no faster than makes the specimen's inertial force (its mass times
+  // the platen's acceleration) this fraction of the platen force; 0 = up in one wave transit, down in a quarter
+  double ramp_force_fraction = 0.0;
+  double mismatch_stop = 0.0;     // -, > 0: the top platen slows as it pushes harder than the bottom one sees
   // -, > 0: the platen speed follows the rock: the platen closes this fraction of the elastic start's strain per
   // wave transit of the specimen (PlatenTest, docs/model.md "Loading rate"); 0 = platen_velocity as given
   double transit_strain_fraction = 0.0;

@@ -292,6 +292,19 @@ void declare_loading(Keys& k) {
   k.add(positive("loading.quiet_transits", "-", 100.0,
                  "with fast_factor > 1: wave transits of the specimen without a break before the platen speeds up",
                  [](Scene& s) -> double& { return s.loading.quiet_transits; }));
+  k.add(integer("loading.quiet_breaks", "-", 0, 1000000,
+                "with fast_factor > 1: the platen counts as quiet while at most this many bonds broke in the last "
+                "quiet_transits wave transits (docs/model.md, Platens); 0 = only while none broke",
+                [](Scene& s) -> int& { return s.loading.quiet_breaks; }));
+  k.add(real("loading.ramp_force_fraction", "-", 0.0, 1.0,
+             "> 0: the top platen changes its speed (fast_factor's spells, mismatch_stop's slowing) no faster than "
+             "makes the specimen's inertial force, rho H A dv/dt, this fraction of the platen force (docs/model.md, "
+             "Platens); 0 = fast_factor's spells rise in one wave transit and fall in a quarter of one",
+             [](Scene& s) -> double& { return s.loading.ramp_force_fraction; }));
+  k.add(real("loading.mismatch_stop", "-", 0.0, 1.0,
+             "> 0 (with ramp_force_fraction > 0): the top platen slows in proportion as its force exceeds the bottom "
+             "one's, to a halt at this fraction of their mean (docs/model.md, Platens); 0 = off",
+             [](Scene& s) -> double& { return s.loading.mismatch_stop; }));
   // rbdem shear (dem/driver/protocols/shear.cpp)
   k.add(real("loading.normal_stress", "Pa", 0.0, 1e10,
              "rbdem shear: the normal stress on the joint, brought on before the shear and kept constant (CNL), or "

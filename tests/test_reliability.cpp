@@ -120,6 +120,21 @@ TEST(Checkpoint, ResumedRunWithAFastPlatenEndsBitIdenticalToUninterrupted) {
   expect_resumed_run_bit_identical(s);
 }
 
+// The platen that follows the rock's state (loading.quiet_breaks, ramp_force_fraction, mismatch_stop): its speed is
+// engine state and its rule reads only the crack log and the platen forces of the step, so a resumed run goes on at
+// the uninterrupted one's speed, at one thread or two.
+TEST(Checkpoint, ResumedRunWithAPlatenThatFollowsTheRockEndsBitIdenticalToUninterrupted) {
+  Scene s = small_scene();
+  s.rock.weibull_modulus = s.joint.weibull_modulus = 1.5;  // breaks from low load on: every branch of the rule
+  s.loading.fast_factor = 3, s.loading.quiet_transits = 0.5, s.loading.quiet_breaks = 1;
+  s.loading.ramp_force_fraction = 0.05, s.loading.mismatch_stop = 0.03;
+  const TriMesh mesh = make_mesh(s);
+  Scene constant = s;
+  constant.loading.fast_factor = 1, constant.loading.mismatch_stop = 0;
+  ASSERT_NE(run_test("ucs", s, mesh).steps, run_test("ucs", constant, mesh).steps) << "the platen kept its speed";
+  expect_resumed_run_bit_identical(s);
+}
+
 TEST(Checkpoint, ResumeWithAnotherSceneIsRefused) {
   Scene scene = small_scene();
   const TriMesh mesh = make_mesh(scene);

@@ -14,15 +14,34 @@ namespace rbdem {
 LoadRate::LoadRate(const Scene& scene)
     : slow_(scene.loading.platen_velocity), fast_(scene.loading.fast_factor),
       quiet_transits_(scene.loading.quiet_transits),
-      wave_speed_(std::sqrt(scene.rock.effective_modulus / (scene.rock.density * scene.numerics.mass_scaling))) {}
+      wave_speed_(std::sqrt(scene.rock.effective_modulus / (scene.rock.density * scene.numerics.mass_scaling))),
+      quiet_breaks_(scene.loading.quiet_breaks), ramp_force_fraction_(scene.loading.ramp_force_fraction),
+      density_(scene.rock.density * scene.numerics.mass_scaling), mismatch_stop_(scene.loading.mismatch_stop) {}
 
 void LoadRate::after_step(Simulation& sim) const {
   Platens& platens = *sim.find<Platens>();
   const double dt = sim.dt(), transit = sim.specimen().height() / wave_speed_;
   const double running = double(sim.steps()) * dt;  // the explicit run's time so far
+  // The spell is quiet while fewer than quiet_breaks + 1 bonds broke within it: the time since the (quiet_breaks +
+  // 1)-th last break (the last one with quiet_breaks = 0). The crack log is in time order.
   const auto& cracks = sim.cracks();
-  const double quiet = cracks.empty() ? running : std::min(running, sim.time() - cracks.back().time);
-  const double v = platens.velocity(), rise = (fast_ - 1.0) * slow_ * dt / transit;
+  const std::size_t n = cracks.size(), allowed = std::size_t(quiet_breaks_);
+  const double quiet = n <= allowed ? running : std::min(running, sim.time() - cracks[n - 1 - allowed].time);
+  const double v = platens.velocity();
+  if (ramp_force_fraction_ > 0.0) {
+    // The specimen's mass per loaded area is rho H: an acceleration a asks rho H a of the platen stress.
+    const double stress = 0.5 * (platens.top_force() + platens.bottom_force()) / platens.area();
+    const double change = ramp_force_fraction_ * std::max(stress, 0.0) / (density_ * sim.specimen().height()) * dt;
+    double target = quiet > quiet_transits_ * transit ? fast_ * slow_ : slow_;
+    if (mismatch_stop_ > 0.0 && stress > 0.0) {
+      // The top platen ahead of the bottom one by m of their mean force slows in proportion, to a halt at m = stop.
+      const double ahead = (platens.top_force() - platens.bottom_force()) / (platens.area() * stress);
+      target *= std::clamp(1.0 - ahead / mismatch_stop_, 0.0, 1.0);
+    }
+    platens.set_velocity(v < target ? std::min(target, v + change) : std::max(target, v - change));
+    return;
+  }
+  const double rise = (fast_ - 1.0) * slow_ * dt / transit;
   platens.set_velocity(quiet > quiet_transits_ * transit ? std::min(fast_ * slow_, v + rise)
                                                          : std::max(slow_, v - 4.0 * rise));
 }

@@ -37,10 +37,15 @@ struct StepView {
 // snapshot) and the time of the last break in the crack log, so a resumed run goes on exactly as the
 // uninterrupted one, and the run is the same at any thread count. docs/model.md, "Platens", says why and what it
 // costs in accuracy.
+// The platen that follows the rock's state extends it: a quiet spell may hold loading.quiet_breaks breaks; with
+// loading.ramp_force_fraction eps > 0 the speed moves towards its target by at most eps sigma dt / (rho H) a step
+// (the specimen's inertial force within eps of the platen force sigma A), and with loading.mismatch_stop s > 0 the
+// target is scaled by 1 - m / s (within 0 and 1), m the top platen's force ahead of the bottom one's over their mean.
+// It reads only the platen forces of the step and the crack log, so the same holds.
 class LoadRate {
  public:
   explicit LoadRate(const Scene& scene);
-  bool adapts() const { return fast_ > 1.0; }
+  bool adapts() const { return fast_ > 1.0 || mismatch_stop_ > 0.0; }
   // The run's base speed (m/s) when the protocol set it (TestRecord::platen_velocity > 0, loading.
   // transit_strain_fraction): the fast speed is fast_factor times it.
   void follow(const TestRecord& record) {
@@ -50,6 +55,9 @@ class LoadRate {
 
  private:
   double slow_ = 0, fast_ = 1, quiet_transits_ = 0, wave_speed_ = 0;  // m/s, -, -, m/s
+  int quiet_breaks_ = 0;
+  double ramp_force_fraction_ = 0, density_ = 0;  // -, kg/m^3 (with its mass scaling)
+  double mismatch_stop_ = 0;
 };
 
 // The peak of the mean platen stress; its sample and frame refreshed at most every 100 steps of a rising curve

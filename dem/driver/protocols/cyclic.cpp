@@ -228,6 +228,8 @@ ProtocolInfo cyclic_protocol() {
                                    l.cycle_unload_stress, l.cycle_max_stress / l.cycles));
     if (l.fast_factor > 1.0)
       throw SceneError("rbdem cyclic sets the platen's speed itself: set loading.fast_factor = 1");
+    if (l.mismatch_stop > 0.0)
+      throw SceneError("rbdem cyclic sets the platen's speed itself: set loading.mismatch_stop = 0");
     if (l.transit_strain_fraction > 0.0)
       throw SceneError("rbdem cyclic loads at loading.platen_velocity: set loading.transit_strain_fraction = 0");
   };

@@ -143,6 +143,8 @@ ProtocolInfo hold_protocol() {
                                    l.hold_stress, l.confining_pressure));
     if (l.fast_factor > 1.0)
       throw SceneError("rbdem hold sets the platen's speed itself: set loading.fast_factor = 1");
+    if (l.mismatch_stop > 0.0)
+      throw SceneError("rbdem hold sets the platen's speed itself: set loading.mismatch_stop = 0");
     if (l.transit_strain_fraction > 0.0)
       throw SceneError("rbdem hold loads at loading.platen_velocity: set loading.transit_strain_fraction = 0");
   };

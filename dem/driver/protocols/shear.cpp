@@ -280,6 +280,9 @@ void check_shear_scene(const Scene& scene) {
   if (scene.loading.fast_factor != 1.0)
     throw SceneError(fmt::format("loading.fast_factor = {} speeds up platens, and rbdem shear has none: set it to 1",
                                  scene.loading.fast_factor));
+  if (scene.loading.mismatch_stop > 0.0)
+    throw SceneError(fmt::format("loading.mismatch_stop = {} slows a platen, and rbdem shear has none: set it to 0",
+                                 scene.loading.mismatch_stop));
   // A softening joint bond (fracture energy) under the rigid boxes keeps its sticking linear part loading while it
   // softens, and the shear stress climbs far past any envelope (250 MPa measured at 5 J/m^2): refused until the law
   // handles it.
