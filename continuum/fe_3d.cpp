@@ -35,6 +35,8 @@ namespace {
 using namespace dealii;
 constexpr int dim = 3;
 constexpr types::boundary_id lateral_id = 0, bottom_id = 1, top_id = 2;
+using internal::Extent3;
+using internal::Integrals3;
 using internal::Stopwatch;
 
 void check_inputs(const TetMesh& mesh, const theory::TIConstants& c, double dip_deg, double dip_direction_deg,
@@ -62,43 +64,8 @@ void check_inputs(const TetMesh& mesh, const theory::TIConstants& c, double dip_
   }
 }
 
-// sigma = C : eps with C = S^-1, S the rotated compliance in Voigt form with engineering shear: C_ijkl is the Voigt
-// entry of the pairs (ij) and (kl) (the engineering factor 2 of a shear strain is the sum over kl and lk).
-SymmetricTensor<4, dim> stiffness_tensor_3d(const theory::TIConstants& c, double dip_deg, double dip_direction_deg) {
-  const theory::Compliance6 S = theory::rotated_compliance(c, dip_deg, dip_direction_deg);
-  FullMatrix<double> Sm(6, 6);
-  for (unsigned i = 0; i < 6; ++i)
-    for (unsigned j = 0; j < 6; ++j) Sm(i, j) = S[i][j];
-  FullMatrix<double> Cm(6, 6);
-  Cm.invert(Sm);
-  constexpr unsigned voigt[3][3] = {{0, 5, 4}, {5, 1, 3}, {4, 3, 2}};
-  SymmetricTensor<4, dim> C;
-  for (unsigned i = 0; i < 3; ++i)
-    for (unsigned j = i; j < 3; ++j)
-      for (unsigned k = 0; k < 3; ++k)
-        for (unsigned l = k; l < 3; ++l) C[i][j][k][l] = Cm(voigt[i][j], voigt[k][l]);
-  return C;
-}
-
-struct Extent {
-  double zmin = 0, zmax = 0, tol = 0;
-  Point<dim> centre;  // of the bounding box: where the AMG's rotation modes turn about
-};
-
-Extent extent_of(const TetMesh& mesh) {
-  Extent h;
-  double extent = 0;
-  std::array<double, 3> lo = mesh.nodes[0], hi = mesh.nodes[0];
-  for (const auto& p : mesh.nodes)
-    for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], p[i]), hi[i] = std::max(hi[i], p[i]);
-  for (int i = 0; i < 3; ++i) extent = std::max(extent, hi[i] - lo[i]);
-  h.zmin = lo[2], h.zmax = hi[2], h.tol = 1e-6 * extent;
-  h.centre = Point<dim>(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2]));
-  return h;
-}
-
 // One cell per tetrahedron, one vertex per node (the same numbering), the platens marked by height.
-void make_triangulation(const TetMesh& mesh, const Extent& z, Triangulation<dim>& tria) {
+void make_triangulation(const TetMesh& mesh, const Extent3& z, Triangulation<dim>& tria) {
   std::vector<Point<dim>> vertices;
   vertices.reserve(mesh.nodes.size());
   for (const auto& p : mesh.nodes) vertices.emplace_back(p[0], p[1], p[2]);
@@ -121,7 +88,7 @@ void make_triangulation(const TetMesh& mesh, const Extent& z, Triangulation<dim>
 // The prescribed DoFs: the platens' displacements and, for frictionless platens, the three pins of the rigid
 // horizontal motions (fe_3d.hpp).
 std::map<types::global_dof_index, double> fixed_dofs(const DoFHandler<dim>& dof, const Mapping<dim>& mapping,
-                                                     const Extent& z, const Fe3Options& o) {
+                                                     const Extent3& z, const Fe3Options& o) {
   std::map<types::global_dof_index, double> fixed;
   const bool bonded = o.platens == Platens::bonded;
   const ComponentMask mask = bonded ? ComponentMask(3, true) : ComponentMask({false, false, true});
@@ -195,17 +162,12 @@ internal::DofGeometry3 dof_geometry_3d(const DoFHandler<dim>& dof, const Mapping
 }
 
 // The volume, the integral of the strain tensor and of sigma_zz over the specimen.
-struct Integrals {
-  double volume = 0, sigma_zz = 0;
-  SymmetricTensor<2, dim> strain;
-};
-
-Integrals integrate(const DoFHandler<dim>& dof, const Mapping<dim>& mapping, const Quadrature<dim>& q,
+Integrals3 integrate(const DoFHandler<dim>& dof, const Mapping<dim>& mapping, const Quadrature<dim>& q,
                     const SymmetricTensor<4, dim>& C, const Vector<double>& solution) {
   FEValues<dim> values(mapping, dof.get_fe(), q, update_gradients | update_JxW_values);
   const FEValuesExtractors::Vector u(0);
   std::vector<SymmetricTensor<2, dim>> eps(q.size());
-  Integrals sum;
+  Integrals3 sum;
   for (const auto& cell : dof.active_cell_iterators()) {
     values.reinit(cell);
     values[u].get_function_symmetric_gradients(solution, eps);
@@ -219,13 +181,6 @@ Integrals integrate(const DoFHandler<dim>& dof, const Mapping<dim>& mapping, con
   return sum;
 }
 
-double along(const SymmetricTensor<2, dim>& t, const theory::Vec3& d) {
-  double v = 0;
-  for (unsigned i = 0; i < 3; ++i)
-    for (unsigned j = 0; j < 3; ++j) v += d[i] * t[i][j] * d[j];
-  return v;
-}
-
 }  // namespace
 
 Fe3Result solve_elastic_3d(const TetMesh& mesh, const theory::TIConstants& c, double dip_deg,
@@ -233,7 +188,7 @@ Fe3Result solve_elastic_3d(const TetMesh& mesh, const theory::TIConstants& c, do
   check_inputs(mesh, c, dip_deg, dip_direction_deg, options);
   Fe3Result result;
   Stopwatch clock;
-  const Extent z = extent_of(mesh);
+  const Extent3 z = internal::extent_of(mesh);
   Triangulation<dim> tria;
   make_triangulation(mesh, z, tria);
   internal::SimplexSpace<dim> space(tria, options.degree);
@@ -247,7 +202,7 @@ Fe3Result solve_elastic_3d(const TetMesh& mesh, const theory::TIConstants& c, do
   const auto fixed = fixed_dofs(dof, mapping, z, options);
   result.setup_seconds = clock.lap();
 
-  const SymmetricTensor<4, dim> C = stiffness_tensor_3d(c, dip_deg, dip_direction_deg);
+  const SymmetricTensor<4, dim> C = internal::stiffness_tensor_3d(c, dip_deg, dip_direction_deg);
   SparseMatrix<double> K(pattern);
   assemble(dof, mapping, quadrature, C, K);
   Vector<double> u(n_dofs), b(n_dofs);
@@ -272,21 +227,67 @@ Fe3Result solve_elastic_3d(const TetMesh& mesh, const theory::TIConstants& c, do
   result.solve_seconds = clock.lap();
 
   // F H = int sigma_zz dV (fe_3d.hpp); compression positive.
-  const Integrals sum = integrate(dof, mapping, quadrature, C, u);
-  const double H = z.zmax - z.zmin, axial_strain = -options.platen_displacement / H;
-  const theory::PlaneAxes axes = theory::plane_axes(dip_deg, dip_direction_deg);
-  result.volume = sum.volume;
-  result.axial_force = -sum.sigma_zz / H;
-  const double mean_stress = sum.sigma_zz / sum.volume;
-  result.mean_axial_strain = sum.strain[2][2] / sum.volume;
-  result.apparent_modulus = mean_stress / axial_strain;
-  result.mean_strain_modulus = mean_stress / result.mean_axial_strain;
-  result.strain_strike = along(sum.strain, axes.strike) / sum.volume;
-  result.strain_dip = along(sum.strain, axes.dip_direction) / sum.volume;
-  result.poisson_strike = -result.strain_strike / result.mean_axial_strain;
-  result.poisson_dip = -result.strain_dip / result.mean_axial_strain;
+  const Integrals3 sum = integrate(dof, mapping, quadrature, C, u);
+  internal::fill_moduli_3d(sum, z, dip_deg, dip_direction_deg, options.platen_displacement, result);
   result.post_seconds = clock.lap();
   return result;
 }
+
+namespace internal {
+
+SymmetricTensor<4, 3> stiffness_tensor_3d(const theory::TIConstants& c, double dip_deg, double dip_direction_deg) {
+  const theory::Compliance6 S = theory::rotated_compliance(c, dip_deg, dip_direction_deg);
+  FullMatrix<double> Sm(6, 6);
+  for (unsigned i = 0; i < 6; ++i)
+    for (unsigned j = 0; j < 6; ++j) Sm(i, j) = S[i][j];
+  FullMatrix<double> Cm(6, 6);
+  Cm.invert(Sm);
+  constexpr unsigned voigt[3][3] = {{0, 5, 4}, {5, 1, 3}, {4, 3, 2}};
+  SymmetricTensor<4, 3> C;
+  for (unsigned i = 0; i < 3; ++i)
+    for (unsigned j = i; j < 3; ++j)
+      for (unsigned k = 0; k < 3; ++k)
+        for (unsigned l = k; l < 3; ++l) C[i][j][k][l] = Cm(voigt[i][j], voigt[k][l]);
+  return C;
+}
+
+Extent3 extent_of(const TetMesh& mesh) {
+  Extent3 h;
+  double extent = 0;
+  std::array<double, 3> lo = mesh.nodes[0], hi = mesh.nodes[0];
+  for (const auto& p : mesh.nodes)
+    for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], p[i]), hi[i] = std::max(hi[i], p[i]);
+  for (int i = 0; i < 3; ++i) extent = std::max(extent, hi[i] - lo[i]);
+  h.zmin = lo[2], h.zmax = hi[2], h.tol = 1e-6 * extent;
+  h.centre = Point<3>(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2]));
+  return h;
+}
+
+namespace {
+double along(const SymmetricTensor<2, 3>& t, const theory::Vec3& d) {
+  double v = 0;
+  for (unsigned i = 0; i < 3; ++i)
+    for (unsigned j = 0; j < 3; ++j) v += d[i] * t[i][j] * d[j];
+  return v;
+}
+}  // namespace
+
+void fill_moduli_3d(const Integrals3& sum, const Extent3& z, double dip_deg, double dip_direction_deg,
+                    double platen_displacement, Fe3Result& r) {
+  const double H = z.zmax - z.zmin, axial_strain = -platen_displacement / H;
+  const theory::PlaneAxes axes = theory::plane_axes(dip_deg, dip_direction_deg);
+  r.volume = sum.volume;
+  r.axial_force = -sum.sigma_zz / H;  // F H = int sigma_zz dV (fe_3d.hpp); compression positive
+  const double mean_stress = sum.sigma_zz / sum.volume;
+  r.mean_axial_strain = sum.strain[2][2] / sum.volume;
+  r.apparent_modulus = mean_stress / axial_strain;
+  r.mean_strain_modulus = mean_stress / r.mean_axial_strain;
+  r.strain_strike = along(sum.strain, axes.strike) / sum.volume;
+  r.strain_dip = along(sum.strain, axes.dip_direction) / sum.volume;
+  r.poisson_strike = -r.strain_strike / r.mean_axial_strain;
+  r.poisson_dip = -r.strain_dip / r.mean_axial_strain;
+}
+
+}  // namespace internal
 
 }  // namespace rbdem::continuum

@@ -19,6 +19,7 @@
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
 
+#include "continuum/fe_3d.hpp"
 #include "continuum/fe_model.hpp"
 
 namespace rbdem::continuum::internal {
@@ -63,5 +64,30 @@ dealii::SymmetricTensor<4, 2> stiffness_tensor(const Stiffness3& C);
 void assemble_fe_values(const dealii::DoFHandler<2>& dof, const dealii::Mapping<2>& mapping,
                         const dealii::Quadrature<2>& q, const dealii::SymmetricTensor<4, 2>& C,
                         dealii::SparseMatrix<double>& K);
+
+// ---- What the two 3D twins share (fe_3d.cpp defines them; fe_joints3.cpp uses them) ------------------------------
+
+// sigma = C : eps with C = S^-1, S the rotated compliance in Voigt form with engineering shear: C_ijkl is the Voigt
+// entry of the pairs (ij) and (kl) (the engineering factor 2 of a shear strain is the sum over kl and lk).
+dealii::SymmetricTensor<4, 3> stiffness_tensor_3d(const theory::TIConstants& c, double dip_deg,
+                                                  double dip_direction_deg);
+
+// The specimen's heights (the platens) and the tolerance of a node on them (1e-6 of the largest extent).
+struct Extent3 {
+  double zmin = 0, zmax = 0, tol = 0;
+  dealii::Point<3> centre;  // of the bounding box: where the AMG's rotation modes turn about
+};
+Extent3 extent_of(const TetMesh& mesh);
+
+// Volume integrals of the solution: the volume, sigma_zz and the strain (plus, in the jointed model, the
+// interfaces' jumps).
+struct Integrals3 {
+  double volume = 0, sigma_zz = 0;
+  dealii::SymmetricTensor<2, 3> strain;
+};
+
+// The axial force, the two moduli and the lateral strains and Poisson's ratios of fe_3d.hpp from the integrals.
+void fill_moduli_3d(const Integrals3& sum, const Extent3& z, double dip_deg, double dip_direction_deg,
+                    double platen_displacement, Fe3Result& r);
 
 }  // namespace rbdem::continuum::internal

@@ -46,6 +46,8 @@ constexpr int dim = 3;
 constexpr const char* function = "solve_elastic_3d_jointed";
 using internal::InterfaceElement3;
 using internal::Split3;
+using internal::Extent3;
+using internal::Integrals3;
 using internal::Stopwatch;
 
 [[noreturn]] void fail(const std::string& what) { throw std::invalid_argument(std::string(function) + ": " + what); }
@@ -91,40 +93,6 @@ std::size_t check_inputs(const TetMesh& mesh, const std::vector<theory::TIConsta
 }
 
 // ---- Material and geometry ---------------------------------------------------------------------------------------
-
-// sigma = C : eps with C = S^-1, S the rotated compliance in Voigt form with engineering shear (as fe_3d.cpp).
-SymmetricTensor<4, dim> stiffness_tensor_3d(const theory::TIConstants& c, double dip_deg, double dip_direction_deg) {
-  const theory::Compliance6 S = theory::rotated_compliance(c, dip_deg, dip_direction_deg);
-  FullMatrix<double> Sm(6, 6);
-  for (unsigned i = 0; i < 6; ++i)
-    for (unsigned j = 0; j < 6; ++j) Sm(i, j) = S[i][j];
-  FullMatrix<double> Cm(6, 6);
-  Cm.invert(Sm);
-  constexpr unsigned voigt[3][3] = {{0, 5, 4}, {5, 1, 3}, {4, 3, 2}};
-  SymmetricTensor<4, dim> C;
-  for (unsigned i = 0; i < 3; ++i)
-    for (unsigned j = i; j < 3; ++j)
-      for (unsigned k = 0; k < 3; ++k)
-        for (unsigned l = k; l < 3; ++l) C[i][j][k][l] = Cm(voigt[i][j], voigt[k][l]);
-  return C;
-}
-
-struct Extent {
-  double zmin = 0, zmax = 0, tol = 0;
-  Point<dim> centre;  // of the bounding box: where the AMG's rotation modes turn about
-};
-
-Extent extent_of(const TetMesh& mesh) {
-  Extent h;
-  std::array<double, 3> lo = mesh.nodes[0], hi = mesh.nodes[0];
-  for (const auto& p : mesh.nodes)
-    for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], p[i]), hi[i] = std::max(hi[i], p[i]);
-  double extent = 0;
-  for (int i = 0; i < 3; ++i) extent = std::max(extent, hi[i] - lo[i]);
-  h.zmin = lo[2], h.zmax = hi[2], h.tol = 1e-6 * extent;
-  h.centre = Point<dim>(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2]));
-  return h;
-}
 
 // One cell per tetrahedron, its vertices the copies of its corners, its material id its layer. Copies of one node
 // share a position but not a vertex, so the two cells of an interface face are not neighbours: deal.II sees two
@@ -178,7 +146,7 @@ internal::DofGeometry3 copy_geometry(const TetMesh& mesh, const Split3& split, c
 // The prescribed value of every DoF (NaN = free): the platens by position (every copy keeps its node's boundary
 // position) and, between frictionless platens, the pins of fe_3d.hpp on one copy each.
 std::vector<double> prescribed_values(const TetMesh& mesh, const Split3& split, const CopyDofs& cdof,
-                                      types::global_dof_index n_dofs, const Extent& z, const Fe3Options& o) {
+                                      types::global_dof_index n_dofs, const Extent3& z, const Fe3Options& o) {
   std::vector<double> fixed(n_dofs, std::numeric_limits<double>::quiet_NaN());
   const bool bonded = o.platens == Platens::bonded;
   const std::size_t none = cdof.size();
@@ -213,7 +181,7 @@ std::vector<double> prescribed_values(const TetMesh& mesh, const Split3& split, 
 // The prescribed values, and the glued copies tied to the smallest DoF of their class. A class that holds a
 // prescribed DoF is prescribed as a whole (its members share position and value), so no DoF is both tied and fixed.
 void make_constraints(const TetMesh& mesh, const Split3& split, const CopyDofs& cdof, types::global_dof_index n_dofs,
-                      const Extent& z, const Fe3Options& o, AffineConstraints<double>& constraints) {
+                      const Extent3& z, const Fe3Options& o, AffineConstraints<double>& constraints) {
   std::vector<double> fixed = prescribed_values(mesh, split, cdof, n_dofs, z, o);
   std::vector<unsigned> root(n_dofs);
   std::iota(root.begin(), root.end(), 0u);
@@ -344,17 +312,12 @@ void assemble_interfaces(const Split3& split, const std::vector<ElementDofs>& el
 
 // The volume, the integral of sigma_zz over the cells, and of the strain over the jointed body: the cells' plus
 // int sym([u] (x) n) dA over the interfaces (fe_joints3.hpp).
-struct Integrals {
-  double volume = 0, sigma_zz = 0;
-  SymmetricTensor<2, dim> strain;
-};
-
-Integrals integrate_cells(const DoFHandler<dim>& dof, const Mapping<dim>& mapping, const Quadrature<dim>& q,
+Integrals3 integrate_cells(const DoFHandler<dim>& dof, const Mapping<dim>& mapping, const Quadrature<dim>& q,
                           const std::vector<SymmetricTensor<4, dim>>& C, const Vector<double>& solution) {
   FEValues<dim> values(mapping, dof.get_fe(), q, update_gradients | update_JxW_values);
   const FEValuesExtractors::Vector u(0);
   std::vector<SymmetricTensor<2, dim>> eps(q.size());
-  Integrals sum;
+  Integrals3 sum;
   for (const auto& cell : dof.active_cell_iterators()) {
     values.reinit(cell);
     values[u].get_function_symmetric_gradients(solution, eps);
@@ -369,7 +332,7 @@ Integrals integrate_cells(const DoFHandler<dim>& dof, const Mapping<dim>& mappin
 }
 
 // Adds the interfaces' jumps to the strain integral; fills the mean opening and slip of every interface.
-void integrate_interfaces(const Split3& split, const CopyDofs& cdof, const Vector<double>& u, Integrals& sum,
+void integrate_interfaces(const Split3& split, const CopyDofs& cdof, const Vector<double>& u, Integrals3& sum,
                           JointedFe3Result& r) {
   r.interface_opening.assign(split.interfaces.size(), 0.0);
   r.interface_slip.assign(split.interfaces.size(), 0.0);
@@ -385,30 +348,6 @@ void integrate_interfaces(const Split3& split, const CopyDofs& cdof, const Vecto
     r.interface_opening[k] = jump * n;
     r.interface_slip[k] = (jump - (jump * n) * n).norm();
   }
-}
-
-double along(const SymmetricTensor<2, dim>& t, const theory::Vec3& d) {
-  double v = 0;
-  for (unsigned i = 0; i < 3; ++i)
-    for (unsigned j = 0; j < 3; ++j) v += d[i] * t[i][j] * d[j];
-  return v;
-}
-
-// The moduli and lateral strains of fe_3d.hpp from the integrals.
-void fill_moduli(const Integrals& sum, const Extent& z, double dip_deg, double dip_direction_deg,
-                 const Fe3Options& o, JointedFe3Result& r) {
-  const double H = z.zmax - z.zmin, axial_strain = -o.platen_displacement / H;
-  const theory::PlaneAxes axes = theory::plane_axes(dip_deg, dip_direction_deg);
-  r.volume = sum.volume;
-  r.axial_force = -sum.sigma_zz / H;  // F H = int sigma_zz dV; compression positive
-  const double mean_stress = sum.sigma_zz / sum.volume;
-  r.mean_axial_strain = sum.strain[2][2] / sum.volume;
-  r.apparent_modulus = mean_stress / axial_strain;
-  r.mean_strain_modulus = mean_stress / r.mean_axial_strain;
-  r.strain_strike = along(sum.strain, axes.strike) / sum.volume;
-  r.strain_dip = along(sum.strain, axes.dip_direction) / sum.volume;
-  r.poisson_strike = -r.strain_strike / r.mean_axial_strain;
-  r.poisson_dip = -r.strain_dip / r.mean_axial_strain;
 }
 
 }  // namespace
@@ -430,7 +369,7 @@ JointedFe3Result solve_elastic_3d_jointed(const TetMesh& mesh, const std::vector
   }
 
   // ---- Triangulation of the copies, DoFs, constraints, sparsity.
-  const Extent z = extent_of(mesh);
+  const Extent3 z = internal::extent_of(mesh);
   Triangulation<dim> tria;
   make_triangulation(mesh, split, tria);
   const FESystem<dim> fe(FE_SimplexP<dim>(1), dim);
@@ -451,7 +390,7 @@ JointedFe3Result solve_elastic_3d_jointed(const TetMesh& mesh, const std::vector
 
   // ---- Assembly.
   std::vector<SymmetricTensor<4, dim>> C(n_layers);
-  for (std::size_t l = 0; l < n_layers; ++l) C[l] = stiffness_tensor_3d(layer_constants[l], dip_deg, dip_direction_deg);
+  for (std::size_t l = 0; l < n_layers; ++l) C[l] = internal::stiffness_tensor_3d(layer_constants[l], dip_deg, dip_direction_deg);
   SparseMatrix<double> K(pattern);
   Vector<double> u(n_dofs), b(n_dofs);
   assemble_cells(dof, mapping, quadrature, C, constraints, K, b);
@@ -475,9 +414,9 @@ JointedFe3Result solve_elastic_3d_jointed(const TetMesh& mesh, const std::vector
   r.solve_seconds = clock.lap();
 
   // ---- The force, the mean strains, the openings.
-  Integrals sum = integrate_cells(dof, mapping, quadrature, C, u);
+  Integrals3 sum = integrate_cells(dof, mapping, quadrature, C, u);
   integrate_interfaces(split, cdof, u, sum, r);
-  fill_moduli(sum, z, dip_deg, dip_direction_deg, o, r);
+  internal::fill_moduli_3d(sum, z, dip_deg, dip_direction_deg, o.platen_displacement, r);
   r.post_seconds = clock.lap();
   r.seconds = total.lap();
   return r;
