@@ -3,7 +3,10 @@
 // folder may.
 #pragma once
 
+#include <array>
 #include <chrono>
+#include <cstddef>
+#include <vector>
 
 #include <deal.II/base/quadrature.h>
 #include <deal.II/base/quadrature_lib.h>
@@ -56,6 +59,22 @@ struct SimplexSpace {
   dealii::DoFHandler<dim> dof;
   dealii::SparsityPattern pattern;
 };
+
+// The DoF of each vertex's displacement components, vertex -> {u_x, u_y(, u_z)}: the node copies of the models with
+// the joints (one vertex per copy), whose interface elements and ties address the copies' DoFs directly.
+template <int dim>
+std::vector<std::array<dealii::types::global_dof_index, dim>> vertex_dofs(const dealii::DoFHandler<dim>& dof,
+                                                                          std::size_t n_vertices) {
+  const dealii::FiniteElement<dim>& fe = dof.get_fe();
+  std::vector<std::array<dealii::types::global_dof_index, dim>> out(n_vertices);
+  for (const auto& cell : dof.active_cell_iterators())
+    for (const unsigned v : cell->vertex_indices())
+      for (unsigned k = 0; k < fe.n_dofs_per_vertex(); ++k) {
+        const unsigned component = fe.system_to_component_index(v * fe.n_dofs_per_vertex() + k).first;
+        out[cell->vertex_index(v)][component] = cell->vertex_dof_index(v, k);
+      }
+  return out;
+}
 
 // Voigt [xx, yy, xy] with engineering shear -> the tensor with sigma = C : eps.
 dealii::SymmetricTensor<4, 2> stiffness_tensor(const Stiffness3& C);

@@ -8,6 +8,7 @@
 // (constant strain triangles, per-layer C) and interfaces into the constrained matrix, and the platen rows of the
 // unconstrained one into two vectors (reactions) -> solve (UMFPACK or CG+AMG, solvers.cpp) -> distribute ->
 // reactions, fields.
+#include "common/union_find.hpp"
 #include "continuum/fe_internal.hpp"
 #include "continuum/fe_joints.hpp"
 #include "continuum/solvers.hpp"
@@ -50,23 +51,6 @@ using internal::Stopwatch;
 }
 
 // ---- Small tools -------------------------------------------------------------------------------------------------
-
-struct UnionFind {
-  std::vector<unsigned> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  unsigned find(unsigned i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];  // path halving
-    return i;
-  }
-  void unite(unsigned a, unsigned b) {
-    a = find(a), b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);  // the smaller index stays the root: deterministic
-  }
-};
-
-std::uint64_t edge_key(int a, int b) {
-  return (std::uint64_t(std::uint32_t(std::min(a, b))) << 32) | std::uint32_t(std::max(a, b));
-}
 
 struct Box {
   double xmin = 0, xmax = 0, ymin = 0, ymax = 0;
@@ -134,7 +118,7 @@ EdgeMap edge_map(const char* function, const TriMesh& mesh) {
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
     for (unsigned i = 0; i < 3; ++i) {
       const int a = mesh.triangles[t][i], b = mesh.triangles[t][(i + 1) % 3];
-      EdgeSides& e = edges[edge_key(a, b)];
+      EdgeSides& e = edges[unordered_pair_key(a, b)];
       if (e.n == 2)
         fail(function, "the mesh edge (" + std::to_string(a) + ", " + std::to_string(b) +
                            ") belongs to more than two triangles; the mesh is not a manifold");
@@ -157,7 +141,7 @@ void mark_interfaces(const char* function, const TriMesh& mesh, const std::vecto
     if (f.node_a < 0 || f.node_a >= n || f.node_b < 0 || f.node_b >= n)
       fail(function, name + " refers to a node outside 0 .. " + std::to_string(n - 1));
     if (f.node_a == f.node_b) fail(function, name + " joins a node to itself; give the two end nodes of a mesh edge");
-    const auto it = edges.find(edge_key(f.node_a, f.node_b));
+    const auto it = edges.find(unordered_pair_key(f.node_a, f.node_b));
     if (it == edges.end())
       fail(function, name + " is not an edge of the mesh (no triangle has both nodes); joints must follow "
                             "chains of mesh edges (put nodes on the joint lines when meshing)");
@@ -225,7 +209,7 @@ std::vector<Interface> interface_elements(const TriMesh& mesh, const std::vector
   std::vector<Interface> out(interfaces.size());
   for (std::size_t k = 0; k < interfaces.size(); ++k) {
     const InterfaceEdge& f = interfaces[k];
-    const EdgeSides& e = edges.at(edge_key(f.node_a, f.node_b));
+    const EdgeSides& e = edges.at(unordered_pair_key(f.node_a, f.node_b));
     Interface& g = out[k];
     // end 0 = the smaller node p, end 1 = the larger node q
     g.copy = {split.corner_copy[e.corner[0][0]], split.corner_copy[e.corner[0][1]], split.corner_copy[e.corner[1][0]],
@@ -381,19 +365,6 @@ void require_platen_edges(const char* function, const TriMesh& mesh, const EdgeM
 // ---- DoFs and constraints ----------------------------------------------------------------------------------------
 
 using CopyDofs = std::vector<std::array<types::global_dof_index, 2>>;  // copy -> its u_x, u_y DoFs
-
-// Global DoF index of each copy's u_x, u_y.
-CopyDofs copy_dofs(const DoFHandler<dim>& dof, std::size_t n_copies) {
-  const FiniteElement<dim>& fe = dof.get_fe();
-  CopyDofs out(n_copies);
-  for (const auto& cell : dof.active_cell_iterators())
-    for (const unsigned v : cell->vertex_indices())
-      for (unsigned k = 0; k < fe.n_dofs_per_vertex(); ++k) {
-        const unsigned component = fe.system_to_component_index(v * fe.n_dofs_per_vertex() + k).first;
-        out[cell->vertex_index(v)][component] = cell->vertex_dof_index(v, k);
-      }
-  return out;
-}
 
 // Position (its copy's node) and component of every DoF: where the AMG's rigid-body modes are evaluated.
 internal::DofGeometry copy_geometry(const TriMesh& mesh, const Split& split, const CopyDofs& cdof,
@@ -684,7 +655,7 @@ JointedFeResult solve_elastic_jointed(const TriMesh& mesh, const std::vector<the
   dof.distribute_dofs(fe);
   const auto n_dofs = dof.n_dofs();
   r.dofs = n_dofs, r.cells = tria.n_active_cells(), r.interface_edges = interfaces.size();
-  const CopyDofs cdof = copy_dofs(dof, split.copy_node.size());
+  const CopyDofs cdof = internal::vertex_dofs(dof, split.copy_node.size());
 
   // ---- Constraints (platens, pin, ties of glued copies) and the sparsity with the interface couplings.
   AffineConstraints<double> constraints;

@@ -115,18 +115,6 @@ void make_triangulation(const TetMesh& mesh, const Split3& split, Triangulation<
 
 using CopyDofs = std::vector<std::array<types::global_dof_index, 3>>;  // copy -> its u_x, u_y, u_z DoFs
 
-CopyDofs copy_dofs(const DoFHandler<dim>& dof, std::size_t n_copies) {
-  const FiniteElement<dim>& fe = dof.get_fe();
-  CopyDofs out(n_copies);
-  for (const auto& cell : dof.active_cell_iterators())
-    for (const unsigned v : cell->vertex_indices())
-      for (unsigned k = 0; k < fe.n_dofs_per_vertex(); ++k) {
-        const unsigned component = fe.system_to_component_index(v * fe.n_dofs_per_vertex() + k).first;
-        out[cell->vertex_index(v)][component] = cell->vertex_dof_index(v, k);
-      }
-  return out;
-}
-
 // Position (its copy's node) and component of every DoF: where the AMG's rigid-body modes are evaluated.
 internal::DofGeometry3 copy_geometry(const TetMesh& mesh, const Split3& split, const CopyDofs& cdof,
                                      types::global_dof_index n_dofs) {
@@ -379,7 +367,7 @@ JointedFe3Result solve_elastic_3d_jointed(const TetMesh& mesh, const std::vector
   dof.distribute_dofs(fe);
   const auto n_dofs = dof.n_dofs();
   r.dofs = n_dofs, r.cells = tria.n_active_cells();
-  const CopyDofs cdof = copy_dofs(dof, split.copy_node.size());
+  const CopyDofs cdof = internal::vertex_dofs(dof, split.copy_node.size());
   AffineConstraints<double> constraints;
   make_constraints(mesh, split, cdof, n_dofs, z, o, constraints);
   r.constrained_dofs = constraints.n_constraints();

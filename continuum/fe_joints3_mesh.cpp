@@ -11,6 +11,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "common/union_find.hpp"
 #include "continuum/fe_joints3.hpp"
 #include "continuum/fe_joints3_split.hpp"
 
@@ -28,22 +29,6 @@ std::string text(double v) {
   return s.str();
 }
 
-struct UnionFind {
-  std::vector<unsigned> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  unsigned find(unsigned i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];  // path halving
-    return i;
-  }
-  void unite(unsigned a, unsigned b) {
-    a = find(a), b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);  // the smaller index stays the root: deterministic
-  }
-};
-
-std::uint64_t pair_key(int a, int b) {
-  return (std::uint64_t(std::uint32_t(std::min(a, b))) << 32) | std::uint32_t(std::max(a, b));
-}
 
 void check_mesh(const char* function, const TetMesh& mesh) {
   if (mesh.tets.empty() || mesh.nodes.empty())
@@ -76,7 +61,8 @@ std::vector<int> mark_interfaces(const char* function, const TetMesh& mesh, cons
                                  const std::vector<InterfaceFace>& interfaces) {
   std::unordered_map<std::uint64_t, int> face_of;
   face_of.reserve(faces.size());
-  for (std::size_t f = 0; f < faces.size(); ++f) face_of.emplace(pair_key(faces[f].tets[0], faces[f].tets[1]), int(f));
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    face_of.emplace(unordered_pair_key(faces[f].tets[0], faces[f].tets[1]), int(f));
   std::vector<int> marks(faces.size(), -1);
   const int n = int(mesh.tets.size());
   for (std::size_t k = 0; k < interfaces.size(); ++k) {
@@ -85,7 +71,7 @@ std::vector<int> mark_interfaces(const char* function, const TetMesh& mesh, cons
                              ", " + std::to_string(g.tet_b) + ")";
     if (g.tet_a < 0 || g.tet_a >= n || g.tet_b < 0 || g.tet_b >= n)
       fail(function, name + " refers to a tetrahedron outside 0 .. " + std::to_string(n - 1));
-    const auto it = face_of.find(pair_key(g.tet_a, g.tet_b));
+    const auto it = face_of.find(unordered_pair_key(g.tet_a, g.tet_b));
     if (g.tet_a == g.tet_b || it == face_of.end())
       fail(function, name + " is not a face of the mesh: the two tetrahedra share no face; joints must follow "
                             "mesh faces (mesh the joint planes into the specimen; joint_interfaces lists them)");
