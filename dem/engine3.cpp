@@ -2,6 +2,7 @@
 #include "dem/engine3.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -19,6 +20,13 @@ namespace {
 // thread order are the items in order.
 std::array<std::size_t, 2> share(std::size_t n, int t, int nt) {
   return {n * std::size_t(t) / std::size_t(nt), n * std::size_t(t + 1) / std::size_t(nt)};
+}
+// The share of the bonds in whole tiles of the table (the last one may be short), so that each chunk of the bond
+// stage is one tile. Which thread computes a bond does not change its numbers.
+std::array<std::size_t, 2> bond_share(std::size_t n, int t, int nt) {
+  constexpr std::size_t tile = stages::FaceBondTable::kTile;
+  const auto [lo, hi] = share((n + tile - 1) / tile, t, nt);
+  return {std::min(n, lo * tile), std::min(n, hi * tile)};
 }
 
 }  // namespace
@@ -102,45 +110,51 @@ stages::FaceBondOut Engine<3>::bond_now(std::size_t b, double& keep) const {
   using F = stages::FaceBondTable;
   const Model<3>& m = model_;
   const ModelState<3>& s = state_;
-  const stages::FaceBondColumns t(m.table);
+  const stages::FaceBondColumns t = stages::FaceBondColumns::of(m.table, b);
+  const std::size_t k = stages::FaceBondColumns::lane(b);
   const bool broken = s.broken[b] != 0;
-  keep = broken ? 0.0 : stages::intact_fraction(s.drive[b], t(F::rupture, b));
-  int regular = 1;
-  return stages::face_bond_forces<true>(t, b, record_[std::size_t(m.bi[b])], record_[std::size_t(m.bj[b])], 0.0,
-                                        s.fs1[b], s.fs2[b], keep, broken ? t(F::mu_broken, b) : t(F::mu_bonded, b),
+  keep = broken ? 0.0 : stages::intact_fraction(s.drive[b], t(F::rupture, k));
+  std::int64_t regular = 1;
+  return stages::face_bond_forces<true>(t, k, record_[std::size_t(m.bi[b])], record_[std::size_t(m.bj[b])], 0.0,
+                                        s.fs1[b], s.fs2[b], keep, broken ? t(F::mu_broken, k) : t(F::mu_bonded, k),
                                         regular);
 }
 
 namespace {
 
-// Bonds per chunk of the kernel: its per-bond results stay in the first level of the cache until the serial pass.
-constexpr int kChunk = 64;
+// Bonds per chunk of the kernel, one tile of the table: its per-bond results stay in the first level of the cache
+// until the serial pass.
+constexpr int kChunk = int(stages::FaceBondTable::kTile);
 
 // What one thread's share of the kernel reads and writes.
 struct BondRange {
-  stages::FaceBondColumns t;
+  const stages::FaceBondTable* table;
   const int *bi, *bj;
   const stages::BlockRecord3* record;
-  const std::uint8_t* broken;
   const double *drive, *fs1, *fs2;
   stages::FaceBondSlot* slot;
   double dt;
 };
-// One chunk's results: the new shear history, and per bond 1 where the branch-free form does not hold (the exact
-// form recomputes it) plus 2 where the failure test's load reaches the bond's strength (the law then decides).
-struct ChunkOut {
+// One chunk's bonds: 1 where a bond is intact (read before the kernel), and the results: the new shear history, and
+// per bond 1 where the branch-free form does not hold (the exact form recomputes it) plus 2 where the failure test's
+// load reaches the bond's strength (the law then decides). The flags are 64 bits wide, as the doubles are: a vector
+// loop has as many lanes as its narrowest type fits in a register, so one byte or 32-bit integer in the kernel
+// spreads each double over eight or two registers, which then spill (it did: 64 lanes for AVX-512).
+struct Chunk {
+  std::int64_t intact[kChunk];
   double fs1[kChunk], fs2[kChunk];
-  int flag[kChunk];
+  std::int64_t flag[kChunk];
 };
 
-// Bond b's intact fraction and the linear part's friction.
-[[gnu::always_inline]] inline void bond_status(const BondRange& r, std::size_t b, double& keep, double& mu) {
+// Bond b's intact fraction and the linear part's friction; t is its tile and k its lane there, `intact` 0 once it
+// is broken.
+[[gnu::always_inline]] inline void bond_status(const BondRange& r, const stages::FaceBondColumns& t, std::size_t k,
+                                               std::size_t b, std::int64_t intact, double& keep, double& mu) {
   using F = stages::FaceBondTable;
-  const bool broken = r.broken[b] != 0;
-  const double intact = stages::intact_fraction(r.drive[b], r.t(F::rupture, b));
-  const double mu_broken = r.t(F::mu_broken, b), mu_bonded = r.t(F::mu_bonded, b);  // both read: no branch
-  keep = broken ? 0.0 : intact;
-  mu = broken ? mu_broken : mu_bonded;
+  const double fraction = stages::intact_fraction(r.drive[b], t(F::rupture, k));
+  const double mu_broken = t(F::mu_broken, k), mu_bonded = t(F::mu_bonded, k);  // both read: no branch
+  keep = intact != 0 ? fraction : 0.0;
+  mu = intact != 0 ? mu_bonded : mu_broken;
 }
 
 // The doubles of a block record the kernel reads (BlockRecord3 but its padding).
@@ -161,11 +175,13 @@ using Rows = double[kRecord][kChunk];
           {a[10][k], a[11][k], a[12][k]}};
 }
 
-// The bonds [b0, b0 + n) in the branch-free form: no branches and no dependence between iterations (ivdep: the
-// slots and the chunk's results are written at the bond's own index), so the loop vectorises. Not `omp simd`: it
-// would make the kernel's aggregates per-lane arrays before they are inlined away, which blocks the vectoriser.
-[[gnu::always_inline]] inline void bond_chunk_body(const BondRange& range, std::size_t b0, int n, ChunkOut& out) {
+// The bonds [b0, b0 + n), one tile of the table, in the branch-free form: no branches and no dependence between
+// iterations (ivdep: the slots and the chunk's results are written at the bond's own index), so the loop
+// vectorises. Not `omp simd`: it would make the kernel's aggregates per-lane arrays before they are inlined away,
+// which blocks the vectoriser.
+[[gnu::always_inline]] inline void bond_chunk_body(const BondRange& range, std::size_t b0, int n, Chunk& out) {
   const BondRange r = range;  // a local copy: the stores must not make the loop reload its array pointers
+  const stages::FaceBondColumns t = stages::FaceBondColumns::of(*r.table, b0);
   alignas(64) Rows ri, rj;
   load_records(r.record, r.bi + b0, n, ri);
   load_records(r.record, r.bj + b0, n, rj);
@@ -173,16 +189,17 @@ using Rows = double[kRecord][kChunk];
   for (int k = 0; k < n; ++k) {
     const std::size_t b = b0 + std::size_t(k);
     double keep, mu;
-    bond_status(r, b, keep, mu);
-    int regular = 1;
-    const stages::FaceBondOut e = stages::face_bond_forces<false>(r.t, b, record_at(ri, k), record_at(rj, k), r.dt,
-                                                                  r.fs1[b], r.fs2[b], keep, mu, regular);
+    bond_status(r, t, std::size_t(k), b, out.intact[k], keep, mu);
+    std::int64_t regular = 1;
+    const stages::FaceBondOut e = stages::face_bond_forces<false>(t, std::size_t(k), record_at(ri, k),
+                                                                  record_at(rj, k), r.dt, r.fs1[b], r.fs2[b], keep,
+                                                                  mu, regular);
     stages::FaceBondSlot& slot = r.slot[b];
     stages::store(slot.f, e.f), stages::store(slot.mi, e.mi), stages::store(slot.mj, e.mj);
     out.fs1[k] = e.fs1_lin, out.fs2[k] = e.fs2_lin;
-    const BondLoad q = stages::face_bond_load(r.t, b, e.pb);
+    const BondLoad q = stages::face_bond_load(t, std::size_t(k), e.pb);
     const double scale = r.drive[b] > 0.0 ? r.drive[b] : 1.0;
-    out.flag[k] = (1 - regular) | (((r.broken[b] == 0) & q.exceeds(scale)) << 1);
+    out.flag[k] = (1 - regular) | ((out.intact[k] & std::int64_t(q.exceeds(scale))) << 1);
   }
 }
 
@@ -200,7 +217,7 @@ inline void prefetch_records(const BondRange& r, std::size_t b0, std::size_t b1)
 // arithmetic is the same in each (no fused multiply-add, no reassociation: dem/CMakeLists.txt), so are the numbers.
 [[gnu::target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")]] void bond_chunk(const BondRange& r,
                                                                                       std::size_t b0, int n,
-                                                                                      ChunkOut& out) {
+                                                                                      Chunk& out) {
   bond_chunk_body(r, b0, n, out);
 }
 
@@ -214,31 +231,35 @@ void Engine<3>::bond_range(std::size_t b0, std::size_t b1, double dt, bool advan
   using F = stages::FaceBondTable;
   ModelState<3>& s = state_;
   const Model<3>& m = model_;
-  const BondRange r{stages::FaceBondColumns(m.table), m.bi.data(), m.bj.data(), record_.data(), s.broken.data(),
+  const BondRange r{&m.table, m.bi.data(), m.bj.data(), record_.data(),
                     s.drive.data(), s.fs1.data(), s.fs2.data(), slot_.data(), dt};
   const bool test = advance && s.breakage;
-  ChunkOut out;
+  Chunk out;
+  assert(b0 % kChunk == 0);  // the chunks are the table's tiles
   for (std::size_t c0 = b0; c0 < b1; c0 += kChunk) {
+    const stages::FaceBondColumns t = stages::FaceBondColumns::of(m.table, c0);
     const int n = int(std::min<std::size_t>(kChunk, b1 - c0));
     prefetch_records(r, c0 + kChunk, std::min(c0 + 2 * kChunk, b1));
+    for (int k = 0; k < n; ++k) out.intact[k] = s.broken[c0 + std::size_t(k)] == 0;
     bond_chunk(r, c0, n, out);
     for (int k = 0; k < n; ++k) {
       const std::size_t b = c0 + std::size_t(k);
-      const int flag = out.flag[k] & (test ? 3 : 1);
+      const std::int64_t flag = out.flag[k] & (test ? 3 : 1);
       if (flag) {
         double keep, mu;
-        bond_status(r, b, keep, mu);
-        int regular = 1;
+        bond_status(r, t, std::size_t(k), b, out.intact[k], keep, mu);
+        std::int64_t regular = 1;
         const stages::BlockRecord3& I = record_[std::size_t(m.bi[b])];
-        const stages::FaceBondOut e = stages::face_bond_forces<true>(r.t, b, I, record_[std::size_t(m.bj[b])], dt,
-                                                                     s.fs1[b], s.fs2[b], keep, mu, regular);
+        const stages::FaceBondOut e = stages::face_bond_forces<true>(t, std::size_t(k), I,
+                                                                     record_[std::size_t(m.bj[b])], dt, s.fs1[b],
+                                                                     s.fs2[b], keep, mu, regular);
         if (flag & 1) slot_[b] = {e.f, e.mi, e.mj}, out.fs1[k] = e.fs1_lin, out.fs2[k] = e.fs2_lin;
         if (flag & 2) {
-          const BondLoad q = stages::face_bond_load(r.t, b, e.pb);
+          const BondLoad q = stages::face_bond_load(t, std::size_t(k), e.pb);
           ParallelBond rule;  // its advance reads only `softening`
-          rule.softening = r.t(F::softening, b);
-          const BreakMode mode = rule.advance(q, r.t(F::rupture, b), s.drive[b]);
-          const double A = r.t(F::area, b);
+          rule.softening = t(F::softening, k);
+          const BreakMode mode = rule.advance(q, t(F::rupture, k), s.drive[b]);
+          const double A = t(F::area, k);
           if (mode != BreakMode::none) breaks->push_back({int(b), mode, I.x + e.ci, q.tension / A, q.shear / A});
         }
       }
@@ -286,18 +307,18 @@ namespace {
 // What one thread's share of the block stage reads and writes.
 struct BlockRange {
   const RigidBody3* body;
-  const int* fixed;
   double *x, *y, *z, *qw, *qx, *qy, *qz, *vx, *vy, *vz, *wx, *wy, *wz;
   double *fx, *fy, *fz, *mx, *my, *mz;
   stages::BlockRecord3* record;
   double* work;
   double dt, alpha;
 };
-// One chunk of blocks: the gathered force and moment, and 1 where the branch-free step holds (else the block keeps
-// its state in the lanes and the exact form steps it).
+// One chunk of blocks: the gathered force and moment, 1 where a block is fixed, and 1 where the branch-free step
+// holds (else the block keeps its state in the lanes and the exact form steps it). 64-bit flags, as Chunk's.
 struct BlockChunk {
   double f[6][kChunk];
-  int regular[kChunk];
+  std::int64_t fixed[kChunk];
+  std::int64_t regular[kChunk];
 };
 
 [[gnu::always_inline]] inline RigidState3 rigid_state(const BlockRange& r, std::size_t b) {
@@ -331,10 +352,10 @@ struct BlockChunk {
     r.fx[b] = F.x, r.fy[b] = F.y, r.fz[b] = F.z, r.mx[b] = M.x, r.my[b] = M.y, r.mz[b] = M.z;
     const RigidState3 old = rigid_state(r, b);
     RigidState3 st = old;
-    int regular = 1;
+    std::int64_t regular = 1;
     const double work = rigid3::step<false>(r.body[b], st, F, M, r.dt, r.alpha, regular);
     c.regular[k] = regular;
-    const bool hold = (r.fixed[b] != 0) | (regular == 0);
+    const bool hold = (c.fixed[k] != 0) | (regular == 0);
     const RigidState3 next{{hold ? old.x.x : st.x.x, hold ? old.x.y : st.x.y, hold ? old.x.z : st.x.z},
                            {hold ? old.v.x : st.v.x, hold ? old.v.y : st.v.y, hold ? old.v.z : st.v.z},
                            {hold ? old.q.w : st.q.w, hold ? old.q.x : st.q.x, hold ? old.q.y : st.q.y,
@@ -355,7 +376,7 @@ struct BlockChunk {
 
 bool Engine<3>::block_range(std::size_t b0, std::size_t b1) {
   ModelState<3>& s = state_;
-  const BlockRange r{model_.body.data(), model_.fixed.data(), s.x.data(), s.y.data(), s.z.data(), s.qw.data(),
+  const BlockRange r{model_.body.data(), s.x.data(), s.y.data(), s.z.data(), s.qw.data(),
                      s.qx.data(), s.qy.data(), s.qz.data(), s.vx.data(), s.vy.data(), s.vz.data(), s.wx.data(),
                      s.wy.data(), s.wz.data(), s.fx.data(), s.fy.data(), s.fz.data(), s.mx.data(), s.my.data(),
                      s.mz.data(), record_.data(), damping_work_.data(), s.dt, options_.damping};
@@ -368,11 +389,12 @@ bool Engine<3>::block_range(std::size_t b0, std::size_t b1) {
       gather(c0 + std::size_t(k), force, moment);
       c.f[0][k] = force.x, c.f[1][k] = force.y, c.f[2][k] = force.z;
       c.f[3][k] = moment.x, c.f[4][k] = moment.y, c.f[5][k] = moment.z;
+      c.fixed[k] = model_.fixed[c0 + std::size_t(k)] != 0;
     }
     block_chunk(r, c0, n, c);
     for (int k = 0; k < n; ++k) {
       const std::size_t b = c0 + std::size_t(k);
-      if (!c.regular[k] && !model_.fixed[b]) {  // a half angle beyond the series: the exact step
+      if (!c.regular[k] && !c.fixed[k]) {  // a half angle beyond the series: the exact step
         RigidState3 st = rigid_state(r, b);
         const double work = rigid_step(model_.body[b], st, {c.f[0][k], c.f[1][k], c.f[2][k]},
                                        {c.f[3][k], c.f[4][k], c.f[5][k]}, s.dt, options_.damping);
@@ -399,7 +421,7 @@ void Engine<3>::step() {
   {
     const int t = omp_get_thread_num(), nt = omp_get_num_threads();
     if (sample) team_.read(t);
-    const auto bonds = share(m.num_bonds(), t, nt);
+    const auto bonds = bond_share(m.num_bonds(), t, nt);
     bond_range(bonds[0], bonds[1], s.dt, true, &breaks_[std::size_t(t)]);
     const auto blocks = share(m.num_blocks(), t, nt);  // the components' sums start from zero, cleared in parallel
     std::fill(ext_f_.begin() + long(blocks[0]), ext_f_.begin() + long(blocks[1]), Vec3{});

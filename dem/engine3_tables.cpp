@@ -46,7 +46,8 @@ BondStates Engine<3>::bond_states() const {
     const double fn = dot(e.f, e.normal);  // on j along n from i to j: positive in compression
     t.normal_force[b] = -fn, t.shear_force[b] = norm(e.f - fn * e.normal);
     bool tensile = false;
-    const BondLoad q = stages::face_bond_load(stages::FaceBondColumns(m.table), b, e.pb);
+    using C = stages::FaceBondColumns;
+    const BondLoad q = stages::face_bond_load(C::of(m.table, b), C::lane(b), e.pb);
     t.failure_index[b] = s.broken[b] ? 0.0 : q.index(tensile);
     t.damage[b] = 1.0 - keep;
   }

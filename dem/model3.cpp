@@ -148,7 +148,7 @@ void build_table(Model<3>& m) {
         st.beta_m * s.A / s.I1, st.beta_m * s.A / s.I2, st.beta_m * s.A * s.r_max / s.J,
         st.sigma_c * w * s.A, st.cohesion * w * s.A, st.tan_phi,
         f.mu, law.mu, law.bond.softening, m.rupture[b]};
-    for (int k = 0; k < F::count; ++k) t[F::Field(k)][b] = values[k];
+    for (int k = 0; k < F::count; ++k) t.at(F::Field(k), b) = values[k];
   }
 }
 

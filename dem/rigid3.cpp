@@ -24,12 +24,12 @@ double kinetic_energy(const RigidBody3& b, const RigidState3& s) {
 }
 
 void free_rotation(Vec3 moments, double dt, Quat& qb, Vec3& Lb) {
-  int regular = 1;
+  std::int64_t regular = 1;
   rigid3::free_rotation<true>(moments, dt, qb, Lb, regular);
 }
 
 double rigid_step(const RigidBody3& b, RigidState3& s, Vec3 F, Vec3 M, double dt, double alpha) {
-  int regular = 1;
+  std::int64_t regular = 1;
   return rigid3::step<true>(b, s, F, M, dt, alpha, regular);
 }
 

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 
 #include "dem/vec3.hpp"
 
@@ -50,20 +51,23 @@ double rigid_step(const RigidBody3& b, RigidState3& s, Vec3 F, Vec3 M, double dt
 // The step's arithmetic, inline for the engine's block stage, which runs it in vector lanes.
 namespace rigid3 {
 
-inline double sign(double v) { return double((v > 0) - (v < 0)); }
+// In doubles only (no integer difference of the comparisons), so that the vector lanes stay as wide as a double.
+inline double sign(double v) { return v > 0 ? 1.0 : (v < 0 ? -1.0 : 0.0); }
 
 // sin x and cos x. A block turns by far less than 1e-4 rad per step, where the Taylor series to x^5 and x^4 are
 // exact to round-off (the next terms, x^7 / 7! and x^6 / 6!, are below 2e-32 and 2e-27) and far cheaper than the
 // library's calls. Exact = false (the vector lanes) takes the series always and sets `regular` to 0 beyond it.
+// `regular` is 64 bits wide, as the doubles are: a vector loop's lanes are as many as its narrowest type's, so a
+// 32-bit flag would spread each double over two registers.
 template <bool Exact>
-[[gnu::always_inline]] inline void sin_cos(double x, double& s, double& c, int& regular) {
+[[gnu::always_inline]] inline void sin_cos(double x, double& s, double& c, std::int64_t& regular) {
   const double x2 = x * x;
   s = x * (1.0 - x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0)));
   c = 1.0 - x2 * (0.5 - x2 * (1.0 / 24.0));
   if constexpr (Exact) {
     if (!(std::abs(x) < 1e-4)) s = std::sin(x), c = std::cos(x);
   } else {
-    regular &= int(std::abs(x) < 1e-4);
+    regular &= std::int64_t(std::abs(x) < 1e-4);
   }
 }
 
@@ -74,7 +78,7 @@ template <bool Exact>
 // on the next two axes (k + 1, k + 2 mod 3).
 template <bool Exact, int K>
 [[gnu::always_inline]] inline void rotate_about_axis(double half_rate, Quat& qb, double lk, double& la, double& lb,
-                                                     int& regular) {
+                                                     std::int64_t& regular) {
   double s2, c2;
   sin_cos<Exact>(half_rate * lk, s2, c2, regular);
   const double c = 1.0 - 2.0 * s2 * s2, s = 2.0 * s2 * c2;
@@ -88,7 +92,8 @@ template <bool Exact, int K>
 }
 
 template <bool Exact>
-[[gnu::always_inline]] inline void free_rotation(Vec3 moments, double dt, Quat& qb, Vec3& Lb, int& regular) {
+[[gnu::always_inline]] inline void free_rotation(Vec3 moments, double dt, Quat& qb, Vec3& Lb,
+                                                 std::int64_t& regular) {
   // phi / 2 = h L_k / (2 I_k) per axis, h = dt / 2 but for the middle one: the divisions before the chain.
   const double r1 = 0.25 * dt / moments.x, r2 = 0.25 * dt / moments.y, r3 = 0.5 * dt / moments.z;
   rotate_about_axis<Exact, 0>(r1, qb, Lb.x, Lb.y, Lb.z, regular);
@@ -102,7 +107,7 @@ template <bool Exact>
 // where a half angle is beyond the series (the block then needs the exact form; elsewhere the two agree bit for bit).
 template <bool Exact>
 [[gnu::always_inline]] inline double step(const RigidBody3& b, RigidState3& s, Vec3 F, Vec3 M, double dt,
-                                          double alpha, int& regular) {
+                                          double alpha, std::int64_t& regular) {
   const Vec3 Fd{-alpha * std::abs(F.x) * sign(s.v.x), -alpha * std::abs(F.y) * sign(s.v.y),
                 -alpha * std::abs(F.z) * sign(s.v.z)};
   const Vec3 Md{-alpha * std::abs(M.x) * sign(s.omega.x), -alpha * std::abs(M.y) * sign(s.omega.y),
