@@ -15,6 +15,7 @@
 #include "dem/geometry3.hpp"
 #include "dem/laws/face_bond.hpp"
 #include "dem/stages/face_bond_kernel.hpp"
+#include "dem/stages/face_bonds3.hpp"
 
 namespace rbdem {
 namespace {
@@ -347,4 +348,26 @@ TEST(FaceBondKernel, ExchangingTheBlocksGivesEqualAndOppositeForcesAndMomentsBal
 }
 
 }  // namespace
+// The bond stage's table in tiles: the kernel reads field f of the k-th bond of a chunk at tile[f kTile + k], so a
+// chunk's values of one field are side by side and the tiles follow in bond order; a short last tile holds the rest.
+TEST(FaceBondTable, TilesHoldEachFieldOfSixtyFourBondsSideBySide) {
+  using F = stages::FaceBondTable;
+  using C = stages::FaceBondColumns;
+  constexpr std::size_t n = 2 * F::kTile + 2;  // two whole tiles and two bonds
+  F t;
+  t.resize(n);
+  for (std::size_t b = 0; b < n; ++b)
+    for (int f = 0; f < F::count; ++f) t.at(F::Field(f), b) = 1000.0 * f + double(b);
+  for (std::size_t b = 0; b < n; ++b) {
+    const C tile = C::of(t, b);
+    EXPECT_EQ(tile.base, t.tile(b - C::lane(b)));  // every bond of a tile sees the same base
+    for (int f = 0; f < F::count; ++f) {
+      ASSERT_EQ(tile(F::Field(f), C::lane(b)), 1000.0 * f + double(b)) << "field " << f << ", bond " << b;
+      ASSERT_EQ(tile.base[std::size_t(f) * F::kTile + C::lane(b)], t.at(F::Field(f), b));
+    }
+  }
+  EXPECT_EQ(t.tile(F::kTile) - t.tile(0), std::ptrdiff_t(F::count * F::kTile));
+  EXPECT_EQ(C::lane(n - 1), 1u);
+}
+
 }  // namespace rbdem
