@@ -152,10 +152,10 @@ void apply_heterogeneity(const MaterialTable& mat, int seed, Model<2>& m) {
 }
 
 // Stiffness heterogeneity: per-bond factors s from a Weibull distribution of modulus m scaled to mean 1, as the
-// strength factors but from their own stream (mesh.strength_seed's, offset), so that a scene's strengths stay the
-// same whether its stiffnesses scatter or not. The bond's E* is E* s: K, K / kappa and the rotational stiffness
-// scale by s, and so does a softening bond's r_u = softening K / L (its fracture energy stays G_f). The broken
-// bond's linear part, the static solve and the stability limit read these same K.
+// strength factors but from their own stream (seeded with mesh.strength_seed + 7777), so that a scene's strengths
+// stay the same whether its stiffnesses scatter or not. The bond's E* is E* s: K, K / kappa and the rotational
+// stiffness scale by s, and so does a softening bond's r_u = softening K / L (its fracture energy stays G_f). The
+// broken bond's linear part, the static solve and the stability limit read these same K.
 void apply_stiffness_heterogeneity(const MaterialTable& mat, int seed, Model<2>& m) {
   BondFrames& f = m.frame;
   const std::size_t nbond = m.num_bonds();
@@ -164,7 +164,7 @@ void apply_stiffness_heterogeneity(const MaterialTable& mat, int seed, Model<2>&
   for (std::size_t k = 0; k < material_count; ++k)
     heterogeneous = heterogeneous || mat[k]->stiffness_weibull_modulus > 0;
   if (!heterogeneous) return;
-  std::mt19937_64 random(static_cast<std::uint64_t>(seed) ^ 0x5d1f4e3a9c7b2864ull);
+  std::mt19937_64 random(static_cast<std::uint64_t>(seed) + 7777u);
   for (std::size_t b = 0; b < nbond; ++b) {
     const double u = (double(random() >> 11) + 0.5) * 0x1.0p-53;  // (0, 1), the same on every platform
     const double sm = mat[m.material[b]]->stiffness_weibull_modulus;

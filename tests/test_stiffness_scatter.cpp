@@ -50,7 +50,8 @@ TEST(Materials, WeibullStiffnessFactorsScaleTheBondsAndLeaveTheStrengths) {
     EXPECT_NEAR(model.frame.rupture[b], f * uniform.frame.rupture[b], 1e-12 * model.frame.rupture[b]);
     const BondStiffness k = model.stiffness(int(b)), k0 = uniform.stiffness(int(b));  // what the static solve reads
     for (const auto& [scattered, plain] : {std::pair{k.kbnA, k0.kbnA}, std::pair{k.kbsA, k0.kbsA},
-                                           std::pair{k.kbnI, k0.kbnI}, std::pair{k.knA, k0.knA}, std::pair{k.ksA, k0.ksA}})
+                                           std::pair{k.kbnI, k0.kbnI}, std::pair{k.knA, k0.knA},
+                                           std::pair{k.ksA, k0.ksA}})
       EXPECT_DOUBLE_EQ(scattered, f * plain);
     s.push_back(f);
   }
