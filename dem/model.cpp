@@ -151,6 +151,31 @@ void apply_heterogeneity(const MaterialTable& mat, int seed, Model<2>& m) {
   }
 }
 
+// Stiffness heterogeneity: per-bond factors s from a Weibull distribution of modulus m scaled to mean 1, as the
+// strength factors but from their own stream (seeded with mesh.strength_seed + 7777), so that a scene's strengths
+// stay the same whether its stiffnesses scatter or not. The bond's E* is E* s: K, K / kappa and the rotational
+// stiffness scale by s, and so does a softening bond's r_u = softening K / L (its fracture energy stays G_f). The
+// broken bond's linear part, the static solve and the stability limit read these same K.
+void apply_stiffness_heterogeneity(const MaterialTable& mat, int seed, Model<2>& m) {
+  BondFrames& f = m.frame;
+  const std::size_t nbond = m.num_bonds();
+  f.stiffness_factor.assign(nbond, 1.0);
+  bool heterogeneous = false;
+  for (std::size_t k = 0; k < material_count; ++k)
+    heterogeneous = heterogeneous || mat[k]->stiffness_weibull_modulus > 0;
+  if (!heterogeneous) return;
+  std::mt19937_64 random(static_cast<std::uint64_t>(seed) + 7777u);
+  for (std::size_t b = 0; b < nbond; ++b) {
+    const double u = (double(random() >> 11) + 0.5) * 0x1.0p-53;  // (0, 1), the same on every platform
+    const double sm = mat[m.material[b]]->stiffness_weibull_modulus;
+    if (!(sm > 0)) continue;
+    const double s = std::pow(-std::log1p(-u), 1.0 / sm) / std::tgamma(1.0 + 1.0 / sm);
+    f.stiffness_factor[b] = s;
+    f.K[b] *= s, f.Ks[b] *= s, f.KI[b] *= s;
+    f.rupture[b] *= s;
+  }
+}
+
 // The CSR of the force gather (entry = 2 bond + (block is j)) and its padded copy, as wide as the block with the
 // most bonds and at least 3 (every block of a triangle mesh).
 void build_gather(const Topology<2>& topo, Model<2>& m) {
@@ -189,6 +214,7 @@ Model<2> build_model(const Topology<2>& topo, const Scene& scene, double mass_sc
   m.bi = topo.bonds.i, m.bj = topo.bonds.j, m.kind = topo.bonds.kind, m.material = materials.bond;
   build_frames(topo, m);
   apply_heterogeneity(mat, scene.mesh.strength_seed, m);
+  apply_stiffness_heterogeneity(mat, scene.mesh.strength_seed, m);
   build_gather(topo, m);
   double mean_length = 0;
   for (double L : topo.bonds.length) mean_length += L;

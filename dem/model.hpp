@@ -79,7 +79,8 @@ struct BondFrames {
   // The kind's law per bond, so the kernel streams it: the linear part's Coulomb coefficient while bonded (+inf:
   // it sticks), the strength in force units sigma_c A and c A, tan(phi_b) and beta_m.
   std::vector<double> mu_bonded, tension_limit, cohesion_A, tan_phi, beta_m;
-  std::vector<double> strength_factor;  // the bond's strength over its material's (1 without heterogeneity)
+  std::vector<double> strength_factor;   // the bond's strength over its material's (1 without heterogeneity)
+  std::vector<double> stiffness_factor;  // the bond's E* over its material's (1 without stiffness heterogeneity)
   std::size_t size() const { return L.size(); }
 };
 

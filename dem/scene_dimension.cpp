@@ -113,6 +113,12 @@ void validate_3d_others(const Scene& s) {
   if (!s.rock2.groups.empty())
     unused("rock2.groups", "\"" + s.rock2.groups + "\"", 3,
            "a 3D specimen is of one rock ([rock]): remove rock2.groups");
+  for (const auto& [name, mat] : {std::pair<const char*, const MaterialParams*>{"rock", &s.rock},
+                                  {"joint", &s.joint}, {"joint2", &s.joint2}, {"rock2", &s.rock2}})
+    if (mat->stiffness_weibull_modulus != 0.0)
+      unused(std::string(name) + ".stiffness_weibull_modulus", real_text(mat->stiffness_weibull_modulus), 3,
+             "the 3D face bonds keep every bond at its material's E*: remove the key (weibull_modulus scatters the "
+             "strengths in 3D as in 2D)");
   if (!s.joint2.groups.empty())
     unused("joint2.groups", "\"" + s.joint2.groups + "\"", 3,
            "names interfaces of a user mesh, which 3D does not read; the second joint set (joint_set2) takes [joint2]");

@@ -143,8 +143,9 @@ void declare_geometry(Keys& k) {
                  "seed gives the same mesh (docs/studies.md, \"Realizations\")",
                  [](Scene& s) -> int& { return s.mesh.seed; }));
   k.add(integer("mesh.strength_seed", "-", 0, 1000000,
-                 "realization of the bond strength factors of the materials with a weibull_modulus (the same seed "
-                 "gives the same strengths on the same mesh); a study's realizations = N runs seeds 0 .. N-1 of "
+                 "realization of the bond strength factors of the materials with a weibull_modulus, and of the "
+                 "stiffness factors of those with a stiffness_weibull_modulus (the same seed gives the same bonds on "
+                 "the same mesh); a study's realizations = N runs seeds 0 .. N-1 of "
                  "both this and mesh.seed",
                  [](Scene& s) -> int& { return s.mesh.strength_seed; }));
   k.add(boolean("mesh.structured",
@@ -193,6 +194,13 @@ void add_material(Keys& k, const std::string& section, std::function<MaterialPar
              "0.36 at m = 3, 0.12 at m = 10); the fracture energy stays the same; 0 = every bond at the stated "
              "strength (mesh.strength_seed picks the realization)",
              [m](Scene& s) -> double& { return m(s).weibull_modulus; }));
+  k.add(real(p + "stiffness_weibull_modulus", "-", 0.0, 100.0,
+             "stiffness heterogeneity of " + what + " (2D): each bond's effective modulus is E* times a factor drawn "
+             "from a Weibull distribution of this modulus m, scaled to mean 1 (coefficient of variation 0.52 at "
+             "m = 2, 0.36 at m = 3), independent of the strength factors; stiff and soft bonds side by side load "
+             "their neighbours unevenly, so cracks start below the peak (crack initiation); 0 = every bond at E* "
+             "(mesh.strength_seed picks the realization)",
+             [m](Scene& s) -> double& { return m(s).stiffness_weibull_modulus; }));
   k.add(real(p + "dilation_deg", "deg", 0.0, 45.0,
              "dilation angle i of the contacts of " + what + " after breakage (Patton's asperities): while a contact "
              "slides, its normal opening grows by |slip| tan(i), so a sliding joint dilates; 0 = a flat interface",

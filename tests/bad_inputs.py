@@ -127,6 +127,8 @@ CASES = [
      "specimen.contact_arc_deg"),
     ("a 3D scene with non-persistent joints", "mesh --set specimen.dimension=3 --set joint_set.persistence=0.5",
      "joint_set.persistence"),
+    ("a 3D scene with a scattered bond stiffness (2D only)",
+     "mesh --set specimen.dimension=3 --set rock.stiffness_weibull_modulus=3", "rock.stiffness_weibull_modulus"),
     ("a 3D scene with a 2D user mesh (no tetrahedra)", "mesh --set specimen.dimension=3 --mesh good_square.msh",
      "good_square.msh"),
     ("`mesh --out` of a 3D scene", "mesh --set specimen.dimension=3 --out cylinder.msh", "--out"),

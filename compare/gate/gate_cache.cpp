@@ -29,10 +29,17 @@ bool ends_with(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// Scene keys that cannot change the elastic response (see the header).
-bool elastically_irrelevant(const std::string& key) {
-  if (key == "joint_set.dip_deg" || key == "rock.density" || key == "rock2.density" || key == "mesh.strength_seed")
-    return true;
+bool stiffness_scatters(const Scene& s) {
+  return s.rock.stiffness_weibull_modulus > 0 || s.joint.stiffness_weibull_modulus > 0 ||
+         s.joint2.stiffness_weibull_modulus > 0 || s.rock2.stiffness_weibull_modulus > 0;
+}
+
+// Scene keys that cannot change the elastic response (see the header). The strength seed does where it draws the
+// bonds' stiffness factors too.
+bool elastically_irrelevant(const std::string& key, const Scene& scene) {
+  if (key == "joint_set.dip_deg" || key == "rock.density" || key == "rock2.density") return true;
+  if (key == "mesh.strength_seed") return !stiffness_scatters(scene);
+  if (ends_with(key, ".stiffness_weibull_modulus")) return false;
   if (starts_with(key, "loading.") || starts_with(key, "numerics.") || starts_with(key, "output.")) return true;
   for (const char* strength : {".tensile_strength", ".cohesion", ".friction_deg", ".moment_factor",
                                ".fracture_energy", ".weibull_modulus"})
@@ -57,7 +64,7 @@ std::string elastic_gate_key_text(const Scene& scene) {
   // The code's version and commit too: another build may measure differently, so it never reuses a verdict.
   std::string text = std::string(gate_version) + "\n" + "rbdem=" + version_text() + "\n";
   for (const auto& p : scene_parameters())
-    if (!elastically_irrelevant(p.key)) text += p.key + "=" + parameter_text(scene, p.key) + "\n";
+    if (!elastically_irrelevant(p.key, scene)) text += p.key + "=" + parameter_text(scene, p.key) + "\n";
   if (!scene.mesh.file.empty())
     text += fmt::format("mesh.file.contents={:016x}\n", fnv1a(read_file(scene.mesh.file)));
   return text;

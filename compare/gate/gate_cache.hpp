@@ -3,7 +3,8 @@
 //
 // Cache key: a hash of every scene key that can change the elastic response, i.e. every key except
 // joint_set.dip_deg (the gate runs every dip), the bond strengths of every material (tensile_strength, cohesion,
-// friction_deg, moment_factor, fracture_energy, weibull_modulus, and mesh.strength_seed), rock.density and
+// friction_deg, moment_factor, fracture_energy, weibull_modulus, and mesh.strength_seed unless a material's
+// stiffness_weibull_modulus draws stiffness factors from it), rock.density and
 // rock2.density (statics see no mass), loading.* (the gate uses frictionless platens; the rest are stop criteria and
 // speed), numerics.* (time integration) and output.*. Keys added to the scene later are in the
 // key until listed here, so a stale verdict is never reused. A user mesh (mesh.file) enters with its contents.
