@@ -59,8 +59,8 @@ Scene start_scene(const study::CalibrationSpec& spec) {
 
 int run_calibrate(const CalibrateOptions& opt) {
   study::CalibrationSpec spec =
-      load_input(opt.targets, InputKind::calibration, [](const auto& f) { return study::load_calibration(f); });
-  for (const auto& s : opt.sets) apply_override(spec.base, s);
+      load_input(opt.targets, InputKind::calibration,
+                 [&](const auto& f) { return study::load_calibration(f, opt.sets); });
   validate(spec.base);
   if (!opt.force) {
     check_plausible(spec.base);

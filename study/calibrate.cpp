@@ -66,7 +66,7 @@ std::vector<double> numbers(const toml::node* node, const std::string& where) {
 
 }  // namespace
 
-CalibrationSpec load_calibration(const std::filesystem::path& path) {
+CalibrationSpec load_calibration(const std::filesystem::path& path, const std::vector<std::string>& overrides) {
   const std::string where = path.string();
   const toml::table root = read_toml_file(path, "calibration", "shipped: scenes/calibrate_paper.toml");
   CalibrationSpec spec;
@@ -90,6 +90,7 @@ CalibrationSpec load_calibration(const std::filesystem::path& path) {
       for (const auto& [k, v] : *set)
         set_parameter(spec.base, k.str(), toml_value_text(v, where + " " + std::string(k.str())));
   }
+  for (const auto& o : overrides) apply_override(spec.base, o);
   if (!(spec.tolerance > 0 && spec.tolerance < 1))
     throw SceneError(where + ": calibrate.tolerance must lie in (0, 1), e.g. 0.03");
   check_realizations(spec.realizations, spec.base);

@@ -76,7 +76,9 @@ struct CalibrationSpec {
   std::vector<CalibrationTarget> targets;
 };
 
-CalibrationSpec load_calibration(const std::filesystem::path& path);
+// `overrides` (KEY=VALUE, the command line's --set) apply to the base scene after [calibrate.set] and before the
+// parameters read their start values from it, so an override of a fitted key moves its start.
+CalibrationSpec load_calibration(const std::filesystem::path& path, const std::vector<std::string>& overrides = {});
 
 struct CalibrationIteration {
   int iteration = 0;
