@@ -113,8 +113,7 @@ void validate_3d_others(const Scene& s) {
   if (!s.rock2.groups.empty())
     unused("rock2.groups", "\"" + s.rock2.groups + "\"", 3,
            "a 3D specimen is of one rock ([rock]): remove rock2.groups");
-  for (const auto& [name, mat] : {std::pair<const char*, const MaterialParams*>{"rock", &s.rock},
-                                  {"joint", &s.joint}, {"joint2", &s.joint2}, {"rock2", &s.rock2}})
+  for (const auto& [name, mat] : {std::pair<const char*, const MaterialParams*>{"rock", &s.rock}, {"rock2", &s.rock2}})
     if (mat->stiffness_weibull_modulus != 0.0)
       unused(std::string(name) + ".stiffness_weibull_modulus", real_text(mat->stiffness_weibull_modulus), 3,
              "the 3D face bonds keep every bond at its material's E*: remove the key (weibull_modulus scatters the "

@@ -194,13 +194,16 @@ void add_material(Keys& k, const std::string& section, std::function<MaterialPar
              "0.36 at m = 3, 0.12 at m = 10); the fracture energy stays the same; 0 = every bond at the stated "
              "strength (mesh.strength_seed picks the realization)",
              [m](Scene& s) -> double& { return m(s).weibull_modulus; }));
-  k.add(real(p + "stiffness_weibull_modulus", "-", 0.0, 100.0,
-             "stiffness heterogeneity of " + what + " (2D): each bond's effective modulus is E* times a factor drawn "
-             "from a Weibull distribution of this modulus m, scaled to mean 1 (coefficient of variation 0.52 at "
-             "m = 2, 0.36 at m = 3), independent of the strength factors; stiff and soft bonds side by side load "
-             "their neighbours unevenly, so cracks start below the peak (crack initiation); 0 = every bond at E* "
-             "(mesh.strength_seed picks the realization)",
-             [m](Scene& s) -> double& { return m(s).stiffness_weibull_modulus; }));
+  // A rock's grain-scale stiffness scatter only: the FE model with the joints gives each joint edge its
+  // material's compliance, so a scattered joint would not be compared like with like.
+  if (section == "rock" || section == "rock2")
+    k.add(real(p + "stiffness_weibull_modulus", "-", 0.0, 100.0,
+               "stiffness heterogeneity of " + what + " (2D): each bond's effective modulus is E* times a factor "
+               "drawn from a Weibull distribution of this modulus m, scaled to mean 1 (coefficient of variation 0.52 "
+               "at m = 2, 0.36 at m = 3), independent of the strength factors; stiff and soft bonds side by side "
+               "load their neighbours unevenly, so cracks start below the peak (crack initiation); 0 = every bond "
+               "at E* (mesh.strength_seed picks the realization)",
+               [m](Scene& s) -> double& { return m(s).stiffness_weibull_modulus; }));
   k.add(real(p + "dilation_deg", "deg", 0.0, 45.0,
              "dilation angle i of the contacts of " + what + " after breakage (Patton's asperities): while a contact "
              "slides, its normal opening grows by |slip| tan(i), so a sliding joint dilates; 0 = a flat interface",

@@ -30,8 +30,7 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 }
 
 bool stiffness_scatters(const Scene& s) {
-  return s.rock.stiffness_weibull_modulus > 0 || s.joint.stiffness_weibull_modulus > 0 ||
-         s.joint2.stiffness_weibull_modulus > 0 || s.rock2.stiffness_weibull_modulus > 0;
+  return s.rock.stiffness_weibull_modulus > 0 || s.rock2.stiffness_weibull_modulus > 0;
 }
 
 // Scene keys that cannot change the elastic response (see the header). The strength seed does where it draws the
