@@ -63,7 +63,7 @@ struct MaterialParams {
   double fracture_energy = 0;    // J/m^2, G_f of a softening bond (docs/model.md, "Softening bonds"); 0 = brittle
   bool slip_when_bonded = false; // linear part may slide while its parallel bond is intact (PFC's LPB)
   double weibull_modulus = 0;    // -, m of the bonds' Weibull strength factors (mean 1); 0 = every bond at the strength
-  double stiffness_weibull_modulus = 0;  // -, m of the bonds' Weibull stiffness factors (mean 1; rocks only); 0 = E*
+  double stiffness_weibull_modulus = 0;  // -, m of the bonds' Weibull stiffness factors (mean 1); 0 = every bond at E*
   double dilation_deg = 0;       // deg, dilation angle i of its contacts: sliding opens them by |slip| tan(i)
 };
 
