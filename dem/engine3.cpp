@@ -162,26 +162,26 @@ struct Chunk {
 constexpr int kRecord = 13;
 using Rows = double[kRecord][kChunk];
 
-// Eight doubles as one value of GCC's vector extension: one AVX-512 register, two AVX2 or four SSE2 ones.
+// Eight doubles as one value of the vector extension (GCC and Clang; __builtin_shufflevector in both): one AVX-512
+// register, two AVX2 or four SSE2 ones.
 typedef double V8 __attribute__((vector_size(64)));
-typedef long long I8 __attribute__((vector_size(64)));
 
 // The 8 x 8 transpose of v[0 .. 8) in place, by three rounds of two-source shuffles (elements, pairs, halves):
 // 24 shuffles where the element by element copy takes 64 loads and 64 stores.
 [[gnu::always_inline]] inline void transpose8(V8 v[8]) {
   V8 t[8];
   for (int i = 0; i < 8; i += 2) {  // t[i] = a0 b0 a2 b2 ..., t[i + 1] = a1 b1 a3 b3 ... of a = v[i], b = v[i + 1]
-    t[i] = __builtin_shuffle(v[i], v[i + 1], I8{0, 8, 2, 10, 4, 12, 6, 14});
-    t[i + 1] = __builtin_shuffle(v[i], v[i + 1], I8{1, 9, 3, 11, 5, 13, 7, 15});
+    t[i] = __builtin_shufflevector(v[i], v[i + 1], 0, 8, 2, 10, 4, 12, 6, 14);
+    t[i + 1] = __builtin_shufflevector(v[i], v[i + 1], 1, 9, 3, 11, 5, 13, 7, 15);
   }
   for (int i = 0; i < 8; i += 4)  // v[i + j] = a_j b_j c_j d_j a_j+4 ..., v[i + j + 2] the same for j + 2
     for (int j = 0; j < 2; ++j) {
-      v[i + j] = __builtin_shuffle(t[i + j], t[i + j + 2], I8{0, 1, 8, 9, 4, 5, 12, 13});
-      v[i + j + 2] = __builtin_shuffle(t[i + j], t[i + j + 2], I8{2, 3, 10, 11, 6, 7, 14, 15});
+      v[i + j] = __builtin_shufflevector(t[i + j], t[i + j + 2], 0, 1, 8, 9, 4, 5, 12, 13);
+      v[i + j + 2] = __builtin_shufflevector(t[i + j], t[i + j + 2], 2, 3, 10, 11, 6, 7, 14, 15);
     }
   for (int j = 0; j < 4; ++j) {  // the element j and j + 4 of all eight
-    t[j] = __builtin_shuffle(v[j], v[j + 4], I8{0, 1, 2, 3, 8, 9, 10, 11});
-    t[j + 4] = __builtin_shuffle(v[j], v[j + 4], I8{4, 5, 6, 7, 12, 13, 14, 15});
+    t[j] = __builtin_shufflevector(v[j], v[j + 4], 0, 1, 2, 3, 8, 9, 10, 11);
+    t[j + 4] = __builtin_shufflevector(v[j], v[j + 4], 4, 5, 6, 7, 12, 13, 14, 15);
   }
   for (int i = 0; i < 8; ++i) v[i] = t[i];
 }
