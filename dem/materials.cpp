@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cmath>
 #include <numbers>
+#include <random>
 
 #include <fmt/format.h>
 
@@ -51,6 +52,21 @@ const MaterialParams& material_params(const Scene& scene, std::size_t id) {
     case material_rock2: return scene.rock2;
     default: return scene.rock;
   }
+}
+
+std::vector<double> weibull_factors(const Scene& scene, const std::vector<std::uint8_t>& bond_material,
+                                    double MaterialParams::*modulus, std::uint64_t seed) {
+  bool any = false;
+  for (std::size_t k = 0; k < material_count; ++k) any = any || material_params(scene, k).*modulus > 0;
+  if (!any) return {};
+  std::vector<double> w(bond_material.size(), 1.0);
+  std::mt19937_64 random(seed);
+  for (std::size_t b = 0; b < w.size(); ++b) {
+    const double u = (double(random() >> 11) + 0.5) * 0x1.0p-53;  // (0, 1), the same on every platform
+    const double m = material_params(scene, bond_material[b]).*modulus;
+    if (m > 0) w[b] = std::pow(-std::log1p(-u), 1.0 / m) / std::tgamma(1.0 + 1.0 / m);
+  }
+  return w;
 }
 
 namespace {

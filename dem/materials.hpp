@@ -40,4 +40,12 @@ std::vector<std::uint8_t> rock2_layers(const Topology<2>& topo, const Scene& sce
 // The scene's parameters of material `id`.
 const MaterialParams& material_params(const Scene& scene, std::size_t id);
 
+// Heterogeneity: one factor per bond from a Weibull distribution of mean 1, w = (-ln(1 - u))^(1/m) / Gamma(1 + 1/m)
+// with m the `modulus` (weibull_modulus for the strengths, stiffness_weibull_modulus for E*) of the bond's material
+// (`bond_material`, ids as above); one uniform u in (0, 1) per bond in bond order from a 64-bit Mersenne twister
+// seeded with `seed`, drawn for every bond so that a material's factors do not depend on which others scatter; 1
+// where m = 0. Empty when no material scatters.
+std::vector<double> weibull_factors(const Scene& scene, const std::vector<std::uint8_t>& bond_material,
+                                    double MaterialParams::*modulus, std::uint64_t seed);
+
 }  // namespace rbdem

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <random>
 #include <stdexcept>
 
 #include "common/fault_injection.hpp"
@@ -128,49 +127,33 @@ void build_frames(const Topology<2>& topo, Model<2>& m) {
   }
 }
 
-// Strength heterogeneity: per-bond factors w from a Weibull distribution of modulus m scaled to mean 1,
-// w = (-ln(1 - u))^(1/m) / Gamma(1 + 1/m), one uniform u in (0, 1) per bond in bond order from mesh.strength_seed
-// (drawn for every bond, so a material's factors do not depend on which other materials are heterogeneous). A
-// softening bond keeps its fracture energy: r_u ~ 1 / sigma_c^2 scales by 1 / w^2.
-void apply_heterogeneity(const MaterialTable& mat, int seed, Model<2>& m) {
+// Strength heterogeneity: each bond's tensile strength and cohesion times its factor w (weibull_factors,
+// dem/materials.hpp, from mesh.strength_seed). A softening bond keeps its fracture energy: r_u ~ 1 / sigma_c^2 scales
+// by 1 / w^2.
+void apply_heterogeneity(const Scene& scene, Model<2>& m) {
   BondFrames& f = m.frame;
-  const std::size_t nbond = m.num_bonds();
-  f.strength_factor.assign(nbond, 1.0);
-  bool heterogeneous = false;
-  for (std::size_t k = 0; k < material_count; ++k) heterogeneous = heterogeneous || mat[k]->weibull_modulus > 0;
-  if (!heterogeneous) return;
-  std::mt19937_64 random(static_cast<std::uint64_t>(seed));
-  for (std::size_t b = 0; b < nbond; ++b) {
-    const double u = (double(random() >> 11) + 0.5) * 0x1.0p-53;  // (0, 1), the same on every platform
-    const double wm = mat[m.material[b]]->weibull_modulus;
-    if (!(wm > 0)) continue;
-    const double w = std::pow(-std::log1p(-u), 1.0 / wm) / std::tgamma(1.0 + 1.0 / wm);
-    f.strength_factor[b] = w;
+  f.strength_factor =
+      weibull_factors(scene, m.material, &MaterialParams::weibull_modulus, std::uint64_t(scene.mesh.strength_seed));
+  if (f.strength_factor.empty()) return f.strength_factor.assign(m.num_bonds(), 1.0);
+  for (std::size_t b = 0; b < m.num_bonds(); ++b) {
+    const double w = f.strength_factor[b];
     f.tension_limit[b] *= w, f.cohesion_A[b] *= w;
     f.rupture[b] /= w * w;
   }
 }
 
-// Stiffness heterogeneity: per-bond factors s from a Weibull distribution of modulus m scaled to mean 1, as the
-// strength factors but from their own stream (seeded with mesh.strength_seed + 7777), so that a scene's strengths
-// stay the same whether its stiffnesses scatter or not. The bond's E* is E* s: K, K / kappa and the rotational
-// stiffness scale by s, and so does a softening bond's r_u = softening K / L (its fracture energy stays G_f). The
-// broken bond's linear part, the static solve and the stability limit read these same K.
-void apply_stiffness_heterogeneity(const MaterialTable& mat, int seed, Model<2>& m) {
+// Stiffness heterogeneity: each bond's E* times its factor s (weibull_factors with stiffness_weibull_modulus), from
+// its own stream (seeded with mesh.strength_seed + 7777), so that a scene's strengths stay the same whether its
+// stiffnesses scatter or not. K, K / kappa and the rotational stiffness scale by s, and so does a softening bond's
+// r_u = softening K / L (its fracture energy stays G_f). The broken bond's linear part, the static solve and the
+// stability limit read these same K.
+void apply_stiffness_heterogeneity(const Scene& scene, Model<2>& m) {
   BondFrames& f = m.frame;
-  const std::size_t nbond = m.num_bonds();
-  f.stiffness_factor.assign(nbond, 1.0);
-  bool heterogeneous = false;
-  for (std::size_t k = 0; k < material_count; ++k)
-    heterogeneous = heterogeneous || mat[k]->stiffness_weibull_modulus > 0;
-  if (!heterogeneous) return;
-  std::mt19937_64 random(static_cast<std::uint64_t>(seed) + 7777u);
-  for (std::size_t b = 0; b < nbond; ++b) {
-    const double u = (double(random() >> 11) + 0.5) * 0x1.0p-53;  // (0, 1), the same on every platform
-    const double sm = mat[m.material[b]]->stiffness_weibull_modulus;
-    if (!(sm > 0)) continue;
-    const double s = std::pow(-std::log1p(-u), 1.0 / sm) / std::tgamma(1.0 + 1.0 / sm);
-    f.stiffness_factor[b] = s;
+  f.stiffness_factor = weibull_factors(scene, m.material, &MaterialParams::stiffness_weibull_modulus,
+                                       std::uint64_t(scene.mesh.strength_seed) + 7777u);
+  if (f.stiffness_factor.empty()) return f.stiffness_factor.assign(m.num_bonds(), 1.0);
+  for (std::size_t b = 0; b < m.num_bonds(); ++b) {
+    const double s = f.stiffness_factor[b];
     f.K[b] *= s, f.Ks[b] *= s, f.KI[b] *= s;
     f.rupture[b] *= s;
   }
@@ -213,8 +196,8 @@ Model<2> build_model(const Topology<2>& topo, const Scene& scene, double mass_sc
   build_laws(mat, m.thickness, m);
   m.bi = topo.bonds.i, m.bj = topo.bonds.j, m.kind = topo.bonds.kind, m.material = materials.bond;
   build_frames(topo, m);
-  apply_heterogeneity(mat, scene.mesh.strength_seed, m);
-  apply_stiffness_heterogeneity(mat, scene.mesh.strength_seed, m);
+  apply_heterogeneity(scene, m);
+  apply_stiffness_heterogeneity(scene, m);
   build_gather(topo, m);
   double mean_length = 0;
   for (double L : topo.bonds.length) mean_length += L;

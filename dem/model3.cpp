@@ -5,7 +5,6 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <random>
 
 #include <fmt/format.h>
 
@@ -110,21 +109,13 @@ void build_bonds(const TetMesh& mesh, Model<3>& m) {
   }
 }
 
-// Weibull strength factors as in 2D (dem/model.cpp): one uniform number per bond in bond order from
-// mesh.strength_seed, w = (-ln(1 - u))^(1/m) / Gamma(1 + 1/m); a softening bond keeps its fracture energy.
+// Weibull strength factors as in 2D (weibull_factors, dem/materials.hpp, from mesh.strength_seed); a softening bond
+// keeps its fracture energy.
 void apply_heterogeneity(const Scene& scene, Model<3>& m) {
-  m.strength_factor.assign(m.num_bonds(), 1.0);
-  bool any = false;
-  for (std::size_t k = 0; k < material_count; ++k) any = any || material_params(scene, k).weibull_modulus > 0;
-  if (!any) return;
-  std::mt19937_64 random(static_cast<std::uint64_t>(scene.mesh.strength_seed));
-  for (std::size_t b = 0; b < m.num_bonds(); ++b) {
-    const double u = (double(random() >> 11) + 0.5) * 0x1.0p-53;
-    const double wm = material_params(scene, m.material[b]).weibull_modulus;
-    if (!(wm > 0)) continue;
-    const double w = std::pow(-std::log1p(-u), 1.0 / wm) / std::tgamma(1.0 + 1.0 / wm);
-    m.strength_factor[b] = w, m.rupture[b] /= w * w;
-  }
+  m.strength_factor =
+      weibull_factors(scene, m.material, &MaterialParams::weibull_modulus, std::uint64_t(scene.mesh.strength_seed));
+  if (m.strength_factor.empty()) return m.strength_factor.assign(m.num_bonds(), 1.0);
+  for (std::size_t b = 0; b < m.num_bonds(); ++b) m.rupture[b] /= m.strength_factor[b] * m.strength_factor[b];
 }
 
 // The bond stage's table from the frames, the laws and the strength factors.

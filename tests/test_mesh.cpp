@@ -23,6 +23,7 @@
 #include "dem/simulation_impl.hpp"
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
+#include "tests/weibull_check.hpp"
 
 namespace rbdem {
 namespace {
@@ -725,21 +726,7 @@ TEST(Materials, WeibullStrengthFactorsFollowTheirDistribution) {
     EXPECT_NEAR(model.frame.rupture[b], uniform.frame.rupture[b] / (f * f), 1e-12 * model.frame.rupture[b]);
     w.push_back(f);
   }
-  const double n = double(w.size());
-  ASSERT_GT(n, 1000);
-  std::sort(w.begin(), w.end());
-  const double g1 = std::tgamma(1 + 1 / m), g2 = std::tgamma(1 + 2 / m);
-  double ks = 0, sum = 0, sum2 = 0;
-  for (std::size_t k = 0; k < w.size(); ++k) {
-    const double F = 1 - std::exp(-std::pow(w[k] * g1, m));
-    ks = std::max({ks, std::abs(F - double(k) / n), std::abs(F - double(k + 1) / n)});
-    sum += w[k], sum2 += w[k] * w[k];
-  }
-  EXPECT_LT(ks, 1.63 / std::sqrt(n));
-  const double mean = sum / n, cv = std::sqrt(sum2 / n - mean * mean) / mean;
-  const double cv_exact = std::sqrt(g2 / (g1 * g1) - 1);  // 0.363 at m = 3
-  EXPECT_NEAR(mean, 1.0, 5 * cv_exact / std::sqrt(n));
-  EXPECT_NEAR(cv, cv_exact, 0.1 * cv_exact);
+  expect_weibull_factors(w, m);
   // The same seed gives the same factors; another seed other factors.
   EXPECT_EQ(build_model(topo, scene, 1.0).frame.strength_factor, model.frame.strength_factor);
   scene.mesh.strength_seed = 1;

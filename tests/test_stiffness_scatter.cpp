@@ -14,6 +14,7 @@
 #include "dem/simulation_impl.hpp"
 #include "dem/topology.hpp"
 #include "tests/simulations.hpp"
+#include "tests/weibull_check.hpp"
 
 namespace rbdem {
 namespace {
@@ -49,27 +50,12 @@ TEST(Materials, WeibullStiffnessFactorsScaleTheBondsAndLeaveTheStrengths) {
     EXPECT_EQ(model.frame.KI[b], f * uniform.frame.KI[b]);
     EXPECT_NEAR(model.frame.rupture[b], f * uniform.frame.rupture[b], 1e-12 * model.frame.rupture[b]);
     const BondStiffness k = model.stiffness(int(b)), k0 = uniform.stiffness(int(b));  // what the static solve reads
-    for (const auto& [scattered, plain] : {std::pair{k.kbnA, k0.kbnA}, std::pair{k.kbsA, k0.kbsA},
-                                           std::pair{k.kbnI, k0.kbnI}, std::pair{k.knA, k0.knA},
-                                           std::pair{k.ksA, k0.ksA}})
-      EXPECT_DOUBLE_EQ(scattered, f * plain);
+    for (const auto& [got, base] : {std::pair{k.kbnA, k0.kbnA}, std::pair{k.kbsA, k0.kbsA},
+                                    std::pair{k.kbnI, k0.kbnI}, std::pair{k.knA, k0.knA}, std::pair{k.ksA, k0.ksA}})
+      EXPECT_DOUBLE_EQ(got, f * base);
     s.push_back(f);
   }
-  const double n = double(s.size());
-  ASSERT_GT(n, 1000);
-  std::sort(s.begin(), s.end());
-  const double g1 = std::tgamma(1 + 1 / m), g2 = std::tgamma(1 + 2 / m);
-  double ks = 0, sum = 0, sum2 = 0;
-  for (std::size_t k = 0; k < s.size(); ++k) {
-    const double F = 1 - std::exp(-std::pow(s[k] * g1, m));
-    ks = std::max({ks, std::abs(F - double(k) / n), std::abs(F - double(k + 1) / n)});
-    sum += s[k], sum2 += s[k] * s[k];
-  }
-  EXPECT_LT(ks, 1.63 / std::sqrt(n));
-  const double mean = sum / n, cv = std::sqrt(sum2 / n - mean * mean) / mean;
-  const double cv_exact = std::sqrt(g2 / (g1 * g1) - 1);  // 0.428 at m = 2.5
-  EXPECT_NEAR(mean, 1.0, 5 * cv_exact / std::sqrt(n));
-  EXPECT_NEAR(cv, cv_exact, 0.1 * cv_exact);
+  expect_weibull_factors(s, m);
   EXPECT_EQ(build_model(topo, scene, 1.0).frame.stiffness_factor, model.frame.stiffness_factor);
   scene.mesh.strength_seed = 1;
   EXPECT_NE(build_model(topo, scene, 1.0).frame.stiffness_factor, model.frame.stiffness_factor);
