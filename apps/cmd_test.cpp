@@ -142,6 +142,13 @@ void print_timing(const std::string& test, const TestResult& r) {
              test, t.start_seconds, total, 1e6 * total / double(s.steps), s.bonds * pct, s.serial * pct,
              s.blocks * pct, s.events * pct, s.event_steps, s.rest * pct,
              r.wall_seconds - t.start_seconds - total, r.threads);
+  if (s.busy_steps > 0) {
+    const double us = 1e6 / double(s.busy_steps);
+    fmt::print("{}: time: busy per step, mean / busiest thread: bond kernel {:.1f} / {:.1f} us, contacts and "
+               "components {:.1f} / {:.1f} us, integration {:.1f} / {:.1f} us\n",
+               test, s.busy_mean[0] * us, s.busy_max[0] * us, s.busy_mean[1] * us, s.busy_max[1] * us,
+               s.busy_mean[2] * us, s.busy_max[2] * us);
+  }
 }
 
 extern "C" void on_signal(int sig) {

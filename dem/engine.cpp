@@ -50,6 +50,7 @@ Engine<2>::Engine(const Topology<2>& topo, const Scene& scene, const EngineOptio
   const char* adapt = std::getenv("RBDEM_ADAPT_THREADS");
   team_ = TeamSize(nthreads_, options_.adapt_threads && !(adapt && std::string(adapt) == "0"));
   w.flagged.assign(std::size_t(nthreads_), {});
+  busy_.assign(std::size_t(nthreads_), {});
   refresh();
   s.dt = critical_step();
 }
@@ -101,6 +102,7 @@ void Engine<2>::step() {
     for (BoundaryHooks<2>* h : hooks_)
       if (h->shares()) h->forces_share(model_, s, w, c, t, nt);
     double busy = omp_get_wtime() - t0;
+    busy_[std::size_t(t)].phase[1] = busy;
 #pragma omp barrier
 #pragma omp master
     {
@@ -117,7 +119,8 @@ void Engine<2>::step() {
     if (error) return true;
     t0 = omp_get_wtime();
     const bool ok = stages::integrate_share(model_, s, w, options_.damping, t, nt);
-    busy += omp_get_wtime() - t0;
+    busy_[std::size_t(t)].phase[2] = omp_get_wtime() - t0;
+    busy += busy_[std::size_t(t)].phase[2];
     if (timed) part.block_seconds[std::size_t(t)] += busy;
     return ok;
   };
@@ -131,7 +134,8 @@ void Engine<2>::step() {
     if (sample) team_.read(t);
     const double t0 = omp_get_wtime();
     stages::bond_forces_share(model_, s, w, c, t, nt);
-    if (nt == part.threads) part.bond_seconds[std::size_t(t)] += omp_get_wtime() - t0;
+    busy_[std::size_t(t)].phase[0] = omp_get_wtime() - t0;
+    if (nt == part.threads) part.bond_seconds[std::size_t(t)] += busy_[std::size_t(t)].phase[0];
     stages::rebuild_check_share(model_, s, w, t, nt);
 #pragma omp barrier
 #pragma omp master
@@ -167,6 +171,17 @@ void Engine<2>::step() {
   if (serial) T.events += events - mark[2], ++T.event_steps;
   T.rest += mark[6] - mark[5];
   ++T.steps;
+  if (c.threads == part.threads && !error) {
+    for (int k = 0; k < 3; ++k) {
+      double sum = 0, most = 0;
+      for (int t = 0; t < c.threads; ++t) {
+        const double b = busy_[std::size_t(t)].phase[k];
+        sum += b, most = std::max(most, b);
+      }
+      T.busy_mean[k] += sum / c.threads, T.busy_max[k] += most;
+    }
+    ++T.busy_steps;
+  }
 }
 
 void Engine<2>::evaluate_forces(std::vector<double>& fx, std::vector<double>& fy, std::vector<double>& moment) {

@@ -156,6 +156,7 @@ class Engine<2> {
   int nthreads_ = 1;  // the most threads the run may use
   TeamSize team_{1, false};
   StepTimes times_;
+  std::vector<ThreadBusy> busy_;  // per thread: this step's busy time per phase
 };
 
 }  // namespace rbdem

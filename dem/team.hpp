@@ -28,7 +28,17 @@ struct StepTimes {
   double events = 0;  // s: bond events and contact detection, on the steps that have them
   double rest = 0;    // s: before the first region and after the last (the partition, the components' step ends)
   long steps = 0, event_steps = 0;
+  // Per phase (0 the bond kernel, 1 the contact and boundary shares, 2 the integration), summed over the steps run
+  // on the full team: the mean of the threads' busy time and the busiest thread's. The stage's wall time above
+  // the busiest thread's is what the threads spent meeting; the busiest above the mean, the uneven split.
+  double busy_mean[3] = {}, busy_max[3] = {};
+  long busy_steps = 0;
   double total() const { return bonds + serial + blocks + events + rest; }
+};
+
+// One thread's busy time in each phase of the step it is running (StepTimes::busy_mean), on its own cache line.
+struct alignas(64) ThreadBusy {
+  double phase[3] = {};
 };
 
 // The calling thread's run delay: nanoseconds spent runnable but waiting for a core since the thread started.
