@@ -23,11 +23,6 @@ namespace {
 
 std::uint64_t pair_key(int i, int j) { return (std::uint64_t(std::uint32_t(i)) << 32) | std::uint32_t(j); }
 
-// The first pair whose lower block is b or above.
-int first_pair_of(const ContactPairs& C, int b) {
-  return int(std::lower_bound(C.key.begin(), C.key.end(), std::uint64_t(std::uint32_t(b)) << 32) - C.key.begin());
-}
-
 // A component asks for a rebuild regardless of the blocks (the top platen moved half a skin).
 bool boundary_moved(const Model<2>& m, const Hooks& hooks) {
   return std::any_of(hooks.begin(), hooks.end(), [&m](const BoundaryHooks<2>* h) { return h->rebuild_due(m); });
@@ -330,32 +325,34 @@ void detect_contacts(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const
 }
 
 // Each pair's narrow phase and contact law run in parallel into the pair's own record; the records are then
-// summed into the contact accumulators serially in pair order, so the sums do not depend on the thread count.
+// summed into the contact accumulators serially in pair order, so the sums do not depend on the thread count or on
+// which thread took which chunk.
 void contact_forces_begin(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c) {
   w.pair_force.resize(s.contacts.size());
   partition(m, w, c.threads);
-  if (int(w.in_contact.size()) < c.threads) w.in_contact.resize(std::size_t(c.threads));
+  const std::size_t chunk = Workspace<2>::kPairChunk;
+  w.in_contact.resize((s.contacts.size() + chunk - 1) / chunk);
   for (auto& v : w.in_contact) v.clear();
+  w.pair_chunk.next.store(0, std::memory_order_relaxed);
 }
 
-void contact_forces_share(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c, int t, int nt) {
+namespace {
+
+// The narrow phase and the contact law of the pairs [lo, hi), the touching ones listed in `touching`.
+void contact_forces_of(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c, int lo, int hi,
+                       std::vector<int>& touching) {
   auto& C = s.contacts;
   const double dt = c.dt;
   const bool advance = c.advance;
   Workspace<2>::PairForce* out = w.pair_force.data();
-  // Each thread takes the pairs whose lower block it integrates (the keys are sorted by it): it reads the blocks it
-  // moved itself. The ranges are contiguous and in thread order.
-  const auto [b0, b1] = w.share(w.part.block, t, nt);
-  const int lo = first_pair_of(C, b0), hi = first_pair_of(C, b1);
-  std::vector<int>& mine = w.in_contact[std::size_t(t)];
   for (int p = lo; p < hi; ++p) {
     const int i = C.i[p], j = C.j[p];
     Overlap ov;
-    const bool touching = pair_overlap(m, s, w, std::size_t(p), ov);
+    const bool touching_now = pair_overlap(m, s, w, std::size_t(p), ov);
     // A pair still joined by its bond (listed only with skip_bonded_pairs = false): the bond's linear part is its
     // contact, so the narrow phase above was the whole of its cost.
     const bool intact = C.bond[p] >= 0 && !s.broken[std::size_t(C.bond[p])];
-    if (!touching || intact) {
+    if (!touching_now || intact) {
       if (advance) C.fs[p] = 0.0, C.fn[p] = 0.0, C.chord[p] = 0.0, C.opening_x[p] = C.opening_y[p] = 0.0;
       out[p] = Workspace<2>::PairForce{0, 0, 0, 0, 0, false};
       continue;
@@ -377,13 +374,23 @@ void contact_forces_share(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, 
     }
     const double fx = fn * nx + fs * tx, fy = fn * ny + fs * ty;  // on j
     out[p] = Workspace<2>::PairForce{fx, fy, cross(cix, ciy, fx, fy), cross(cjx, cjy, fx, fy), friction, true};
-    mine.push_back(p);
+    touching.push_back(p);
   }
 }
 
+}  // namespace
+
+void contact_forces_share(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c, int, int) {
+  // Chunks to whichever thread asks: each pair's work is its own, so any thread may take any chunk.
+  const int n = int(s.contacts.size()), chunk = Workspace<2>::kPairChunk;
+  for (int k = w.pair_chunk.next.fetch_add(1, std::memory_order_relaxed); k * chunk < n;
+       k = w.pair_chunk.next.fetch_add(1, std::memory_order_relaxed))
+    contact_forces_of(m, s, w, c, k * chunk, std::min(n, (k + 1) * chunk), w.in_contact[std::size_t(k)]);
+}
+
 void contact_forces_end(ModelState<2>& s, Workspace<2>& w, const StepContext& c) {
-  // Most pairs of free-face blocks do not touch: only those that do are summed, the lists in thread order, which
-  // is pair order.
+  // Most pairs of free-face blocks do not touch: only those that do are summed, the lists in chunk order, which is
+  // pair order.
   const auto& C = s.contacts;
   const Workspace<2>::PairForce* out = w.pair_force.data();
   for (const std::vector<int>& list : w.in_contact)

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -74,7 +75,19 @@ struct Workspace<2> {
     bool touching;                                    // false: all zero
   };
   std::vector<PairForce> pair_force;                  // per contact pair
-  std::vector<std::vector<int>> in_contact;           // per thread: the pairs that touch this step, in pair order
+  // The contact stage hands out the pairs in chunks of kPairChunk, in pair order, to whichever thread asks next:
+  // the pairs that touch lie where the cracks are, not spread over the blocks. in_contact[k]: the pairs of chunk k
+  // that touch this step, in pair order, so that the chunks read in order are the pairs in order.
+  static constexpr int kPairChunk = 64;
+  std::vector<std::vector<int>> in_contact;
+  // The next chunk to hand out: copies start from 0 (a workspace copied holds no stage in progress).
+  struct Counter {
+    std::atomic<int> next{0};
+    Counter() = default;
+    Counter(const Counter&) {}
+    Counter& operator=(const Counter&) { return *this; }
+  };
+  Counter pair_chunk;
   // How a step's bond stage and block stage share the bonds and the blocks among its threads: contiguous ranges in
   // index order. They start with equal block counts and each thread's bonds those numbered from its blocks (a bond
   // is numbered from its lower block), so that a thread reads mostly the blocks it moved itself. No result depends
