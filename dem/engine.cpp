@@ -117,13 +117,18 @@ void Engine<2>::step() {
 #pragma omp barrier
     if (error) return true;
     t0 = omp_get_wtime();
-    const bool ok = stages::integrate_share(model_, s, w, options_.damping, t, nt);
+    int items = 0;
+    const bool ok = stages::integrate_share(model_, s, w, options_.damping, t, nt, &items);
     busy_[std::size_t(t)].phase[2] = omp_get_wtime() - t0;
     // The block split follows the integration alone: the contacts go in chunks to any thread.
-    if (timed) part.block_seconds[std::size_t(t)] += busy_[std::size_t(t)].phase[2];
+    if (timed) {
+      part.block_seconds[std::size_t(t)] += busy_[std::size_t(t)].phase[2];
+      part.block_items[std::size_t(t)] += items;
+    }
     return ok;
   };
   const auto begin_block_stages = [&] {
+    stages::integrate_begin(model_, w, c.threads);
     stages::contact_forces_begin(model_, s, w, c);
     for (BoundaryHooks<2>* h : hooks_) h->forces_begin(model_, s, w, c);
   };
@@ -132,9 +137,10 @@ void Engine<2>::step() {
     const int t = omp_get_thread_num(), nt = omp_get_num_threads();
     if (sample) team_.read(t);
     const double t0 = omp_get_wtime();
-    stages::bond_forces_share(model_, s, w, c, t, nt);
+    const int bonds = stages::bond_forces_share(model_, s, w, c, t, nt);
     busy_[std::size_t(t)].phase[0] = omp_get_wtime() - t0;
-    if (nt == part.threads) part.bond_seconds[std::size_t(t)] += busy_[std::size_t(t)].phase[0];
+    if (nt == part.threads)
+      part.bond_seconds[std::size_t(t)] += busy_[std::size_t(t)].phase[0], part.bond_items[std::size_t(t)] += bonds;
     stages::rebuild_check_share(model_, s, w, t, nt);
 #pragma omp barrier
 #pragma omp master

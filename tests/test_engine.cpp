@@ -5,8 +5,11 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
+#include <chrono>
 #include <cmath>
 #include <numbers>
+#include <thread>
 
 #include "compare/verify/dem_measures.hpp"
 #include "compare/verify/specimens.hpp"
@@ -428,6 +431,41 @@ TEST(Engine, StepsDoNotDependOnWhereTheThreadsSplitTheWork) {
   EXPECT_EQ(energy[1].damping, energy[0].damping);
   EXPECT_EQ(energy[1].friction, energy[0].friction);
   EXPECT_EQ(energy[1].strain, energy[0].strain);
+}
+
+// The stages run each thread's range in pieces, and a thread done with its own takes what is left of the others'
+// (Workspace<2>::run_pieces): every item runs exactly once, whatever the team, and a thread held up finds its range
+// taken over by the others.
+TEST(Engine, PiecesRunOnceAndAThreadHeldUpLeavesItsRangeToTheOthers) {
+  const std::vector<int> bounds = {0, 1000, 1300, 5000};
+  for (const int team : {1, 2, 3}) {
+    std::vector<Workspace<2>::Cursor> next(3);
+    std::vector<int> runs(5000, 0), items(std::size_t(team), 0);
+    auto taken = std::vector<std::vector<std::array<int, 2>>>(std::size_t(team));
+#pragma omp parallel num_threads(team)
+    {
+      const int t = omp_get_thread_num();
+      if (t == 0 && team > 1) std::this_thread::sleep_for(std::chrono::milliseconds(50));  // held up
+      items[std::size_t(t)] = Workspace<2>::run_pieces(bounds, next, 256, t, [&](int lo, int hi) {
+        taken[std::size_t(t)].push_back({lo, hi});
+        for (int k = lo; k < hi; ++k) {
+#pragma omp atomic
+          ++runs[std::size_t(k)];
+        }
+      });
+    }
+    EXPECT_EQ(std::count(runs.begin(), runs.end(), 1), 5000) << team << " threads";
+    int total = 0;
+    for (int n : items) total += n;
+    EXPECT_EQ(total, 5000);
+    for (const auto& list : taken)
+      for (const auto& piece : list) {  // no piece crosses a range's end
+        const auto end = std::upper_bound(bounds.begin(), bounds.end(), piece[0]);
+        EXPECT_LE(piece[1], *end);
+      }
+    if (team > 1) EXPECT_LT(items[0], 1000) << "the others took the pieces of the thread held up";
+    if (team == 1) EXPECT_EQ(items[0], 5000);
+  }
 }
 
 // The jacket pushes on every outer edge with p t L along its inward normal; a block that lost every bond and every

@@ -92,26 +92,30 @@ template <bool Damaged>
 
 void bond_forces_begin(const Model<2>& m, Workspace<2>& w, const StepContext& c) {
   partition(m, w, c.threads);
+  Workspace<2>::reset(w.part.bond_next);
   if (int(w.flagged.size()) < c.threads) w.flagged.resize(std::size_t(c.threads));
   for (auto& v : w.flagged) v.clear();
   w.flag.resize(m.num_bonds());
 }
 
-void bond_forces_share(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c, int t, int nt) {
-  // Contiguous ranges in thread order: the flagged lists, read in thread order, are in bond order.
+int bond_forces_share(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c, int t, int nt) {
   const bool test = c.advance && s.breakage;
-  const auto [lo, hi] = w.share(w.part.bond, t, nt);
   const BondFrames& f = m.frame;
-  const KernelRange range{BondArrays(m, s, w), w.record.data(), f.tension_limit.data(), f.cohesion_A.data(),
-                          f.tan_phi.data(), f.beta_m.data(), f.inv_L.data(), s.drive.data(), w.keep.data(),
-                          s.fs_lin.data(), w.slot.fx.data(), w.slot.fy.data(), w.slot.m.data(), w.flag.data(), c.dt,
-                          m.law[0].bond.moment_arm(), int(c.advance), int(test), lo, hi};
-  const bool flagged = w.damaged > 0 ? bond_range_damaged(range) : bond_range_intact(range);
-  if (flagged) {
-    auto& mine = w.flagged[std::size_t(t)];
+  KernelRange range{BondArrays(m, s, w), w.record.data(), f.tension_limit.data(), f.cohesion_A.data(),
+                    f.tan_phi.data(), f.beta_m.data(), f.inv_L.data(), s.drive.data(), w.keep.data(),
+                    s.fs_lin.data(), w.slot.fx.data(), w.slot.fy.data(), w.slot.m.data(), w.flag.data(), c.dt,
+                    m.law[0].bond.moment_arm(), int(c.advance), int(test), 0, 0};
+  // The flagged bonds of the pieces this thread ran, in the order it ran them (bond_events sorts them). Any team
+  // runs every piece: one of another size than the partition's (inside another parallel region) too.
+  (void)nt;
+  auto& mine = w.flagged[std::size_t(t)];
+  return Workspace<2>::run_pieces(w.part.bond, w.part.bond_next, Workspace<2>::Partition::kBondPiece, t,
+                                  [&](int lo, int hi) {
+    range.lo = lo, range.hi = hi;
+    if (!(w.damaged > 0 ? bond_range_damaged(range) : bond_range_intact(range))) return;
     for (int b = lo; b < hi; ++b)
       if (w.flag[std::size_t(b)]) mine.push_back(b);
-  }
+  });
 }
 
 void bond_forces(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c) {
@@ -134,6 +138,7 @@ int bond_events(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const std:
                 int threads) {
   w.events.clear();
   for (const auto& list : w.flagged) w.events.insert(w.events.end(), list.begin(), list.end());
+  std::sort(w.events.begin(), w.events.end());  // the threads took the pieces in any order: bond order again
   const int n = int(w.events.size());
   if (n == 0) return 0;
   // The positions have not moved since the kernel, and an event changes only its own bond: each flagged bond's

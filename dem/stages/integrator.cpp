@@ -91,23 +91,25 @@ void partition(const Model<2>& m, Workspace<2>& w, int threads) {
   }
   w.damping_work.assign(std::size_t((nb + grain - 1) / grain), 0.0);
   p.bond_seconds.assign(std::size_t(threads), 0.0), p.block_seconds.assign(std::size_t(threads), 0.0);
+  p.bond_items.assign(std::size_t(threads), 0.0), p.block_items.assign(std::size_t(threads), 0.0);
+  p.bond_next.assign(std::size_t(threads), {}), p.block_next.assign(std::size_t(threads), {});
   p.steps = 0;
 }
 
 namespace {
 
-// Moves the boundaries `bounds` (over `total` items, multiples of `grain`) half way to where the threads' measured
-// times `seconds` would have been equal, at each thread's own rate; no thread gets less than half or more than
-// one and a half times an equal share.
-void shift_bounds(std::vector<int>& bounds, const std::vector<double>& seconds, int grain) {
+// Moves the boundaries `bounds` (over `total` items, multiples of `grain`) half way to where the threads' own
+// ranges would have taken equal times at each thread's measured rate (`items` run in `seconds`, its own and those
+// it took from others); no thread gets less than half or more than one and a half times an equal share.
+void shift_bounds(std::vector<int>& bounds, const std::vector<double>& seconds, const std::vector<double>& items,
+                  int grain) {
   const std::size_t nt = seconds.size();
   const int total = bounds.back();
   std::vector<double> rate(nt);
   double sum = 0.0;
   for (std::size_t t = 0; t < nt; ++t) {
-    const int n = bounds[t + 1] - bounds[t];
-    if (!(seconds[t] > 0.0) || n <= 0) return;  // nothing measured: keep the split
-    rate[t] = n / seconds[t], sum += rate[t];
+    if (!(seconds[t] > 0.0) || !(items[t] > 0.0)) return;  // nothing measured: keep the split
+    rate[t] = items[t] / seconds[t], sum += rate[t];
   }
   const double equal = double(total) / double(nt);
   double at = 0.0;
@@ -124,10 +126,10 @@ void shift_bounds(std::vector<int>& bounds, const std::vector<double>& seconds, 
 void rebalance(Workspace<2>& w) {
   Workspace<2>::Partition& p = w.part;
   if (p.threads < 2 || ++p.steps < Workspace<2>::Partition::kRebalanceSteps) return;
-  shift_bounds(p.bond, p.bond_seconds, 1);
-  shift_bounds(p.block, p.block_seconds, Workspace<2>::Partition::kBlockGrain);
-  std::fill(p.bond_seconds.begin(), p.bond_seconds.end(), 0.0);
-  std::fill(p.block_seconds.begin(), p.block_seconds.end(), 0.0);
+  shift_bounds(p.bond, p.bond_seconds, p.bond_items, 1);
+  shift_bounds(p.block, p.block_seconds, p.block_items, Workspace<2>::Partition::kBlockGrain);
+  for (std::vector<double>* v : {&p.bond_seconds, &p.block_seconds, &p.bond_items, &p.block_items})
+    std::fill(v->begin(), v->end(), 0.0);
   p.steps = 0;
 }
 
@@ -238,19 +240,30 @@ template <bool Triangles>
 
 }  // namespace
 
-bool integrate_share(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, double damping, int t, int nt) {
+void integrate_begin(const Model<2>& m, Workspace<2>& w, int threads) {
+  partition(m, w, threads);
+  Workspace<2>::reset(w.part.block_next);
+}
+
+bool integrate_share(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, double damping, int t, int,
+                     int* items) {
   const int grain = Workspace<2>::Partition::kBlockGrain;
-  const auto [lo, hi] = w.share(w.part.block, t, nt);
   const BlockArrays arrays(m, s, w);
   double work[Workspace<2>::Partition::kBlockGrain];
   bool ok = true;
-  for (int g0 = lo; g0 < hi; g0 += grain) {
-    const int g1 = std::min(g0 + grain, hi);
-    ok = block_grain(arrays, s.dt, damping, g0, g1, work) && ok;
-    double e_damp = 0.0;
-    for (int b = g0; b < g1; ++b) e_damp -= work[b - g0];
-    w.damping_work[std::size_t(g0 / grain)] = e_damp;
-  }
+  Workspace<2>::Partition& p = w.part;
+  // Any team runs every piece: one of another size than the partition's (inside another parallel region) too.
+  const int ran = Workspace<2>::run_pieces(p.block, p.block_next, Workspace<2>::Partition::kBlockPiece, t,
+                                           [&](int lo, int hi) {
+    for (int g0 = lo; g0 < hi; g0 += grain) {
+      const int g1 = std::min(g0 + grain, hi);
+      ok = block_grain(arrays, s.dt, damping, g0, g1, work) && ok;
+      double e_damp = 0.0;
+      for (int b = g0; b < g1; ++b) e_damp -= work[b - g0];
+      w.damping_work[std::size_t(g0 / grain)] = e_damp;
+    }
+  });
+  if (items) *items = ran;
   return ok;
 }
 
@@ -266,10 +279,10 @@ void integrate_end(ModelState<2>& s, Workspace<2>& w, bool finite) {
 }
 
 void integrate(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, double damping, int threads) {
-  partition(m, w, threads);
+  integrate_begin(m, w, threads);
   bool finite = true;
 #pragma omp parallel num_threads(threads) reduction(&& : finite)
-  finite = integrate_share(m, s, w, damping, omp_get_thread_num(), omp_get_num_threads());
+  finite = integrate_share(m, s, w, damping, omp_get_thread_num(), omp_get_num_threads(), nullptr);
   integrate_end(s, w, finite);
 }
 

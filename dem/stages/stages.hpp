@@ -18,6 +18,7 @@
 // compare/reference_integrator.hpp): one code path serves both.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cstdint>
@@ -63,7 +64,8 @@ struct Workspace<2> {
                                                       // -1 for a broken bond (the kernel's "alive" test)
   std::size_t damaged = 0;                            // intact bonds past their strength (softening)
   std::vector<int> flag;                              // per bond: the failure test held this step
-  std::vector<std::vector<int>> flagged;              // per thread: bonds whose failure test held, in bond order
+  std::vector<std::vector<int>> flagged;              // per thread: bonds whose failure test held (bond_events
+                                                      // sorts them into bond order)
   struct EventForces {
     double fn, fs, m, px, py;                         // undamaged parallel-bond forces and the bond point
   };
@@ -80,14 +82,15 @@ struct Workspace<2> {
   // that touch this step, in pair order, so that the chunks read in order are the pairs in order.
   static constexpr int kPairChunk = 64;
   std::vector<std::vector<int>> in_contact;
-  // The next chunk to hand out: copies start from 0 (a workspace copied holds no stage in progress).
-  struct Counter {
+  // The next piece of a range to hand out, on its own cache line; copies start from 0 (a workspace copied holds no
+  // stage in progress).
+  struct alignas(64) Cursor {
     std::atomic<int> next{0};
-    Counter() = default;
-    Counter(const Counter&) {}
-    Counter& operator=(const Counter&) { return *this; }
+    Cursor() = default;
+    Cursor(const Cursor&) {}
+    Cursor& operator=(const Cursor&) { return *this; }
   };
-  Counter pair_chunk;
+  Cursor pair_chunk;
   // How a step's bond stage and block stage share the bonds and the blocks among its threads: contiguous ranges in
   // index order. They start with equal block counts and each thread's bonds those numbered from its blocks (a bond
   // is numbered from its lower block), so that a thread reads mostly the blocks it moved itself. No result depends
@@ -95,12 +98,20 @@ struct Workspace<2> {
   // threads' measured speed: every kRebalanceSteps steps, rebalance() moves the bond and the block boundaries
   // towards equal times (docs/performance.md, "A fourth round"). Block boundaries stay multiples of kBlockGrain:
   // the damping work, summed per grain and then in grain order, is the same at any thread count and split.
+  //
+  // Each range is run in pieces (kBondPiece bonds, kBlockPiece blocks) taken through the range's cursor: a thread
+  // runs its own range from the front and, once done, takes the pieces left in the others' ranges (run_pieces), so
+  // that a thread the system held up for a moment does not hold up the step. Every piece runs once, whichever
+  // thread takes it.
   struct Partition {
     static constexpr int kBlockGrain = 64;
     static constexpr int kRebalanceSteps = 64;
+    static constexpr int kBondPiece = 256, kBlockPiece = 4 * kBlockGrain;
     int threads = 0;
     std::vector<int> block, bond;                     // threads + 1 boundaries each
-    std::vector<double> bond_seconds, block_seconds;  // per thread: time in its share since the last rebalance
+    std::vector<double> bond_seconds, block_seconds;  // per thread: time in the stage since the last rebalance
+    std::vector<double> bond_items, block_items;      // per thread: bonds and blocks it ran in that time
+    std::vector<Cursor> bond_next, block_next;        // per range: the next piece to hand out
     int steps = 0;                                    // steps since the last rebalance
   };
   Partition part;
@@ -110,6 +121,29 @@ struct Workspace<2> {
   std::array<int, 2> share(const std::vector<int>& bounds, int t, int nt) const {
     if (nt == part.threads) return {bounds[std::size_t(t)], bounds[std::size_t(t) + 1]};
     return {t == 0 ? bounds.front() : bounds.back(), bounds.back()};
+  }
+  // Runs f(lo, hi) on the pieces of `piece` items of the ranges [bounds[v], bounds[v + 1]) (one of the partition's
+  // boundary lists, with `next` its cursors): thread t of a team of nt first on its own range, then on what is left
+  // of the others' in turn. Returns the items thread t ran. The cursors must be reset before the stage.
+  template <class F>
+  static int run_pieces(const std::vector<int>& bounds, std::vector<Cursor>& next, int piece, int t, F&& f) {
+    const int ranges = int(bounds.size()) - 1;
+    int items = 0;
+    for (int k = 0; k < ranges; ++k) {
+      const std::size_t v = std::size_t((t + k) % ranges);
+      const int lo = bounds[v], hi = bounds[v + 1];
+      if (lo + piece * next[v].next.load(std::memory_order_relaxed) >= hi) continue;  // nothing left there
+      for (int a = lo + piece * next[v].next.fetch_add(1, std::memory_order_relaxed); a < hi;
+           a = lo + piece * next[v].next.fetch_add(1, std::memory_order_relaxed)) {
+        const int b = std::min(hi, a + piece);
+        f(a, b);
+        items += b - a;
+      }
+    }
+    return items;
+  }
+  static void reset(std::vector<Cursor>& next) {
+    for (Cursor& c : next) c.next.store(0, std::memory_order_relaxed);
   }
   // The broad phase's cell grid at its last rebuild (contacts.cpp): each eligible block's cell key and position
   // then, sorted by (key, block). After bond breaks the lists are updated against it instead of rebuilt.
@@ -153,10 +187,11 @@ void rebalance(Workspace<2>& w);
 // thread t of the team of nt, X_end once after every share. X itself is the three in a region of its own.
 
 // The bond stage: slots of every bond (zero for broken ones) and, when advancing with breakage on, the bonds whose
-// failure test held in w.flagged. Runs on the partition's bond ranges.
+// failure test held in w.flagged. Runs the partition's bond ranges in pieces (Workspace<2>::run_pieces);
+// bond_forces_share returns the bonds its thread ran.
 void bond_forces(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c);
 void bond_forces_begin(const Model<2>& m, Workspace<2>& w, const StepContext& c);
-void bond_forces_share(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c, int t, int nt);
+int bond_forces_share(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c, int t, int nt);
 // Whether any bond is flagged for bond_events.
 inline bool events_pending(const Workspace<2>& w) {
   for (const auto& list : w.flagged)
@@ -203,9 +238,11 @@ void contact_forces_end(ModelState<2>& s, Workspace<2>& w, const StepContext& c)
 // then, on the same thread and block range, the new rotations' cos and sin and the block records
 // (update_rotations). Runs on the partition's block ranges. Throws InstabilityError when a position becomes non-finite.
 void integrate(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, double damping, int threads);
-// integrate_share returns false when a position of its blocks is not finite; integrate_end throws then. The begin
-// is partition().
-bool integrate_share(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, double damping, int t, int nt);
+// integrate_share returns false when a position of its blocks is not finite; integrate_end throws then. It runs
+// the block ranges in pieces (Workspace<2>::run_pieces) and sets *items (when given) to the blocks it ran.
+void integrate_begin(const Model<2>& m, Workspace<2>& w, int threads);
+bool integrate_share(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, double damping, int t, int nt,
+                     int* items);
 void integrate_end(ModelState<2>& s, Workspace<2>& w, bool finite);
 // The total generalized force on every block without damping (the same gather as integrate(), resetting the
 // accumulators too).
