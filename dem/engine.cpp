@@ -278,28 +278,46 @@ std::size_t Engine<2>::active_contacts() const {
 Energies Engine<2>::energies() const {
   Energies e;
   const ModelState<2>& s = state_;
-  for (std::size_t b = 0; b < model_.num_blocks(); ++b)
-    e.kinetic += 0.5 * (model_.mass[b] * (s.vx[b] * s.vx[b] + s.vy[b] * s.vy[b]) +
-                        model_.inertia[b] * s.omega[b] * s.omega[b]);
-  // Each intact bond's energy on the run's threads, then the sum in bond order (the same at any thread count).
-  const int nbond = int(model_.num_bonds());
-  std::vector<double> bond_energy(std::size_t(nbond), 0.0);
-#pragma omp parallel for schedule(static) num_threads(threads()) if (nbond > 4096)
-  for (int b = 0; b < nbond; ++b) {
-    if (s.broken[std::size_t(b)]) continue;
-    const BondForces f = bond_forces(b);
-    const BondStiffness k = model_.stiffness(b);
-    // A damaged bond stores keep k delta^2 / 2 = f^2 / (2 keep k) in its parallel part (f = keep k delta).
-    const double keep = work_.keep[std::size_t(b)];  // >= 0: the bond is intact
-    const double inv_keep = keep > 0.0 ? 1.0 / keep : 0.0;
-    bond_energy[std::size_t(b)] =
-        0.5 * ((f.fn_b * f.fn_b / k.kbnA + f.fs_b * f.fs_b / k.kbsA + f.m_b * f.m_b / k.kbnI) * inv_keep +
-               f.fn_lin * f.fn_lin / k.knA + f.fs_lin * f.fs_lin / k.ksA);
+  // Each block's kinetic energy, each intact bond's and each contact's stored energy on the run's threads (the
+  // driver asks at every curve sample, peak refresh and watchdog check), then each sum serially in block, bond and
+  // contact order: the same bits at any thread count.
+  const int nblock = int(model_.num_blocks()), nbond = int(model_.num_bonds()), ncontact = int(s.contacts.size());
+  std::vector<double> term(std::size_t(nblock + nbond + ncontact));
+  double* kinetic = term.data();
+  double* bond_energy = kinetic + nblock;
+  double* contact_energy = bond_energy + nbond;
+#pragma omp parallel num_threads(threads()) if (nblock + nbond + ncontact > 4096)
+  {
+#pragma omp for schedule(static) nowait
+    for (int b = 0; b < nblock; ++b) {
+      const std::size_t k = std::size_t(b);
+      kinetic[k] =
+          0.5 * (model_.mass[k] * (s.vx[k] * s.vx[k] + s.vy[k] * s.vy[k]) + model_.inertia[k] * s.omega[k] * s.omega[k]);
+    }
+#pragma omp for schedule(static) nowait
+    for (int b = 0; b < nbond; ++b) {
+      const std::size_t k = std::size_t(b);
+      if (s.broken[k]) continue;
+      // The parallel and linear parts of bond_forces(b), without its stresses.
+      const stages::BondEval ev = stages::eval_bond(model_, s, work_, b, 0.0, s.fs_lin[k], 1.0);
+      const double keep = work_.keep[k];  // >= 0: the bond is intact
+      const double fn_b = keep * ev.fnb, fs_b = keep * ev.fsb, m_b = keep * ev.mb;
+      const BondStiffness st = model_.stiffness(b);
+      // A damaged bond stores keep k delta^2 / 2 = f^2 / (2 keep k) in its parallel part (f = keep k delta).
+      const double inv_keep = keep > 0.0 ? 1.0 / keep : 0.0;
+      bond_energy[k] = 0.5 * ((fn_b * fn_b / st.kbnA + fs_b * fs_b / st.kbsA + m_b * m_b / st.kbnI) * inv_keep +
+                              ev.fnl * ev.fnl / st.knA + ev.fsl * ev.fsl / st.ksA);
+    }
+#pragma omp for schedule(static)
+    for (int c = 0; c < ncontact; ++c) {
+      const std::size_t k = std::size_t(c);
+      contact_energy[k] = s.contacts.law[k].strain_energy(s.contacts.fn[k], s.contacts.fs[k], s.contacts.chord[k]);
+    }
   }
+  for (int b = 0; b < nblock; ++b) e.kinetic += kinetic[b];
   for (int b = 0; b < nbond; ++b)
-    if (!s.broken[std::size_t(b)]) e.strain += bond_energy[std::size_t(b)];
-  for (std::size_t c = 0; c < s.contacts.size(); ++c)
-    e.strain += s.contacts.law[c].strain_energy(s.contacts.fn[c], s.contacts.fs[c], s.contacts.chord[c]);
+    if (!s.broken[std::size_t(b)]) e.strain += bond_energy[b];
+  for (int c = 0; c < ncontact; ++c) e.strain += contact_energy[c];
   for (const BoundaryHooks<2>* h : hooks_) e.strain += h->stored_energy();
   e.damping = s.e_damping;
   e.friction = s.e_friction;

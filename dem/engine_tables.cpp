@@ -2,6 +2,7 @@
 // writers). See engine.hpp.
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "dem/contact_geometry.hpp"
 #include "dem/engine.hpp"
@@ -65,24 +66,41 @@ BondStates Engine<2>::bond_states() const {
 ContactStates Engine<2>::contact_states() const {
   const ModelState<2>& s = state_;
   const ContactPairs& C = s.contacts;
-  ContactStates t;
-  t.dim = 2;
+  const std::size_t n = C.size();
   // The listed pairs that overlap now, with the contact law at the overlap now and the shear force as carried
-  // (capped by friction): the forces the engine's force evaluation gives in this state (evaluate_forces).
-  for (std::size_t p = 0; p < C.size(); ++p) {
+  // (capped by friction): the forces the engine's force evaluation gives in this state (evaluate_forces). Each
+  // pair's row on the run's threads (8 numbers: point, normal, force, normal and shear force), then the rows of the
+  // pairs in contact in pair order.
+  constexpr std::size_t width = 8;
+  const auto row = std::make_unique_for_overwrite<double[]>(width * n);
+  std::vector<std::uint8_t> touching(n, 0);
+#pragma omp parallel for schedule(static) num_threads(threads()) if (n > 4096)
+  for (std::size_t p = 0; p < n; ++p) {
     if (C.bond[p] >= 0 && !s.broken[std::size_t(C.bond[p])]) continue;  // still bonded: the bond is its contact
-    const int i = C.i[p], j = C.j[p];
     Overlap ov;
     if (!stages::pair_overlap(model_, s, work_, p, ov)) continue;
     const double nx = -ov.nx, ny = -ov.ny, tx = -ny, ty = nx;  // from i to j
     const double fn = C.law[p].normal_force(ov.area, ov.chord);
     double fs = C.fs[p];
     C.law[p].update_shear(fn, ov.chord, 0.0, 0.0, fs);
-    t.i.push_back(i), t.j.push_back(j);
-    t.point.push_back(ov.px), t.point.push_back(ov.py);
-    t.normal.push_back(nx), t.normal.push_back(ny);
-    t.force.push_back(fn * nx + fs * tx), t.force.push_back(fn * ny + fs * ty);
-    t.normal_force.push_back(fn), t.shear_force.push_back(fs);
+    double* r = &row[width * p];
+    r[0] = ov.px, r[1] = ov.py, r[2] = nx, r[3] = ny, r[4] = fn * nx + fs * tx, r[5] = fn * ny + fs * ty;
+    r[6] = fn, r[7] = fs;
+    touching[p] = 1;
+  }
+  ContactStates t;
+  t.dim = 2;
+  const std::size_t m = std::size_t(std::count(touching.begin(), touching.end(), std::uint8_t(1)));
+  t.i.reserve(m), t.j.reserve(m), t.point.reserve(2 * m), t.normal.reserve(2 * m), t.force.reserve(2 * m);
+  t.normal_force.reserve(m), t.shear_force.reserve(m);
+  for (std::size_t p = 0; p < n; ++p) {
+    if (!touching[p]) continue;
+    const double* r = &row[width * p];
+    t.i.push_back(C.i[p]), t.j.push_back(C.j[p]);
+    t.point.insert(t.point.end(), {r[0], r[1]});
+    t.normal.insert(t.normal.end(), {r[2], r[3]});
+    t.force.insert(t.force.end(), {r[4], r[5]});
+    t.normal_force.push_back(r[6]), t.shear_force.push_back(r[7]);
   }
   return t;
 }

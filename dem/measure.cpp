@@ -256,17 +256,31 @@ ForceNetwork force_network(const Simulation& sim) {
   const std::size_t d = std::size_t(sp.dim);
   const BondStates bonds = sim.bond_states();
   const ContactStates contacts = sim.contact_states();
+  // The intact bonds in bond order, then the contacts: each link's row is known from the count of intact bonds
+  // before it, so the rows are filled on the run's threads (a frame is taken at every peak refresh).
+  std::vector<std::size_t> row(bonds.size());
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < bonds.size(); ++k) row[k] = n, n += bonds.intact[k] ? 1 : 0;
+  const std::size_t first_contact = n;
+  n += contacts.size();
   ForceNetwork net;
-  const auto link = [&](int i, int j, std::uint8_t kind, const double* force, double normal) {
-    net.i.push_back(i), net.j.push_back(j), net.kind.push_back(kind);
-    for (std::size_t a = 0; a < d; ++a) net.force.push_back(float(force[a]));
-    net.normal_force.push_back(float(normal));
+  net.i.resize(n), net.j.resize(n), net.kind.resize(n), net.force.resize(d * n), net.normal_force.resize(n);
+  const auto link = [&](std::size_t r, int i, int j, std::uint8_t kind, const double* force, double normal) {
+    net.i[r] = i, net.j[r] = j, net.kind[r] = kind;
+    for (std::size_t a = 0; a < d; ++a) net.force[d * r + a] = float(force[a]);
+    net.normal_force[r] = float(normal);
   };
-  for (std::size_t k = 0; k < bonds.size(); ++k)
-    if (bonds.intact[k]) link(sp.bonds.i[k], sp.bonds.j[k], 0, &bonds.force[d * k], bonds.normal_force[k]);
-  // The contact table's normal force is compression positive; the network's is tension positive, as the bonds'.
-  for (std::size_t k = 0; k < contacts.size(); ++k)
-    link(contacts.i[k], contacts.j[k], 1, &contacts.force[d * k], -contacts.normal_force[k]);
+  const std::size_t nbond = bonds.size(), ncontact = contacts.size();
+#pragma omp parallel num_threads(sim.threads()) if (n > 4096)
+  {
+#pragma omp for schedule(static) nowait
+    for (std::size_t k = 0; k < nbond; ++k)
+      if (bonds.intact[k]) link(row[k], sp.bonds.i[k], sp.bonds.j[k], 0, &bonds.force[d * k], bonds.normal_force[k]);
+    // The contact table's normal force is compression positive; the network's is tension positive, as the bonds'.
+#pragma omp for schedule(static)
+    for (std::size_t k = 0; k < ncontact; ++k)
+      link(first_contact + k, contacts.i[k], contacts.j[k], 1, &contacts.force[d * k], -contacts.normal_force[k]);
+  }
   return net;
 }
 

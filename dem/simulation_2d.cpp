@@ -132,10 +132,17 @@ double SimulationImpl<2>::lateral_strain_of(const StaticResult& st) const {
 
 std::string SimulationImpl<2>::non_finite() const {
   const ModelState<2>& s = engine_.state();
-  for (std::size_t b = 0; b < s.num_blocks(); ++b)
+  // The first block with a non-finite position or velocity, the scan on the run's threads (the watchdog's check).
+  const long n = long(s.num_blocks());
+  long first = n;
+#pragma omp parallel for schedule(static) num_threads(engine_.threads()) reduction(min : first) if (n > 4096)
+  for (long k = 0; k < n; ++k) {
+    const std::size_t b = std::size_t(k);
     if (!(std::isfinite(s.x[b]) && std::isfinite(s.y[b]) && std::isfinite(s.theta[b]) && std::isfinite(s.vx[b]) &&
           std::isfinite(s.vy[b]) && std::isfinite(s.omega[b])))
-      return fmt::format("block {} has a non-finite position or velocity", b);
+      first = std::min(first, k);
+  }
+  if (first < n) return fmt::format("block {} has a non-finite position or velocity", first);
   return {};
 }
 

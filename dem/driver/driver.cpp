@@ -77,8 +77,10 @@ class TestRun {
   bool run() {
     stop_reason_ = "max_strain";
     const long max_explicit = protocol_.max_steps(sim_, rec_);
+    // The crack log's strain: the reading after the last step, as nothing moves between steps (protocol.hpp).
+    double strain = protocol_.read(sim_).strain;
     while (sim_.steps() < max_explicit) {
-      sim_.set_strain_for_log(protocol_.read(sim_).strain);
+      sim_.set_strain_for_log(strain);
       try {
         sim_.step();
       } catch (const InstabilityError&) {
@@ -87,6 +89,7 @@ class TestRun {
       }
       if (rate_.adapts()) rate_.after_step(sim_);
       const Reading reading = protocol_.read(sim_);
+      strain = reading.strain;
       const StepView view{sim_, reading, rec_};
       peaks_.after_step(view);
       frames_.after_step(view);

@@ -8,7 +8,8 @@
 //   start()   before the explicit run: boundary set-up and a static start where it is exact
 //   max_time_step()  a bound on the time step where no block's dynamics sets one (every block in a box)
 //   read()    after each step: the axial strain and the stresses that the curve, the peak and the stop criterion use
-//   control() after each step: what the boundaries do next
+//   control() after each step: what the boundaries do next (their speeds, servos, pressures; nothing moves before
+//             the next step, so the driver's reading after a step also holds before the next)
 //   stop()    whether the test is over, and why
 //   results() the test's own numbers (summary.json), and finish() its failure classes where it has its own
 // A protocol is one file in dem/driver/protocols/ with one line in the registry (dem/driver/registry.cpp), or one
