@@ -450,6 +450,7 @@ void Engine<3>::step() {
   const int nt_want = threads();
   const double t_start = omp_get_wtime();
   const bool sample = team_.begin(t_start, nt_want);
+  for (BoundaryHooks<3>* h : hooks_) h->begin_step(m, s);  // serial: the contacts' rebuild, before the shares
   double mark[3] = {};
   bool finite = true;
   std::exception_ptr error;

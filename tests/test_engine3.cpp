@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <tuple>
 
 #include "dem/boundary/components3.hpp"
 #include "dem/driver/driver.hpp"
@@ -272,6 +273,41 @@ TEST(Engine3, SnapshotRestoreContinuesBitForBit) {
   b->run(200);
   EXPECT_EQ(a->pose(), b->pose());
   EXPECT_EQ(a->find<Platens>()->top_force(), b->find<Platens>()->top_force());
+}
+
+// The contacts between blocks that were never neighbours on a cylinder cracked by a fast platen: their rebuild
+// runs serially at each step's start, their narrow phase on the step's threads (each pair into its own record) and
+// their sums in pair order, so the blocks' poses, the contact forces and the energies are the same bits on one and
+// on two threads. The forces of touching pairs meet on shared blocks: summed per thread and then across the threads,
+// their last bits would move within a few steps and grow from there.
+constexpr double kFastPlaten = 0.5;  // m/s
+constexpr long kCrackSteps = 300;
+TEST(Contacts3, ParallelNarrowPhaseIsBitIdenticalAtOneAndTwoThreads) {
+  auto run = [](int threads) {
+    Scene scene = scene3(60);
+    scene.numerics.threads = threads;
+    SimulationImpl<3> sim(scene, cylinder(60), {}, [](EngineOptions& e) { e.adapt_threads = false; });
+    sim.add_platens({kFastPlaten, 0.3});
+    sim.set_dt(0.8 * sim.block_step_estimate());
+    sim.run(kCrackSteps);
+    return std::make_tuple(sim.pose(), sim.contact_states(), sim.energies(), sim.cracks().size());
+  };
+  const auto [pose1, contacts1, energies1, cracks1] = run(1);
+  const auto [pose2, contacts2, energies2, cracks2] = run(2);
+  ASSERT_GT(cracks1, 0u);
+  ASSERT_GT(contacts1.size(), 0u) << "no pair of former non-neighbours touches: the check would be empty";
+  EXPECT_EQ(cracks1, cracks2);
+  EXPECT_EQ(pose1, pose2);
+  EXPECT_EQ(contacts1.i, contacts2.i);
+  EXPECT_EQ(contacts1.j, contacts2.j);
+  EXPECT_EQ(contacts1.force, contacts2.force);
+  EXPECT_EQ(contacts1.normal_force, contacts2.normal_force);
+  EXPECT_EQ(contacts1.shear_force, contacts2.shear_force);
+  EXPECT_EQ(energies1.kinetic, energies2.kinetic);
+  EXPECT_EQ(energies1.strain, energies2.strain);
+  EXPECT_EQ(energies1.friction, energies2.friction);
+  EXPECT_EQ(energies1.damping, energies2.damping);
+  std::printf("%zu cracks, %zu touching contacts\n", cracks1, contacts1.size());
 }
 
 }  // namespace
