@@ -141,6 +141,7 @@ BlockContacts3::Force BlockContacts3::contact(const Model<3>& m, const ModelStat
 
 void BlockContacts3::begin_step(const Model<3>& m, const ModelState<3>& s) {
   if (rebuild_due(m, s)) rebuild(m, s);
+  cursor_.store(0, std::memory_order_relaxed);  // the threads' pieces start at the first pair
 }
 
 // The pairs that touch lie where the specimen cracked, not spread evenly over the list: pieces of it go to whichever
