@@ -450,6 +450,8 @@ void Engine<3>::step() {
   const int nt_want = threads();
   const double t_start = omp_get_wtime();
   const bool sample = team_.begin(t_start, nt_want);
+  for (BoundaryHooks<3>* h : hooks_) h->begin_step(m, s);  // serial: the contacts' rebuild, before the shares
+  const double t_begun = omp_get_wtime();
   double mark[3] = {};
   bool finite = true;
   std::exception_ptr error;
@@ -482,7 +484,8 @@ void Engine<3>::step() {
   mark[2] = omp_get_wtime();
   team_.end(mark[2]);
   if (error) std::rethrow_exception(error);
-  times_.bonds += mark[0] - t_start, times_.serial += mark[1] - mark[0], times_.blocks += mark[2] - mark[1];
+  times_.bonds += mark[0] - t_begun, times_.serial += (t_begun - t_start) + (mark[1] - mark[0]);
+  times_.blocks += mark[2] - mark[1], ++times_.steps;
   for (double w : damping_work_) s.e_damping -= w;
   log_breaks(breaks_);
   if (!finite)

@@ -11,6 +11,7 @@
 //                                   (dem/contact3.hpp) and the linear contact law on the overlap volume
 #pragma once
 
+#include <atomic>
 #include <string>
 #include <utility>
 #include <vector>
@@ -126,11 +127,17 @@ class JacketImpl<3> : public Jacket, public BoundaryHooks<3> {
 // narrow phase: contact_tets; the law: the potential k_n V^2 / (2 A) on the overlap volume, F_n = k_n V A_c / A
 // along the contact normal (k_n = E* / (r_i + r_j), r the inradii; A the smaller of the two blocks' mean face
 // areas), the incremental shear -(k_n / kappa) A_c v_s dt Coulomb-limited to mu F_n (the joint's mu across
-// layers, else the rock's), at the contact's point. Serial, in pair order: the same at any thread count.
+// layers, else the rock's), at the contact's point. The broad phase runs serially at the step's start
+// (begin_step); the narrow phase on the step's threads, each pair into its own record (prepare_forces); add_forces
+// sums the records in pair order: the same at any thread count.
 class BlockContacts3 : public BoundaryHooks<3> {
  public:
   explicit BlockContacts3(const Model<3>& model);
 
+  // The rebuild test and the rebuild, with the positions and cracks of the step's start.
+  void begin_step(const Model<3>& m, const ModelState<3>& s) override;
+  // The narrow phase of the pairs the thread takes from a shared cursor, in pieces, into their records.
+  void prepare_forces(const Model<3>& m, const ModelState<3>& s, double dt, int thread, int threads) override;
   double add_forces(const Model<3>& m, const ModelState<3>& s, std::vector<Vec3>& force, std::vector<Vec3>& moment,
                     double dt, bool advance) override;
   void loads(const Model<3>& m, const ModelState<3>& s, int component, BoundaryLoads& out) const override;
@@ -164,6 +171,12 @@ class BlockContacts3 : public BoundaryHooks<3> {
   long broken_seen_ = -1;                         // the crack count at the last rebuild (-1: none yet)
   long rebuilds_ = 0;
   double energy_ = 0;
+  // workspace: this step's narrow phase, one record per pair and its new shear history (prepared_ from begin_step
+  // until add_forces used them); the threads take pieces of the pairs from cursor_
+  std::vector<Force> records_;
+  std::vector<Vec3> new_fs_;
+  std::atomic<std::size_t> cursor_{0};
+  bool prepared_ = false;
 };
 
 }  // namespace rbdem

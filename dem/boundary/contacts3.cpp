@@ -1,5 +1,6 @@
 // Contacts between 3D blocks that were never neighbours. See components3.hpp.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
@@ -98,6 +99,7 @@ void BlockContacts3::rebuild(const Model<3>& m, const ModelState<3>& s) {
     for (int k = 0; k < 3; ++k) fs.push_back(kept ? fs_[3 * old + std::size_t(k)] : 0.0);
   }
   pi_ = std::move(pi), pj_ = std::move(pj), fs_ = std::move(fs);
+  records_.resize(pi_.size()), new_fs_.resize(pi_.size());
 }
 
 BlockContacts3::Force BlockContacts3::contact(const Model<3>& m, const ModelState<3>& s, std::size_t k, double dt,
@@ -137,13 +139,41 @@ BlockContacts3::Force BlockContacts3::contact(const Model<3>& m, const ModelStat
   return out;
 }
 
+void BlockContacts3::begin_step(const Model<3>& m, const ModelState<3>& s) {
+  if (rebuild_due(m, s)) rebuild(m, s);
+  cursor_.store(0, std::memory_order_relaxed);  // the threads' pieces start at the first pair
+}
+
+// The pairs that touch lie where the specimen cracked, not spread evenly over the list: pieces of it go to whichever
+// thread asks next, so a thread that finished its bonds early takes more. Each pair's record depends on the state
+// alone, not on the thread that computed it.
+void BlockContacts3::prepare_forces(const Model<3>& m, const ModelState<3>& s, double dt, int thread, int threads) {
+  (void)threads;
+  constexpr std::size_t kPiece = 16;
+  if (thread == 0) prepared_ = true;  // read by add_forces after the engine's barrier
+  const std::size_t n = pi_.size();
+  for (std::size_t lo = cursor_.fetch_add(kPiece, std::memory_order_relaxed); lo < n;
+       lo = cursor_.fetch_add(kPiece, std::memory_order_relaxed))
+    for (std::size_t k = lo; k < std::min(n, lo + kPiece); ++k) {
+      Vec3 fs{fs_[3 * k], fs_[3 * k + 1], fs_[3 * k + 2]};
+      records_[k] = contact(m, s, k, dt, fs);
+      new_fs_[k] = fs;
+    }
+}
+
 double BlockContacts3::add_forces(const Model<3>& m, const ModelState<3>& s, std::vector<Vec3>& force,
                                   std::vector<Vec3>& moment, double dt, bool advance) {
-  if (advance && rebuild_due(m, s)) rebuild(m, s);
+  // Prepared: begin_step rebuilt the list when due and the step's threads computed each pair's record. Otherwise
+  // (a caller that steps without the engine's hooks, or evaluates only) all of it here.
+  const bool prepared = advance && prepared_;
+  prepared_ = false;
+  cursor_.store(0, std::memory_order_relaxed);
+  if (advance && !prepared && rebuild_due(m, s)) rebuild(m, s);
   double energy = 0, friction = 0;
   for (std::size_t k = 0; k < pi_.size(); ++k) {
     Vec3 fs{fs_[3 * k], fs_[3 * k + 1], fs_[3 * k + 2]};
-    const Force f = contact(m, s, k, dt, fs);
+    const Force f = prepared ? records_[k] : contact(m, s, k, dt, fs);
+    if (prepared) fs = new_fs_[k];
     if (advance) fs_[3 * k] = fs.x, fs_[3 * k + 1] = fs.y, fs_[3 * k + 2] = fs.z;
     if (!f.touching) continue;
     const std::size_t i = std::size_t(pi_[k]), j = std::size_t(pj_[k]);
@@ -200,6 +230,8 @@ void BlockContacts3::load(const Snapshot& s, const Model<3>& m) {
       !in_range(j) || !in_range(eligible))
     throw std::invalid_argument("the snapshot's 3D contacts do not fit this model (another scene or mesh)");
   pi_ = i, pj_ = j, fs_ = fs, eligible_ = eligible, ref_ = ref;
+  records_.resize(pi_.size()), new_fs_.resize(pi_.size());
+  prepared_ = false, cursor_.store(0, std::memory_order_relaxed);
   broken_seen_ = s.get<long>("contacts3/broken_seen");
   energy_ = s.get<double>("contacts3/energy");
 }

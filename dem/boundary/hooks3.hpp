@@ -35,6 +35,10 @@ class BoundaryHooks<3> {
   // history, no energy booked). Returns the work its friction dissipated in the step (J, not negative).
   virtual double add_forces(const Model<3>& m, const ModelState<3>& s, std::vector<Vec3>& force,
                             std::vector<Vec3>& moment, double dt, bool advance) = 0;
+  // Once per step, before the step's threads start, on the thread that runs the step: the state is that of the
+  // step's start (the bond stage that follows moves no block, and the step's cracks are logged after it), so a
+  // component may renew here what its prepare_forces and add_forces read (the contacts' pair list). Default: none.
+  virtual void begin_step(const Model<3>& m, const ModelState<3>& s) { (void)m, (void)s; }
   // The part of the next add_forces(..., advance = true) that each of the step's `threads` threads may compute side
   // by side before it, thread `thread` its share (the engine calls it on every thread of the step, between the
   // bonds and the serial part, with the state not moving). A component that uses it keeps each item's result and
