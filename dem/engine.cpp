@@ -139,8 +139,10 @@ void Engine<2>::step() {
     const double t0 = omp_get_wtime();
     const int bonds = stages::bond_forces_share(model_, s, w, c, t, nt);
     busy_[std::size_t(t)].phase[0] = omp_get_wtime() - t0;
-    if (nt == part.threads)
-      part.bond_seconds[std::size_t(t)] += busy_[std::size_t(t)].phase[0], part.bond_items[std::size_t(t)] += bonds;
+    if (nt == part.threads) {
+      part.bond_seconds[std::size_t(t)] += busy_[std::size_t(t)].phase[0];
+      part.bond_items[std::size_t(t)] += bonds;
+    }
     stages::rebuild_check_share(model_, s, w, t, nt);
 #pragma omp barrier
 #pragma omp master
@@ -291,8 +293,8 @@ Energies Engine<2>::energies() const {
 #pragma omp for schedule(static) nowait
     for (int b = 0; b < nblock; ++b) {
       const std::size_t k = std::size_t(b);
-      kinetic[k] =
-          0.5 * (model_.mass[k] * (s.vx[k] * s.vx[k] + s.vy[k] * s.vy[k]) + model_.inertia[k] * s.omega[k] * s.omega[k]);
+      kinetic[k] = 0.5 * (model_.mass[k] * (s.vx[k] * s.vx[k] + s.vy[k] * s.vy[k]) +
+                          model_.inertia[k] * s.omega[k] * s.omega[k]);
     }
 #pragma omp for schedule(static) nowait
     for (int b = 0; b < nbond; ++b) {
