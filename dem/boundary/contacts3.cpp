@@ -167,7 +167,6 @@ double BlockContacts3::add_forces(const Model<3>& m, const ModelState<3>& s, std
   // (a caller that steps without the engine's hooks, or evaluates only) all of it here.
   const bool prepared = advance && prepared_;
   prepared_ = false;
-  cursor_.store(0, std::memory_order_relaxed);
   if (advance && !prepared && rebuild_due(m, s)) rebuild(m, s);
   double energy = 0, friction = 0;
   for (std::size_t k = 0; k < pi_.size(); ++k) {

@@ -333,7 +333,8 @@ void contact_forces_begin(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, 
   const std::size_t chunk = Workspace<2>::kPairChunk;
   w.in_contact.resize((s.contacts.size() + chunk - 1) / chunk);
   for (auto& v : w.in_contact) v.clear();
-  w.pair_chunk.next.store(0, std::memory_order_relaxed);
+  w.pair_bounds = {0, int(s.contacts.size())};
+  Workspace<2>::reset(w.pair_next);
 }
 
 namespace {
@@ -380,12 +381,12 @@ void contact_forces_of(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, con
 
 }  // namespace
 
-void contact_forces_share(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c, int, int) {
+void contact_forces_share(const Model<2>& m, ModelState<2>& s, Workspace<2>& w, const StepContext& c, int t, int) {
   // Chunks to whichever thread asks: each pair's work is its own, so any thread may take any chunk.
-  const int n = int(s.contacts.size()), chunk = Workspace<2>::kPairChunk;
-  for (int k = w.pair_chunk.next.fetch_add(1, std::memory_order_relaxed); k * chunk < n;
-       k = w.pair_chunk.next.fetch_add(1, std::memory_order_relaxed))
-    contact_forces_of(m, s, w, c, k * chunk, std::min(n, (k + 1) * chunk), w.in_contact[std::size_t(k)]);
+  const int chunk = Workspace<2>::kPairChunk;
+  Workspace<2>::run_pieces(w.pair_bounds, w.pair_next, chunk, t, [&](int lo, int hi) {
+    contact_forces_of(m, s, w, c, lo, hi, w.in_contact[std::size_t(lo / chunk)]);
+  });
 }
 
 void contact_forces_end(ModelState<2>& s, Workspace<2>& w, const StepContext& c) {

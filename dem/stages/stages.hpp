@@ -77,20 +77,22 @@ struct Workspace<2> {
     bool touching;                                    // false: all zero
   };
   std::vector<PairForce> pair_force;                  // per contact pair
-  // The contact stage hands out the pairs in chunks of kPairChunk, in pair order, to whichever thread asks next:
-  // the pairs that touch lie where the cracks are, not spread over the blocks. in_contact[k]: the pairs of chunk k
-  // that touch this step, in pair order, so that the chunks read in order are the pairs in order.
-  static constexpr int kPairChunk = 64;
-  std::vector<std::vector<int>> in_contact;
-  // The next piece of a range to hand out, on its own cache line; copies start from 0 (a workspace copied holds no
-  // stage in progress).
+  // The next piece of a range to hand out (run_pieces, below), on its own cache line; copies start from 0 (a
+  // workspace copied holds no stage in progress).
   struct alignas(64) Cursor {
     std::atomic<int> next{0};
     Cursor() = default;
     Cursor(const Cursor&) {}
     Cursor& operator=(const Cursor&) { return *this; }
   };
-  Cursor pair_chunk;
+  // The contact stage hands out the pairs in chunks of kPairChunk, in pair order, to whichever thread asks next
+  // (one range, [0, pairs), for run_pieces): the pairs that touch lie where the cracks are, not spread over the
+  // blocks. in_contact[k]: the pairs of chunk k that touch this step, in pair order, so that the chunks read in
+  // order are the pairs in order.
+  static constexpr int kPairChunk = 64;
+  std::vector<std::vector<int>> in_contact;
+  std::vector<int> pair_bounds{0, 0};
+  std::vector<Cursor> pair_next = std::vector<Cursor>(1);
   // How a step's bond stage and block stage share the bonds and the blocks among its threads: contiguous ranges in
   // index order. They start with equal block counts and each thread's bonds those numbered from its blocks (a bond
   // is numbered from its lower block), so that a thread reads mostly the blocks it moved itself. No result depends
