@@ -228,6 +228,7 @@ std::string mesh_cache_key_text(const Scene& scene) {
     if (key == "mesh.strength_seed") continue;
     // Off, it leaves the mesh as it was before the key existed: left out, so that those cache files stay valid.
     if (key == "mesh.structured" && !scene.mesh.structured) continue;
+    if (key == "mesh.block_order" && scene.mesh.block_order == "mesh") continue;
     if (starts_with(key, "specimen.") || starts_with(key, "joint_set.") || starts_with(key, "joint_set2.") ||
         starts_with(key, "mesh."))
       text += p.key + "=" + parameter_text(scene, p.key) + "\n";

@@ -49,6 +49,7 @@ struct MeshParams {
   int seed = 0;           // mesh realization; 0 = the unperturbed mesh (dem/specimen_mesh.hpp, mesh_specimen)
   int strength_seed = 0;  // realization of the bond strength factors of materials with a weibull_modulus
   bool structured = false;  // a structured grid of equal right triangles (rbdem shear; dem/specimen_mesh.hpp)
+  std::string block_order = "mesh";  // the blocks' order: "mesh" (as meshed) or "hilbert" (mesh/block_order.hpp)
 };
 
 // Bond and contact parameters of one contact kind (rock inside a layer, joint across layers).

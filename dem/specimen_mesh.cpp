@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "dem/gmsh_module.hpp"
+#include "mesh/block_order.hpp"
 
 namespace rbdem {
 
@@ -180,8 +181,10 @@ TriMesh make_mesh(const Scene& scene, const std::filesystem::path& msh_out) {
     throw SceneError(fmt::format("a triangle mesh was asked of a {}D scene (specimen.dimension = {}): the 3D "
                                  "specimen is tetrahedral (mesh_scene3, dem/specimen_mesh3.hpp)",
                                  scene.specimen.dimension, scene.specimen.dimension));
-  if (!scene.mesh.file.empty()) return read_msh(scene.mesh.file);
-  return mesh_specimen(SpecimenGeometry::from_scene(scene), scene.mesh.size, msh_out);
+  TriMesh mesh = scene.mesh.file.empty() ? mesh_specimen(SpecimenGeometry::from_scene(scene), scene.mesh.size, msh_out)
+                                          : read_msh(scene.mesh.file);
+  apply_block_order(mesh, scene.mesh.block_order);
+  return mesh;
 }
 
 }  // namespace rbdem

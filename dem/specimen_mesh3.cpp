@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "dem/gmsh_module.hpp"
+#include "mesh/block_order.hpp"
 #include "theory/elasticity3.hpp"
 
 namespace rbdem {
@@ -177,8 +178,10 @@ TetMesh read_msh3(const std::filesystem::path& path) {
 }
 
 TetMesh mesh_scene3(const Scene& scene) {
-  if (!scene.mesh.file.empty()) return read_msh3(scene.mesh.file);
-  return mesh_specimen3(specimen_geometry3(scene), scene.mesh.size, scene.mesh.seed);
+  TetMesh mesh = scene.mesh.file.empty() ? mesh_specimen3(specimen_geometry3(scene), scene.mesh.size, scene.mesh.seed)
+                                         : read_msh3(scene.mesh.file);
+  apply_block_order(mesh, scene.mesh.block_order);
+  return mesh;
 }
 
 }  // namespace rbdem
