@@ -8,23 +8,29 @@
 #include <atomic>
 #include <map>
 #include <memory>
+#include <string>
+#include <utility>
 
 #include "dem/simulation_impl.hpp"
 #include "dem/simulation_impl3.hpp"
 #include "dem/specimen_mesh3.hpp"
 #include "dem/specimen_mesh.hpp"
 #include "dem/topology.hpp"
+#include "mesh/block_order.hpp"
 
 namespace {
 
-// The paper specimen meshed at `mesh_size` (m), built once per size.
-const rbdem::Topology<2>& topology(double mesh_size) {
-  static std::map<double, rbdem::Topology<2>> cache;
-  auto it = cache.find(mesh_size);
+// The paper specimen meshed at `mesh_size` (m), its blocks in `order` (mesh.block_order), built once per size and
+// order.
+const rbdem::Topology<2>& topology(double mesh_size, const std::string& order = "mesh") {
+  static std::map<std::pair<double, std::string>, rbdem::Topology<2>> cache;
+  auto it = cache.find({mesh_size, order});
   if (it == cache.end()) {
     rbdem::Scene s;
     s.mesh.size = mesh_size;
-    it = cache.emplace(mesh_size, rbdem::build_topology(rbdem::make_mesh(s), s.specimen.thickness, s.rock.density))
+    s.mesh.block_order = order;
+    it = cache.emplace(std::pair{mesh_size, order},
+                       rbdem::build_topology(rbdem::make_mesh(s), s.specimen.thickness, s.rock.density))
              .first;
   }
   return it->second;
@@ -81,6 +87,18 @@ BENCHMARK(BM_EngineStepSize)
     ->UseRealTime()
     ->MinTime(1.0);
 
+// The same with the blocks along a Hilbert curve (mesh.block_order = "hilbert"; docs/performance.md, "The order of
+// the blocks").
+void BM_EngineStepSizeHilbert(benchmark::State& state) {
+  const rbdem::Scene scene;
+  engine_steps(state, scene, &topology(1e-4 * double(state.range(1)), "hilbert"));
+}
+BENCHMARK(BM_EngineStepSizeHilbert)
+    ->ArgsProduct({{1, 2}, {30, 10, 5}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(1.0);
+
 // The same with the seed paper's brittle bonds (fracture_energy = 0: no bond ever enters the softened list).
 void BM_EngineStepBrittle(benchmark::State& state) {
   rbdem::Scene scene;
@@ -114,15 +132,20 @@ BENCHMARK(BM_StaticSolve)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRea
 }  // namespace
 
 // The 3D engine on the paper's cylinder (50 x 100 mm, joints at 60 deg every 10 mm) meshed in tetrahedra of 4 mm
-// (about 18,000 blocks and 35,000 face bonds): the elastic phase with the platens loading, at state.range(0)
-// threads. The counters bonds_ns, serial_ns and blocks_ns split the wall time per bond-step by the engine's stages
-// (Engine<3>::step_times: the bond stage, the serial part with the platens, the gather and the rigid step).
-void BM_EngineStep3D(benchmark::State& state) {
-  static const rbdem::TetMesh mesh = [] {
+// (about 18,000 blocks and 35,000 face bonds), its blocks in `order`: the elastic phase with the platens loading,
+// at state.range(0) threads. The counters bonds_ns, serial_ns and blocks_ns split the wall time per bond-step by the
+// engine's stages (Engine<3>::step_times: the bond stage, the serial part with the platens, the gather and the rigid
+// step).
+void engine_steps3(benchmark::State& state, const std::string& order) {
+  static std::map<std::string, rbdem::TetMesh> meshes;
+  if (!meshes.count(order)) {
     rbdem::SpecimenGeometry3 g;
     g.set1.dip_deg = 60;
-    return rbdem::mesh_specimen3(g, 0.004);
-  }();
+    rbdem::TetMesh m = rbdem::mesh_specimen3(g, 0.004);
+    rbdem::apply_block_order(m, order);
+    meshes.emplace(order, std::move(m));
+  }
+  const rbdem::TetMesh& mesh = meshes.at(order);
   rbdem::Scene scene;
   scene.numerics.threads = int(state.range(0));
   rbdem::SimulationImpl<3> sim(scene, mesh, {}, [](rbdem::EngineOptions& o) { o.adapt_threads = false; });
@@ -144,6 +167,11 @@ void BM_EngineStep3D(benchmark::State& state) {
       benchmark::Counter(bond_steps, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["bond_steps_per_s"] = benchmark::Counter(bond_steps, benchmark::Counter::kIsRate);
 }
+void BM_EngineStep3D(benchmark::State& state) { engine_steps3(state, "mesh"); }
 BENCHMARK(BM_EngineStep3D)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+
+// The same with the tetrahedra along a Hilbert curve (mesh.block_order = "hilbert").
+void BM_EngineStep3DHilbert(benchmark::State& state) { engine_steps3(state, "hilbert"); }
+BENCHMARK(BM_EngineStep3DHilbert)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 
 BENCHMARK_MAIN();
