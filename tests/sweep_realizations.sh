@@ -25,7 +25,9 @@ for point, row in table.items():
     for col, want in (("peak_stress_pa", mean), ("peak_stress_sd_pa", sd), ("peak_stress_ci95_pa", half),
                       ("peak_stress_ci95_low_pa", mean - half), ("peak_stress_ci95_high_pa", mean + half)):
         got = float(row[col])
-        assert abs(got - want) <= 1e-8 * abs(mean), f"{point} {col}: table {got}, by hand {want}"
+        # The CSVs hold 9 significant digits: the peaks read here and the table's values are rounded by up to
+        # 5e-9 of the mean, and the interval's 4.3 / sqrt(3) amplifies the peaks' share (up to about 2e-8).
+        assert abs(got - want) <= 4e-8 * abs(mean), f"{point} {col}: table {got}, by hand {want}"
     assert row["realizations"] == "3", row["realizations"]
     print(f"{point}: peaks {', '.join(f'{p / 1e6:.3f}' for p in peaks)} MPa, mean {mean / 1e6:.3f} "
           f"+- {half / 1e6:.3f} MPa (sd {sd / 1e6:.3f}): as in table.csv")
