@@ -9,10 +9,12 @@
 #include <map>
 #include <set>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "dem/driver/driver.hpp"
 #include "dem/driver/registry.hpp"
+#include "dem/mesh_cache.hpp"
 #include "dem/scene.hpp"
 #include "dem/specimen_mesh.hpp"
 #include "dem/specimen_mesh3.hpp"
@@ -93,6 +95,12 @@ TEST(BlockOrder, TheReorderedMeshHoldsTheSameTrianglesInTheSameLayers) {
   EXPECT_TRUE(was.empty());
   TriMesh copy = after;
   EXPECT_THROW(apply_block_order(copy, "morton"), std::invalid_argument);
+  // The mesh cache keeps the two orders apart, and the default order's key is the key from before the option.
+  const std::string hilbert_key = mesh_cache_key_text(scene);
+  scene.mesh.block_order = "mesh";
+  EXPECT_NE(mesh_cache_key_text(scene), hilbert_key);
+  EXPECT_EQ(mesh_cache_key_text(scene).find("block_order"), std::string::npos);
+  EXPECT_NE(hilbert_key.find("mesh.block_order=hilbert"), std::string::npos) << hilbert_key;
 }
 
 TEST(BlockOrder, ATetrahedralMeshKeepsItsBoundaryFacesOnTheirTetrahedra) {
