@@ -251,3 +251,16 @@ def test_a_3d_cylinder_has_the_same_tables_in_three_components():
     assert platens.stress > 0 and platens.closure == pytest.approx(0.2 * sim.time, rel=1e-9)
     vertical = np.abs(sim.bonds["normal"][:, 2]) > 0.95
     assert np.mean(sim.bonds["normal_force"][vertical]) < 0  # the cylinder is compressed along z
+
+
+def test_hilbert_block_order_holds_the_same_blocks_with_neighbours_next_to_each_other():
+    """mesh.block_order = "hilbert" (docs/performance.md, "The order of the blocks"): the same blocks and bonds,
+    numbered so that consecutive blocks lie side by side."""
+    as_meshed = rbdem.Simulation(beta=30, overrides={**SMALL, "mesh.size": 0.001})
+    curve = rbdem.Simulation(beta=30, overrides={**SMALL, "mesh.size": 0.001, "mesh.block_order": "hilbert"})
+    a, c = as_meshed.blocks["position"], curve.blocks["position"]
+    assert curve.specimen["blocks"] == as_meshed.specimen["blocks"]
+    assert curve.specimen["bonds"] == as_meshed.specimen["bonds"]
+    np.testing.assert_array_equal(a[np.lexsort(a.T)], c[np.lexsort(c.T)])
+    step = lambda p: np.mean(np.linalg.norm(np.diff(p, axis=0), axis=1))  # noqa: E731
+    assert step(c) < 0.5 * step(a), (step(c), step(a))
