@@ -46,9 +46,18 @@ std::uint64_t hilbert(std::array<std::uint32_t, N> x, int bits) {
   return index;
 }
 
-// The order of points along the Hilbert curve through their bounding cube; ties keep the points' order.
-template <std::size_t N>
-std::vector<int> order_of(const std::vector<std::array<double, N>>& points) {
+// The order of the elements' centroids along the Hilbert curve through their bounding cube; ties keep the
+// elements' order.
+template <std::size_t N, std::size_t V>
+std::vector<int> order_of(const std::vector<std::array<double, N>>& nodes,
+                          const std::vector<std::array<int, V>>& elements) {
+  std::vector<std::array<double, N>> points(elements.size());
+  for (std::size_t e = 0; e < elements.size(); ++e)
+    for (std::size_t i = 0; i < N; ++i) {
+      double s = 0;
+      for (int v : elements[e]) s += nodes[std::size_t(v)][i];
+      points[e][i] = s / double(V);
+    }
   std::array<double, N> lo, hi;
   lo.fill(std::numeric_limits<double>::infinity());
   hi.fill(-std::numeric_limits<double>::infinity());
@@ -71,24 +80,27 @@ std::vector<int> order_of(const std::vector<std::array<double, N>>& points) {
   return order;
 }
 
-template <class Elements>
-void check_permutation(const std::vector<int>& order, const Elements& elements) {
-  if (order.size() != elements.size())
-    throw std::invalid_argument("reorder_elements: the order must name every element once");
-  std::vector<char> seen(order.size(), 0);
-  for (int e : order) {
-    if (e < 0 || std::size_t(e) >= order.size() || seen[e])
-      throw std::invalid_argument("reorder_elements: the order must name every element once");
-    seen[e] = 1;
-  }
-}
-
 template <class T>
 std::vector<T> permuted(const std::vector<T>& v, const std::vector<int>& order) {
   std::vector<T> out;
   out.reserve(order.size());
-  for (int e : order) out.push_back(v[e]);
+  for (int e : order) out.push_back(v[std::size_t(e)]);
   return out;
+}
+
+// The elements and their layers in `order`, once it is checked to be a permutation.
+template <class Element>
+void permute(std::vector<Element>& elements, std::vector<int>& layer, const std::vector<int>& order) {
+  std::vector<char> seen(elements.size(), 0);
+  bool ok = order.size() == elements.size();
+  for (std::size_t k = 0; ok && k < order.size(); ++k) {
+    const int e = order[k];
+    ok = e >= 0 && std::size_t(e) < seen.size() && !seen[std::size_t(e)];
+    if (ok) seen[std::size_t(e)] = 1;
+  }
+  if (!ok) throw std::invalid_argument("reorder_elements: the order must name every element once");
+  elements = permuted(elements, order);
+  if (layer.size() == order.size()) layer = permuted(layer, order);
 }
 
 bool is_hilbert(std::string_view order) {
@@ -102,41 +114,16 @@ bool is_hilbert(std::string_view order) {
 std::uint64_t hilbert_index(std::array<std::uint32_t, 2> cell, int bits) { return hilbert(cell, bits); }
 std::uint64_t hilbert_index(std::array<std::uint32_t, 3> cell, int bits) { return hilbert(cell, bits); }
 
-std::vector<int> hilbert_order(const TriMesh& mesh) {
-  std::vector<std::array<double, 2>> centroid(mesh.triangles.size());
-  for (std::size_t t = 0; t < centroid.size(); ++t)
-    for (int i = 0; i < 2; ++i) {
-      double s = 0;
-      for (int v : mesh.triangles[t]) s += mesh.nodes[v][i];
-      centroid[t][i] = s / 3.0;
-    }
-  return order_of(centroid);
-}
+std::vector<int> hilbert_order(const TriMesh& mesh) { return order_of(mesh.nodes, mesh.triangles); }
+std::vector<int> hilbert_order(const TetMesh& mesh) { return order_of(mesh.nodes, mesh.tets); }
 
-std::vector<int> hilbert_order(const TetMesh& mesh) {
-  std::vector<std::array<double, 3>> centroid(mesh.tets.size());
-  for (std::size_t t = 0; t < centroid.size(); ++t)
-    for (int i = 0; i < 3; ++i) {
-      double s = 0;
-      for (int v : mesh.tets[t]) s += mesh.nodes[v][i];
-      centroid[t][i] = 0.25 * s;
-    }
-  return order_of(centroid);
-}
-
-void reorder_elements(TriMesh& mesh, const std::vector<int>& order) {
-  check_permutation(order, mesh.triangles);
-  mesh.triangles = permuted(mesh.triangles, order);
-  if (mesh.layer.size() == order.size()) mesh.layer = permuted(mesh.layer, order);
-}
+void reorder_elements(TriMesh& mesh, const std::vector<int>& order) { permute(mesh.triangles, mesh.layer, order); }
 
 void reorder_elements(TetMesh& mesh, const std::vector<int>& order) {
-  check_permutation(order, mesh.tets);
-  mesh.tets = permuted(mesh.tets, order);
-  if (mesh.layer.size() == order.size()) mesh.layer = permuted(mesh.layer, order);
+  permute(mesh.tets, mesh.layer, order);
   std::vector<int> new_index(order.size());
-  for (std::size_t k = 0; k < order.size(); ++k) new_index[order[k]] = int(k);
-  for (auto& f : mesh.boundary) f.tet = new_index[f.tet];
+  for (std::size_t k = 0; k < order.size(); ++k) new_index[std::size_t(order[k])] = int(k);
+  for (auto& f : mesh.boundary) f.tet = new_index[std::size_t(f.tet)];
 }
 
 void apply_block_order(TriMesh& mesh, std::string_view order) {

@@ -95,6 +95,10 @@ TEST(BlockOrder, TheReorderedMeshHoldsTheSameTrianglesInTheSameLayers) {
   EXPECT_TRUE(was.empty());
   TriMesh copy = after;
   EXPECT_THROW(apply_block_order(copy, "morton"), std::invalid_argument);
+  std::vector<int> twice(copy.triangles.size(), 0);  // not a permutation
+  EXPECT_THROW(reorder_elements(copy, twice), std::invalid_argument);
+  EXPECT_THROW(reorder_elements(copy, {0, 1}), std::invalid_argument);
+  EXPECT_EQ(copy.triangles, after.triangles);  // left as it was
   // The mesh cache keeps the two orders apart, and the default order's key is the key from before the option.
   const std::string hilbert_key = mesh_cache_key_text(scene);
   scene.mesh.block_order = "mesh";
