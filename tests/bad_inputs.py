@@ -172,6 +172,8 @@ CASES = [
     ("physical name of dimension 7 (crashed gmsh 4.8)", "mesh --mesh physical_dim.msh", "physical_dim.msh"),
     ("header declaring 86 540 488 nodes for 4 (gmsh 4.8 allocated 1.4 GB)", "mesh --mesh node_count.msh",
      "node_count.msh"),
+    ("$Entities header declaring 12 372 285 entities for 1 (gmsh 4.8 allocated 1.6 GB)",
+     "mesh --mesh entity_count.msh", "entity_count.msh"),
     ("a section rbdem does not read ($NodeData)", "mesh --mesh node_data.msh", "node_data.msh"),
     ("no physical groups", "mesh --mesh no_physical.msh", "no_physical.msh"),
     ("quadrangles", "mesh --mesh quads.msh", "quads.msh"),

@@ -543,6 +543,44 @@ TEST(MeshImport, HeadersMustDeclareWhatTheBlocksHold) {
   std::filesystem::remove(path);
 }
 
+// gmsh 4.8 allocates a line buffer of 128 bytes per entity the $Entities header declares, before it reads one: a
+// header of `10 13 1002113248654051872 0` made it allocate 1.6 GB (its 32-bit product) from a file of 263 bytes
+// (tests/fuzz/fuzz_msh). The header must declare the entity lines that follow, each with its box and its lists.
+TEST(MeshImport, EntitiesMustDeclareTheLinesThatFollow) {
+  const auto path = std::filesystem::temp_directory_path() / "rbdem_test_entities.msh";
+  auto mesh = [](const std::string& entities) {
+    return "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n2 1 \"layer_0\"\n$EndPhysicalNames\n"
+           "$Entities\n" + entities + "$EndEntities\n$Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n3\n4\n0 0 0\n0.01 0 0\n"
+           "0.01 0.01 0\n0 0.01 0\n$EndNodes\n$Elements\n1 2 1 2\n2 1 2 2\n1 1 2 3\n2 1 3 4\n$EndElements\n";
+  };
+  auto outcome = [&](const std::string& text) -> std::string {
+    std::ofstream(path, std::ios::trunc) << text;
+    try {
+      return "read " + std::to_string(read_msh(path).triangles.size()) + " triangles";
+    } catch (const SceneError& e) {
+      return e.what();
+    }
+  };
+  const std::string point = "1 0 0 0 0\n", surface = "1 0 0 0 0.01 0.01 0 1 1 0\n";
+  EXPECT_EQ(outcome(mesh("0 0 1 0\n" + surface)), "read 2 triangles");
+  EXPECT_EQ(outcome(mesh("1 0 1 0\n" + point + surface)), "read 2 triangles");
+  const std::pair<std::string, std::string> refusals[] = {
+      {mesh("10 13 1002113248654051872 0\n" + surface), "declares 10 13 1002113248654051872 0 entities"},
+      {mesh("9223372036854775807 9223372036854775807 1 0\n" + surface), "more than the 1000000"},
+      {mesh("0 0 2 0\n" + surface), "entity line 2 of dimension 2"},
+      {mesh("0 0 1\n" + surface), "$Entities header is not"},
+      {mesh("0 0 -1 0\n" + surface), "$Entities header is not"},
+      {mesh("0 0 1 0 5\n" + surface), "$Entities header is not"},
+      {mesh("0 0 1 0\n1 0 0 0 0.01 0.01 0 1 1\n"), "entity line 1 of dimension 2"},
+      {mesh("0 0 1 0\n1 0 0 0 0.01 0.01 0 1 1 0 7\n"), "entity line 1 of dimension 2"},
+      {mesh("0 0 1 0\n1 0 0 0 0.01 0.01 0 99999999 1 0\n"), "entity line 1 of dimension 2"},
+      {mesh("1 0 1 0\n1 0 0 0 0 0 0\n" + surface), "entity line 1 of dimension 0"},
+  };
+  for (const auto& [text, expect] : refusals)
+    EXPECT_NE(outcome(text).find(expect), std::string::npos) << outcome(text) << "\n(expected: " << expect << ")";
+  std::filesystem::remove(path);
+}
+
 TEST(MeshImport, NonMeshFileIsRefusedBeforeGmshReadsIt) {
   const auto path = std::filesystem::temp_directory_path() / "rbdem_test_script.msh";
   std::ofstream(path) << "Point(1) = {0, 0, 0, 1};\n";
