@@ -4,11 +4,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
 
+#include <dlfcn.h>
 #include <omp.h>
 
 #include <Eigen/Dense>
@@ -86,6 +88,29 @@ struct CholmodLlt : Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
 };
 #endif
 
+// OpenBLAS (Debian's, built for every x86-64 CPU) picks its kernels by the CPU it runs on: AVX-512 machines get
+// the SkylakeX kernels, AVX2 machines the Haswell ones, and the two sum a supernode's products in another order, so
+// a 3D static start, and every step after it, differed at round-off between the two kinds of machine (a 60 deg
+// cylinder at 8 mm: 19.934760 against 19.940167 MPa, 204 against 205 cracks). At load time, before any BLAS call,
+// every CPU with AVX2 and FMA is given the Haswell kernels, so that 3D results are the same on all of them; a CPU
+// without them keeps OpenBLAS's choice, and OPENBLAS_CORETYPE set by the user is left as it is. Another BLAS (the
+// reference BLAS, which has no such choice) is left alone.
+struct PinOpenBlasKernels {
+  PinOpenBlasKernels() {
+    using Call = void (*)();
+    const auto init = reinterpret_cast<Call>(dlsym(RTLD_DEFAULT, "gotoblas_dynamic_init"));
+    const auto quit = reinterpret_cast<Call>(dlsym(RTLD_DEFAULT, "gotoblas_dynamic_quit"));
+    if (!init || !quit || std::getenv("OPENBLAS_CORETYPE")) return;
+    __builtin_cpu_init();
+    if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("fma")) return;
+    setenv("OPENBLAS_CORETYPE", "Haswell", 1);  // what gotoblas_dynamic_init reads
+    quit();
+    init();
+    unsetenv("OPENBLAS_CORETYPE");
+  }
+};
+const PinOpenBlasKernels pin_openblas_kernels;
+
 // One OpenMP thread while CHOLMOD and its BLAS work. Debian's OpenBLAS (libopenblas0-openmp) runs its kernels on
 // an OpenMP team of omp_get_max_threads(): on two cores that team, spinning in its barriers beside the caller's,
 // took the 4 mm factorisation from 2.6 s on one thread to 6-8 s (benchmarks/bench_static3.cpp); the reference BLAS
@@ -112,6 +137,12 @@ bool same_pattern(const SpMat& K, const std::vector<int>& outer, const std::vect
 }
 
 }  // namespace
+
+std::string blas_kernels() {
+  using Name = char* (*)();
+  const auto name = reinterpret_cast<Name>(dlsym(RTLD_DEFAULT, "gotoblas_corename"));
+  return name ? std::string(name()) : std::string();
+}
 
 bool cholmod_available() {
 #ifdef RBDEM_HAVE_CHOLMOD

@@ -59,6 +59,9 @@ enum class Static3Solver { automatic, cholmod, ldlt, cg };
 
 // Whether this build links CHOLMOD (the CMake option RBDEM_WITH_CHOLMOD).
 bool cholmod_available();
+// The kernels OpenBLAS runs ("Haswell" on every CPU with AVX2 and FMA unless OPENBLAS_CORETYPE says otherwise:
+// rbdem pins them at load time so that 3D results do not depend on the CPU kind), or "" when the BLAS is another.
+std::string blas_kernels();
 const char* solver_name(Static3Solver s);
 
 // A factorised stiffness: factor(K) once per matrix, then solve(f) for any number of right-hand sides. Where the

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -153,6 +154,18 @@ TEST(Static3Solver, CholmodMatchesLdltInTheStaticStart) {
   EXPECT_LT(relative_difference(chol.u, ldlt.u), 1e-9);
   EXPECT_EQ(chol.first_break_bond, ldlt.first_break_bond);
   EXPECT_NEAR(chol.first_break_factor / ldlt.first_break_factor, 1.0, 1e-9);
+}
+
+// OpenBLAS picks its kernels by the CPU, and its SkylakeX and Haswell kernels sum a supernode's products in another
+// order: rbdem pins the Haswell kernels at load time on every CPU with AVX2 and FMA, so that the 3D static start and
+// the run after it are the same on AVX2 and AVX-512 machines (dem/static3.cpp, docs/performance.md).
+TEST(Static3Solver, OpenBlasRunsTheSameKernelsOnEveryCpuWithAvx2) {
+  const std::string kernels = blas_kernels();
+  if (kernels.empty()) GTEST_SKIP() << "the BLAS is not OpenBLAS";
+  if (std::getenv("OPENBLAS_CORETYPE")) GTEST_SKIP() << "OPENBLAS_CORETYPE is set";
+  __builtin_cpu_init();
+  if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("fma")) GTEST_SKIP() << "no AVX2 and FMA";
+  EXPECT_EQ(kernels, "Haswell");
 }
 
 }  // namespace
