@@ -505,6 +505,16 @@ TEST(MeshImport, PhysicalNamesAndOtherSectionsAreCheckedBeforeGmshReadsThem) {
   std::filesystem::remove(path);
 }
 
+// `text` written to `path` and read as a mesh: "read N triangles", or the refusal's message.
+std::string read_outcome(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::trunc) << text;
+  try {
+    return "read " + std::to_string(read_msh(path).triangles.size()) + " triangles";
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+}
+
 // gmsh 4.8 allocates its node and element tables from the counts a $Nodes or $Elements header declares, before it
 // reads the blocks: a header declaring 86 540 488 nodes over four made it allocate 1.4 GB and then read the mesh
 // (tests/fuzz/fuzz_msh). A header must declare what its blocks hold; the same mesh with true headers reads.
@@ -518,14 +528,7 @@ TEST(MeshImport, HeadersMustDeclareWhatTheBlocksHold) {
            "\n0.01 0 0\n0.01 0.01 0\n0 0.01 0\n$EndNodes\n$Elements\n" + elements_header +
            "\n2 1 2 2\n1 1 2 3\n2 1 3 4\n$EndElements\n";
   };
-  auto outcome = [&](const std::string& text) -> std::string {
-    std::ofstream(path, std::ios::trunc) << text;
-    try {
-      return "read " + std::to_string(read_msh(path).triangles.size()) + " triangles";
-    } catch (const SceneError& e) {
-      return e.what();
-    }
-  };
+  auto outcome = [&](const std::string& text) { return read_outcome(path, text); };
   EXPECT_EQ(outcome(mesh("1 4 1 4", "2 1 0 4", "1 2 1 2", "0 0 0")), "read 2 triangles");
   const std::pair<std::string, std::string> refusals[] = {
       {mesh("1 86540488 1 4", "2 1 0 4", "1 2 1 2", "0 0 0"), "declares 86540488 nodes and the file holds 4"},
@@ -553,14 +556,7 @@ TEST(MeshImport, EntitiesMustDeclareTheLinesThatFollow) {
            "$Entities\n" + entities + "$EndEntities\n$Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n3\n4\n0 0 0\n0.01 0 0\n"
            "0.01 0.01 0\n0 0.01 0\n$EndNodes\n$Elements\n1 2 1 2\n2 1 2 2\n1 1 2 3\n2 1 3 4\n$EndElements\n";
   };
-  auto outcome = [&](const std::string& text) -> std::string {
-    std::ofstream(path, std::ios::trunc) << text;
-    try {
-      return "read " + std::to_string(read_msh(path).triangles.size()) + " triangles";
-    } catch (const SceneError& e) {
-      return e.what();
-    }
-  };
+  auto outcome = [&](const std::string& text) { return read_outcome(path, text); };
   const std::string point = "1 0 0 0 0\n", surface = "1 0 0 0 0.01 0.01 0 1 1 0\n";
   EXPECT_EQ(outcome(mesh("0 0 1 0\n" + surface)), "read 2 triangles");
   EXPECT_EQ(outcome(mesh("1 0 1 0\n" + point + surface)), "read 2 triangles");
