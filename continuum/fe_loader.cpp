@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "common/blas_lock.hpp"
 #include "common/module_loader.hpp"
 #include "continuum/fe_module.hpp"
 
@@ -19,7 +20,13 @@ const FeModule& module() {
       "rbdem_fe_module",
       "the deal.II continuum model",
       "Rebuild rbdem with deal.II (scripts/setup.sh build), or set RBDEM_FE_MODULE to the module's path"};
-  return modules::load_once<FeModule>(spec);
+  // The module's solves hold the program's BLAS lock (common/blas_lock.hpp), handed over once.
+  static const FeModule& table = [&]() -> const FeModule& {
+    const FeModule& m = modules::load_once<FeModule>(spec);
+    m.share_blas_lock(&blas_mutex());
+    return m;
+  }();
+  return table;
 }
 
 }  // namespace

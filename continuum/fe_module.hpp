@@ -11,6 +11,8 @@
 // missing or mismatched module is an error that names the paths tried.
 #pragma once
 
+#include <mutex>
+
 #include <cstddef>
 #include <string>
 
@@ -24,7 +26,7 @@
 namespace rbdem::continuum {
 
 // Bumped whenever a signature below or a struct it passes changes; the sizes catch a stale module as well.
-inline constexpr int fe_module_abi = 3;
+inline constexpr int fe_module_abi = 4;
 
 struct FeModule {
   int abi = fe_module_abi;
@@ -46,6 +48,9 @@ struct FeModule {
                                 const Fe3Options&) = nullptr;
   JointedFe3Result (*solve_elastic_3d_jointed)(const TetMesh&, const std::vector<theory::TIConstants>&, double, double,
                                                const std::vector<InterfaceFace>&, const Fe3Options&) = nullptr;
+  // The front's BLAS lock (common/blas_lock.hpp), handed over once after loading: the module's direct and AMG
+  // solves hold it, so they never run the BLAS beside CHOLMOD, gmsh or each other.
+  void (*share_blas_lock)(std::mutex*) = nullptr;
 };
 
 }  // namespace rbdem::continuum

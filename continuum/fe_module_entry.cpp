@@ -1,6 +1,7 @@
 // The deal.II module's entry point (see fe_module.hpp): the table of its solves. Everything else in the module is
 // hidden, so its definitions never clash with the front library's forwarding functions of the same names.
 #include "continuum/fe_module.hpp"
+#include "continuum/solvers.hpp"
 
 extern "C" __attribute__((visibility("default"))) const rbdem::continuum::FeModule* rbdem_fe_module() {
   using namespace rbdem::continuum;
@@ -15,6 +16,7 @@ extern "C" __attribute__((visibility("default"))) const rbdem::continuum::FeModu
     m.dealii_version = &dealii_version;
     m.solve_elastic_3d = &solve_elastic_3d;
     m.solve_elastic_3d_jointed = &solve_elastic_3d_jointed;
+    m.share_blas_lock = &internal::share_blas_lock;
     return m;
   }();
   return &table;

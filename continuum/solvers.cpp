@@ -17,6 +17,7 @@
 #include <mpi.h>
 
 #include <cassert>
+#include <atomic>
 #include <cstdlib>
 #include <memory>
 #include <mutex>
@@ -35,6 +36,14 @@ constexpr int dim = 2;
 std::mutex& trilinos_mutex() {
   static std::mutex m;
   return m;
+}
+
+// The BLAS lock (share_blas_lock): the front's once it is handed over, the module's own before.
+std::mutex own_blas;
+std::atomic<std::mutex*> shared_blas{nullptr};
+std::mutex& blas() {
+  std::mutex* m = shared_blas.load();
+  return m ? *m : own_blas;
 }
 
 // Initialises MPI once for the whole process (Trilinos needs it even serially; docs/continuum.md, "Solvers"), unless
@@ -111,6 +120,7 @@ CgAmgReport run_cg_amg(const SparseMatrix<double>& K, const Vector<double>& b, V
   Stopwatch clock;
   CgAmgReport report;
   std::lock_guard<std::mutex> lock(trilinos_mutex());
+  std::lock_guard<std::mutex> blas_lock(blas());  // after Trilinos's: the one order both are taken in
   ensure_mpi(caller.function, std::string(caller.options) + "::solver = Solver::direct");
   const auto n = K.m();
   TrilinosWrappers::SparseMatrix K_epetra;
@@ -180,7 +190,10 @@ CgAmgReport solve_cg_amg_3d(const SparseMatrix<double>& K, const Vector<double>&
       settings.tolerance, settings.max_iterations, settings.higher_order, caller);
 }
 
+void share_blas_lock(std::mutex* m) { shared_blas.store(m); }
+
 double solve_direct(const SparseMatrix<double>& K, const Vector<double>& b, Vector<double>& u) {
+  std::lock_guard<std::mutex> lock(blas());
   Stopwatch clock;
   SparseDirectUMFPACK umfpack;
   umfpack.initialize(K);

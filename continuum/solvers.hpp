@@ -4,6 +4,7 @@
 // nothing outside this folder may.
 #pragma once
 
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -68,5 +69,9 @@ CgAmgReport solve_cg_amg_3d(const dealii::SparseMatrix<double>& K, const dealii:
 
 // Solves K u = b with UMFPACK. Returns the seconds of the factorisation.
 double solve_direct(const dealii::SparseMatrix<double>& K, const dealii::Vector<double>& b, dealii::Vector<double>& u);
+
+// Makes the solves above hold `m` while they run the BLAS (UMFPACK; the AMG's set-up and CG): the front library's
+// lock, common/blas_lock.hpp. Until it is called they hold a lock of the module's own.
+void share_blas_lock(std::mutex* m);
 
 }  // namespace rbdem::continuum::internal

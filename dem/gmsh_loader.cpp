@@ -1,7 +1,9 @@
 // The front of the gmsh module: loads librbdem_gmsh.so once (gmsh_module.hpp says why, common/module_loader.hpp
-// where it is looked for) and calls it through the module's table.
+// where it is looked for) and calls it through the module's table, holding the BLAS (gmsh's meshers call it;
+// common/blas_lock.hpp).
 #include <string>
 
+#include "common/blas_lock.hpp"
 #include "common/module_loader.hpp"
 #include "dem/gmsh_module.hpp"
 
@@ -29,18 +31,30 @@ TriMesh mesh_or_throw(MeshOutcome out) {
 
 }  // namespace
 
-TriMesh mesh_with_gmsh(const MeshJob& job) { return mesh_or_throw(module().mesh_specimen(job)); }
+TriMesh mesh_with_gmsh(const MeshJob& job) {
+  const GmshModule& m = module();
+  const BlasLock blas;
+  return mesh_or_throw(m.mesh_specimen(job));
+}
 
-TriMesh read_with_gmsh(const std::filesystem::path& path) { return mesh_or_throw(module().read_msh(path.string())); }
+TriMesh read_with_gmsh(const std::filesystem::path& path) {
+  const GmshModule& m = module();
+  const BlasLock blas;
+  return mesh_or_throw(m.read_msh(path.string()));
+}
 
 TetMesh mesh3_with_gmsh(const MeshJob3& job) {
-  MeshOutcome3 out = module().mesh_specimen3(job);
+  const GmshModule& m = module();
+  const BlasLock blas;
+  MeshOutcome3 out = m.mesh_specimen3(job);
   if (!out.error.empty()) throw SceneError(out.error);
   return std::move(out.mesh);
 }
 
 TetMesh read3_with_gmsh(const std::filesystem::path& path) {
-  MeshOutcome3 out = module().read_msh3(path.string());
+  const GmshModule& m = module();
+  const BlasLock blas;
+  MeshOutcome3 out = m.read_msh3(path.string());
   if (!out.error.empty()) throw SceneError(out.error);
   return std::move(out.mesh);
 }

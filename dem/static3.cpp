@@ -22,6 +22,7 @@
 #include <Eigen/CholmodSupport>
 #endif
 
+#include "common/blas_lock.hpp"
 #include "dem/geometry3.hpp"
 
 namespace rbdem {
@@ -111,10 +112,10 @@ struct PinOpenBlasKernels {
 };
 const PinOpenBlasKernels pin_openblas_kernels;
 
-// One OpenMP thread while CHOLMOD and its BLAS work. Debian's OpenBLAS (libopenblas0-openmp) runs its kernels on
-// an OpenMP team of omp_get_max_threads(): on two cores that team, spinning in its barriers beside the caller's,
-// took the 4 mm factorisation from 2.6 s on one thread to 6-8 s (benchmarks/bench_static3.cpp); the reference BLAS
-// ignores the setting.
+// The BLAS to this thread alone (common/blas_lock.hpp), on one OpenMP thread, while CHOLMOD and its BLAS work.
+// Debian's OpenBLAS (libopenblas0-openmp) runs its kernels on an OpenMP team of omp_get_max_threads(): on two cores
+// that team, spinning in its barriers beside the caller's, took the 4 mm factorisation from 2.6 s on one thread to
+// 6-8 s (benchmarks/bench_static3.cpp); the reference BLAS ignores the setting.
 class OneOmpThread {
  public:
   OneOmpThread() : threads_(omp_get_max_threads()) { omp_set_num_threads(1); }
@@ -123,6 +124,7 @@ class OneOmpThread {
   OneOmpThread& operator=(const OneOmpThread&) = delete;
 
  private:
+  BlasLock lock_;  // taken before the thread count is read and set, released after it is restored
   int threads_;
 };
 
