@@ -11,9 +11,8 @@
 // missing or mismatched module is an error that names the paths tried.
 #pragma once
 
-#include <mutex>
-
 #include <cstddef>
+#include <mutex>
 #include <string>
 
 #include "continuum/fe_3d.hpp"

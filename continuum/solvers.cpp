@@ -16,8 +16,8 @@
 #include <Teuchos_ParameterList.hpp>
 #include <mpi.h>
 
-#include <cassert>
 #include <atomic>
+#include <cassert>
 #include <cstdlib>
 #include <memory>
 #include <mutex>
