@@ -116,12 +116,12 @@ const PinOpenBlasKernels pin_openblas_kernels;
 // Debian's OpenBLAS (libopenblas0-openmp) runs its kernels on an OpenMP team of omp_get_max_threads(): on two cores
 // that team, spinning in its barriers beside the caller's, took the 4 mm factorisation from 2.6 s on one thread to
 // 6-8 s (benchmarks/bench_static3.cpp); the reference BLAS ignores the setting.
-class OneOmpThread {
+class BlasSection {
  public:
-  OneOmpThread() : threads_(omp_get_max_threads()) { omp_set_num_threads(1); }
-  ~OneOmpThread() { omp_set_num_threads(threads_); }
-  OneOmpThread(const OneOmpThread&) = delete;
-  OneOmpThread& operator=(const OneOmpThread&) = delete;
+  BlasSection() : threads_(omp_get_max_threads()) { omp_set_num_threads(1); }
+  ~BlasSection() { omp_set_num_threads(threads_); }
+  BlasSection(const BlasSection&) = delete;
+  BlasSection& operator=(const BlasSection&) = delete;
 
  private:
   BlasLock lock_;  // taken before the thread count is read and set, released after it is restored
@@ -227,7 +227,7 @@ void SpdSolver3::factor(const SpMat& K_in) {
   };
   if (method == Static3Solver::cholmod) {
 #ifdef RBDEM_HAVE_CHOLMOD
-    const OneOmpThread serial;
+    const BlasSection blas;
     if (fresh || !s.cholmod) s.cholmod = std::make_unique<CholmodLlt>(), s.cholmod->analyzePattern(K);
     s.cholmod->factorize(K);
     s.factor_nonzeros = s.cholmod->cholmod().lnz, s.factor_flops = s.cholmod->cholmod().fl;
@@ -257,7 +257,7 @@ void SpdSolver3::update(const SpMat& K) {
 Eigen::VectorXd SpdSolver3::Impl::direct_solve(const Eigen::VectorXd& f) const {
 #ifdef RBDEM_HAVE_CHOLMOD
   if (used == Static3Solver::cholmod) {
-    const OneOmpThread serial;
+    const BlasSection blas;
     return cholmod->solve(f);
   }
 #endif
