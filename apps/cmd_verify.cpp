@@ -1,6 +1,6 @@
 // rbdem verify: every check of this build against theory, with its error, tolerance and cost.
 //
-//   rbdem verify --quick --out runs/verify     # 27 cases, about 25 s on 2 cores (CI)
+//   rbdem verify --quick --out runs/verify     # 31 cases, about 32 s on 2 cores (CI)
 //   rbdem verify --out runs/verify-full        # adds finer meshes and the strength study (several minutes)
 //   rbdem verify --only 'fe\.' --out runs/v    # the cases whose name matches a regular expression
 // Writes verify.json and verify.md (with figures) into --out and prints the table. Exit status 3 when a case
@@ -94,7 +94,7 @@ Runner add_verify_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "verify", "every check against theory: verify.json and a report with errors, tolerances and costs");
   cmd->add_option("--out,-o", opt->out, "output folder (verify.json, verify.md, figures)")->capture_default_str();
-  cmd->add_flag("--quick", opt->quick, "the fast subset (about 20 s on 2 cores; what CI runs)");
+  cmd->add_flag("--quick", opt->quick, "the fast subset (about 30 s on 2 cores; what CI runs)");
   cmd->add_option("--only", opt->only, "run only the cases whose name matches this regular expression");
   cmd->add_flag("--list", opt->list, "list the cases and exit");
   return [opt]() { return run_verify_command(*opt); };

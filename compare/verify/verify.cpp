@@ -38,7 +38,8 @@ CaseSpec make_case(std::string name, bool quick, CaseResult (*measure)(const Con
 
 std::vector<CaseSpec> catalogue() {
   std::vector<CaseSpec> all;
-  for (auto group : {theory_cases(), dem_cases(), reference_cases(), continuum_cases(), disc_cases(), strength_cases()})
+  for (auto group : {theory_cases(), dem_cases(), reference_cases(), continuum_cases(), dim3_cases(), disc_cases(),
+                      strength_cases()})
     for (auto& c : group) all.push_back(std::move(c));
   return all;
 }

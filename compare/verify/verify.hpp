@@ -65,6 +65,7 @@ std::vector<CaseSpec> catalogue();
 std::vector<CaseSpec> dem_cases();        // cases_dem.cpp
 std::vector<CaseSpec> theory_cases();     // cases_theory.cpp
 std::vector<CaseSpec> continuum_cases();  // cases_fe.cpp (empty without deal.II)
+std::vector<CaseSpec> dim3_cases();       // cases_3d.cpp (the FE ones need deal.II)
 std::vector<CaseSpec> disc_cases();       // cases_disc.cpp (the layered ones need deal.II)
 std::vector<CaseSpec> strength_cases();   // cases_strength.cpp
 std::vector<CaseSpec> reference_cases();  // cases_reference.cpp (SUNDIALS ARKODE)
