@@ -9,6 +9,7 @@
 #include <numbers>
 #include <string>
 
+#include "compare/verify/verify.hpp"
 #include "dem/scene.hpp"
 #include "dem/specimen_mesh3.hpp"
 #include "theory/elasticity3.hpp"
@@ -235,6 +236,13 @@ TEST(Scene3, UserMeshWithTetrahedra) {
   } catch (const SceneError& e) {
     EXPECT_NE(std::string(e.what()).find("physical volume"), std::string::npos) << e.what();
   }
+}
+
+// `rbdem verify` runs the 3D paper scene from its own copy of the keys (an installed binary has no scenes/):
+// it must be the shipped scenes/cylinder.toml, key for key.
+TEST(Verify3, CylinderSceneIsTheShippedOne) {
+  const Scene shipped = load_scene_file(std::filesystem::path(RBDEM_SOURCE_DIR) / "scenes" / "cylinder.toml");
+  EXPECT_EQ(to_toml(verify::cylinder_scene()), to_toml(shipped));
 }
 
 }  // namespace

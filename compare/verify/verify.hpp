@@ -16,6 +16,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "dem/scene.hpp"
+
 namespace rbdem::verify {
 
 enum class Verdict { pass, fail, info };
@@ -69,6 +71,10 @@ std::vector<CaseSpec> dim3_cases();       // cases_3d.cpp (the FE ones need deal
 std::vector<CaseSpec> disc_cases();       // cases_disc.cpp (the layered ones need deal.II)
 std::vector<CaseSpec> strength_cases();   // cases_strength.cpp
 std::vector<CaseSpec> reference_cases();  // cases_reference.cpp (SUNDIALS ARKODE)
+
+// The 3D paper scene as scenes/cylinder.toml holds it (the calibrated 8 mm cylinder; test
+// Verify3.CylinderSceneIsTheShippedOne keeps the two the same).
+Scene cylinder_scene();
 
 // Least-squares slope of y over x (e.g. an observed order from log-log data).
 double least_squares_slope(const std::vector<double>& x, const std::vector<double>& y);
