@@ -1,7 +1,8 @@
 // The 3D cases: the face bond's objectivity under a finite rigid motion, the torque-free asymmetric block's
 // angular momentum and energy, the FE twin on tetrahedra against Amadei's 3D apparent modulus and lateral strains,
-// the 3D elastic gate on the paper's cylinder and its confined slope at 60 deg against Jaeger's (docs/theory.md, "The face bond in 3D", "Rotations in 3D", "The
-// layered cylinder in 3D"; docs/elastic.md, "Three dimensions").
+// the 3D elastic gate on the paper's cylinder and its confined slope at 60 deg against Jaeger's (docs/theory.md,
+// "The face bond in 3D", "Rigid-block dynamics", "The layered cylinder in 3D"; docs/elastic.md, "Three
+// dimensions").
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -109,7 +110,7 @@ CaseResult torque_free_momentum(const Context&) {
   CaseResult r;
   r.checks = "a torque-free asymmetric block tumbling about its unstable intermediate axis, 1e5 steps (about 160 "
              "turns): the angular momentum kept";
-  r.reference = "Euler's equations: L is a constant (docs/theory.md, \"Rotations in 3D\")";
+  r.reference = "Euler's equations: L is a constant (docs/theory.md, section 11.7, \"Rigid-block dynamics\")";
   r.unit = "relative";
   const long steps = 100000;
   const FreeSpin a = free_spin(0.01, steps);
