@@ -168,7 +168,8 @@ CaseResult fe_amadei3(const Context& ctx) {
     const theory::Uniaxial3 a = theory::amadei_uniaxial_3d(c, dip);
     const double platen = std::abs(fe.apparent_modulus / a.modulus - 1);
     const double mean = std::abs(fe.mean_strain_modulus / a.modulus - 1);
-    const double nu = std::max(std::abs(fe.poisson_strike - a.poisson_strike), std::abs(fe.poisson_dip - a.poisson_dip));
+    const double nu =
+        std::max(std::abs(fe.poisson_strike - a.poisson_strike), std::abs(fe.poisson_dip - a.poisson_dip));
     r.table.push_back({{"beta_deg", dip}, {"amadei_pa", a.modulus}, {"fe_platen_pa", fe.apparent_modulus},
                        {"platen_error", platen}, {"mean_strain_error", mean}, {"poisson_error", nu}});
     if (std::max({platen, mean, nu}) >= worst) {
@@ -191,8 +192,9 @@ CaseResult fe_amadei3(const Context& ctx) {
 // 4 mm: constants from three prisms, then the cylinder at seven dips.
 CaseResult gate3(const Context& ctx) {
   CaseResult r;
-  r.checks = "the 3D elastic gate on the paper scene's cylinder (4 mm tetrahedra, joints every 10 mm): the DEM's static "
-             "moduli at seven dips against the FE twin on the same tetrahedra with the DEM's own five constants";
+  r.checks = "the 3D elastic gate on the paper scene's cylinder (4 mm tetrahedra, joints every 10 mm): the DEM's "
+             "static moduli at seven dips against the FE twin on the same tetrahedra with the DEM's own five "
+             "constants";
   r.reference = "continuum::solve_elastic_3d with the constants from the DEM's virtual tests on prisms; Amadei with "
                 "them beside it (compare/gate/elastic_gate3.hpp)";
   r.unit = "Pa";
