@@ -13,6 +13,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "compare/verify/dem_measures.hpp"
 #include "dem/dim.hpp"
 #include "dem/geometry3.hpp"
 #include "dem/rigid3.hpp"
@@ -122,35 +123,13 @@ TEST(TetGeometry, PrincipalMomentsAreInvariantAndAxesTurnWithTheBlock) {
 }
 
 // A torque-free asymmetric block, moments (1, 2, 3) kg m^2, principal axes turned from the world's; |omega| about 1
-// rad/s, dt = 0.01 s: 1e5 steps, about 160 turns.
-struct FreeRun {
-  double energy_drift, energy_spread, momentum_drift, unit_error;
-};
-FreeRun free_run(Vec3 omega_body, double dt, long steps) {
-  RigidBody3 b{1.0, {1.0, 2.0, 3.0}, from_rotation_vector({0.3, -0.5, 0.8})};
-  RigidState3 s;
-  s.omega = rotate(b.axes, omega_body);
-  const double e0 = kinetic_energy(b, s);
-  const Vec3 L0 = angular_momentum(b, s);
-  FreeRun r{0, 0, 0, 0};
-  double lo = e0, hi = e0;
-  for (long n = 0; n < steps; ++n) {
-    rigid_step(b, s, {}, {}, dt, 0.0);
-    const double e = kinetic_energy(b, s);
-    lo = std::min(lo, e), hi = std::max(hi, e);
-    r.momentum_drift = std::max(r.momentum_drift, norm(angular_momentum(b, s) - L0) / norm(L0));
-    r.unit_error = std::max(r.unit_error, std::abs(norm(s.q) - 1.0));
-  }
-  r.energy_drift = std::abs(kinetic_energy(b, s) - e0) / e0;
-  r.energy_spread = (hi - lo) / e0;
-  return r;
-}
-
+// rad/s, dt = 0.01 s: 1e5 steps, about 160 turns (verify::torque_free_run, which `rbdem verify` reports too).
 TEST(RigidStep, TorqueFreeAsymmetricBlockKeepsMomentumExactlyAndEnergyToSecondOrder) {
   const double dt = 0.01;
   const long steps = 100000;
   for (const auto& [name, w] : {std::pair{"intermediate", Vec3{0.01, 1.0, 0.01}}, {"largest", Vec3{0.1, 0.1, 1.0}}}) {
-    const FreeRun a = free_run(w, dt, steps), h = free_run(w, 0.5 * dt, 2 * steps);
+    const verify::TorqueFreeMeasure a = verify::torque_free_run(w, dt, steps),
+                                  h = verify::torque_free_run(w, 0.5 * dt, 2 * steps);
     std::printf("[ rigid3 ] %s axis: |dL|/|L| %.2e (dt/2: %.2e), energy spread %.2e (dt/2: %.2e), drift %.2e, "
                 "||q|-1| %.1e\n", name, a.momentum_drift, h.momentum_drift, a.energy_spread, h.energy_spread,
                 a.energy_drift, a.unit_error);

@@ -11,13 +11,14 @@
 #include <fmt/format.h>
 
 #include "compare/gate/elastic_gate3.hpp"
+#include "compare/verify/confined.hpp"
+#include "compare/verify/dem_measures.hpp"
 #include "compare/verify/verify.hpp"
 #include "dem/geometry3.hpp"
 #include "dem/rigid3.hpp"
 #include "dem/scene.hpp"
 #include "dem/specimen_mesh3.hpp"
 #include "dem/stages/face_bond_kernel.hpp"
-#include "study/study.hpp"
 #include "theory/elasticity3.hpp"
 
 #ifdef RBDEM_HAVE_CONTINUUM
@@ -82,29 +83,32 @@ CaseResult objectivity3(const Context&) {
   return r;
 }
 
-// A torque-free asymmetric block, principal moments (1, 2, 3) kg m^2 turned from the world's axes, spinning near its
-// unstable intermediate axis at about 1 rad/s, stepped 1e5 times at dt and 2e5 times at dt / 2.
-struct FreeSpin {
-  double momentum_drift = 0, energy_spread = 0, energy_drift = 0;
-};
-FreeSpin free_spin(double dt, long steps) {
+}  // namespace
+
+TorqueFreeMeasure torque_free_run(Vec3 omega_body, double dt, long steps) {
   const RigidBody3 body{1.0, {1.0, 2.0, 3.0}, from_rotation_vector({0.3, -0.5, 0.8})};
   RigidState3 s;
-  s.omega = rotate(body.axes, Vec3{0.01, 1.0, 0.01});
+  s.omega = rotate(body.axes, omega_body);
   const double e0 = kinetic_energy(body, s);
   const Vec3 L0 = angular_momentum(body, s);
-  FreeSpin out;
+  TorqueFreeMeasure out;
   double lo = e0, hi = e0;
   for (long n = 0; n < steps; ++n) {
     rigid_step(body, s, {}, {}, dt, 0.0);
     const double e = kinetic_energy(body, s);
     lo = std::min(lo, e), hi = std::max(hi, e);
     out.momentum_drift = std::max(out.momentum_drift, norm(angular_momentum(body, s) - L0) / norm(L0));
+    out.unit_error = std::max(out.unit_error, std::abs(norm(s.q) - 1.0));
   }
   out.energy_spread = (hi - lo) / e0;
   out.energy_drift = std::abs(kinetic_energy(body, s) - e0) / e0;
   return out;
 }
+
+namespace {
+
+// The torque-free block near its unstable intermediate axis at about 1 rad/s.
+const Vec3 intermediate_axis_spin{0.01, 1.0, 0.01};
 
 CaseResult torque_free_momentum(const Context&) {
   CaseResult r;
@@ -113,7 +117,7 @@ CaseResult torque_free_momentum(const Context&) {
   r.reference = "Euler's equations: L is a constant (docs/theory.md, section 11.7, \"Rigid-block dynamics\")";
   r.unit = "relative";
   const long steps = 100000;
-  const FreeSpin a = free_spin(0.01, steps);
+  const TorqueFreeMeasure a = torque_free_run(intermediate_axis_spin, 0.01, steps);
   r.table.push_back({{"dt_s", 0.01}, {"steps", steps}, {"momentum_drift", a.momentum_drift}});
   r.measured = a.momentum_drift, r.reference_value = 0, r.error = a.momentum_drift;
   r.error_definition = "max over the steps of |L - L0| / |L0|";
@@ -130,7 +134,8 @@ CaseResult torque_free_energy(const Context&) {
   r.unit = "order";
   const double dt = 0.01;
   const long steps = 100000;
-  const FreeSpin a = free_spin(dt, steps), h = free_spin(0.5 * dt, 2 * steps);
+  const TorqueFreeMeasure a = torque_free_run(intermediate_axis_spin, dt, steps),
+                          h = torque_free_run(intermediate_axis_spin, 0.5 * dt, 2 * steps);
   r.table.push_back({{"dt_s", dt}, {"steps", steps}, {"energy_spread", a.energy_spread},
                      {"energy_drift", a.energy_drift}});
   r.table.push_back({{"dt_s", 0.5 * dt}, {"steps", 2 * steps}, {"energy_spread", h.energy_spread},
@@ -233,13 +238,7 @@ CaseResult triaxial_slope3(const Context& ctx) {
   r.reference = "Jaeger under confinement: 1 + 2 mu / ((1 - mu cot beta) sin 2 beta), mu of the bonded joint's "
                 "envelope (docs/theory.md, section 4)";
   r.unit = "-";
-  study::StudySpec spec = study::dip_study(cylinder_scene(), "verify_confined3");
-  spec.test = "triaxial";
-  study::Axis axis;
-  axis.name = "sigma3_mpa";
-  axis.labels = {"0", "10"};
-  axis.values = {{"loading.confining_pressure", {"0", "10e6"}}};
-  spec.axes.push_back(axis);
+  study::StudySpec spec = confined_spec(cylinder_scene(), "verify_confined3");
   spec.dips = {60};
   const std::filesystem::path out = ctx.out / "confined3";
   std::filesystem::create_directories(out);

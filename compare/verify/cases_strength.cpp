@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "theory/elasticity.hpp"
+#include "compare/verify/confined.hpp"
 #include "compare/verify/verify.hpp"
 #include "study/study.hpp"
 
@@ -102,13 +103,7 @@ const ConfinedStudy& confined_study(const Context& ctx) {
   if (cached) return *cached;
   // 60 deg on five meshes (the slope is compared with Jaeger's: one mesh scatters by about 1.3 %), 90 deg on one
   // (its intact envelope is reported, with no closed form to meet).
-  study::StudySpec spec = study::dip_study(Scene{}, "verify_confined");
-  spec.test = "triaxial";
-  study::Axis axis;
-  axis.name = "sigma3_mpa";
-  axis.labels = {"0", "10"};
-  axis.values = {{"loading.confining_pressure", {"0", "10e6"}}};
-  spec.axes.push_back(axis);
+  study::StudySpec spec = confined_spec(Scene{}, "verify_confined");
   spec.dips = {60};
   spec.realizations = confined_realizations;
   std::vector<study::Case> cases = study::expand(spec);
@@ -220,6 +215,17 @@ CaseResult two_sets_reduce(const Context& ctx) {
 }
 
 }  // namespace
+
+study::StudySpec confined_spec(const Scene& scene, const std::string& name) {
+  study::StudySpec spec = study::dip_study(scene, name);
+  spec.test = "triaxial";
+  study::Axis axis;
+  axis.name = "sigma3_mpa";
+  axis.labels = {"0", "10"};
+  axis.values = {{"loading.confining_pressure", {"0", "10e6"}}};
+  spec.axes.push_back(axis);
+  return spec;
+}
 
 std::vector<CaseSpec> strength_cases() {
   return {make_case("strength.min_angle", false, min_angle), make_case("strength.jaeger_curve", false, jaeger_curve),

@@ -1,10 +1,12 @@
 // The DEM's closed-form experiments as plain measurements, shared by `rbdem verify` (compare/verify/cases_dem.cpp,
-// which adds the tolerances and their sources) and the unit tests (tests/test_engine.cpp, tests/test_static.cpp).
+// cases_3d.cpp, which add the tolerances and their sources) and the unit tests (tests/test_engine.cpp,
+// tests/test_static.cpp, tests/test_rigid3.cpp).
 #pragma once
 
 #include <cstddef>
 
 #include "dem/static_solve.hpp"
+#include "dem/vec3.hpp"
 
 namespace rbdem::verify {
 
@@ -57,5 +59,15 @@ struct SlopeMeasure {
   long steps = 0;
 };
 SlopeMeasure static_and_explicit_moduli(double beta_deg, bool slip_when_bonded);
+
+// A torque-free asymmetric block, principal moments (1, 2, 3) kg m^2 turned from the world's axes, spinning at
+// `omega_body` (rad/s, in its principal frame), stepped `steps` times at dt by the 3D rigid step without damping.
+struct TorqueFreeMeasure {
+  double momentum_drift = 0;  // max over the steps of |L - L0| / |L0|
+  double energy_spread = 0;   // (max - min) / E0 of the kinetic energy over the steps
+  double energy_drift = 0;    // |E_end - E0| / E0
+  double unit_error = 0;      // max over the steps of ||q| - 1|
+};
+TorqueFreeMeasure torque_free_run(Vec3 omega_body, double dt, long steps);
 
 }  // namespace rbdem::verify
