@@ -281,6 +281,57 @@ bool aabbs_overlap(const Aabb3& a, const Aabb3& b, double margin) {
   return true;
 }
 
+namespace {
+
+// The gap, over the pair's extent, that tets_apart asks for, and the shape a face must have for its normal to be
+// tried: over the pair's extent, contact_tets's coordinates carry an error of about 1e-16 and its axes (from edges
+// at least kApartEdge long, at angles whose sine is at least kApartSine) one of about 1e-16 / (kApartEdge
+// kApartSine) = 1e-12 in direction, so a gap of kApart is above kSnap and every round-off by 1e7.
+constexpr double kApart = 1e-4;
+constexpr double kApartEdge = 1e-2;
+constexpr double kApartSine = 1e-2;
+
+// Whether the normal of one of x's faces puts all of y beyond x by more than `gap` (either side).
+bool face_separates(const PosedTet& x, const PosedTet& y, double span, double gap) {
+  for (int k = 0; k < 4; ++k) {
+    // Every angle's sine |n| / (two edges) is at least |n| / l2; the shortest edge is at least that sine times l2.
+    const double l2 = x.l2[k], n2 = x.n2[k];
+    if (!(l2 >= kApartEdge * kApartEdge * span * span) || !(n2 >= kApartSine * kApartSine * l2 * l2)) continue;
+    double xlo, xhi, ylo, yhi;
+    project(x.t, x.n[k], xlo, xhi);
+    project(y.t, x.n[k], ylo, yhi);
+    const double g = std::max(ylo - xhi, xlo - yhi);  // along n, |n| times the distance
+    if (g > 0.0 && g * g > gap * gap * n2) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+PosedTet posed(const Tet& t) {
+  PosedTet p;
+  p.t = t;
+  p.box = aabb_of(t);
+  for (int k = 0; k < 4; ++k) {
+    const Vec3 a = t[std::size_t(kFace[k][0])], b = t[std::size_t(kFace[k][1])], c = t[std::size_t(kFace[k][2])];
+    const Vec3 e1 = b - a, e2 = c - a, e3 = c - b;
+    p.n[k] = cross(e1, e2), p.n2[k] = dot(p.n[k], p.n[k]);
+    p.l2[k] = std::max({dot(e1, e1), dot(e2, e2), dot(e3, e3)});
+  }
+  return p;
+}
+
+bool tets_apart(const PosedTet& i, const PosedTet& j) {
+  const Aabb3 &bi = i.box, &bj = j.box;
+  double span = 0.0;  // at least contact_tets's extent (its coordinates' largest difference from i's first vertex)
+  for (int c = 0; c < 3; ++c) span = std::max(span, std::max(bi.hi[c], bj.hi[c]) - std::min(bi.lo[c], bj.lo[c]));
+  if (!(span > 0.0 && span <= kMaxExtent)) return false;  // not finite, a point, or beyond contact_tets's range
+  const double gap = kApart * span;
+  for (int c = 0; c < 3; ++c)
+    if (bj.lo[c] - bi.hi[c] > gap || bi.lo[c] - bj.hi[c] > gap) return true;
+  return face_separates(i, j, span, gap) || face_separates(j, i, span, gap);
+}
+
 bool contact_tets(const Tet& i, const Tet& j, TetContact& out) {
   // The pair in unit coordinates: relative to i's first vertex, divided by the largest coordinate difference.
   const Vec3 origin = i[0];

@@ -68,4 +68,23 @@ struct TetContact {
 // clip: it touches by the separating axes alone, with no volume and no area.
 bool contact_tets(const Tet& i, const Tet& j, TetContact& out);
 
+// A tetrahedron in its pose with what tets_apart reads of it, computed once per pose: its box and, per face
+// (kFace order: the face opposite vertex k), the cross product of two of its edges (the normal, not unit), that
+// product's square and the square of the face's longest edge.
+struct PosedTet {
+  Tet t;
+  Aabb3 box;
+  Vec3 n[4];
+  double n2[4], l2[4];
+};
+PosedTet posed(const Tet& t);
+
+// A quick test that proves a pair apart: true only where a plane separates the two tetrahedra by more than 1e-4 of
+// the pair's extent, found along a coordinate axis or the normal of a well-shaped face (angles over 0.6 deg, edges
+// over 1e-2 of the extent). Such a gap is far beyond what round-off and contact_tets's tolerances reach, so
+// contact_tets(i.t, j.t) returns false there: a caller may skip it and have the same result. False proves nothing.
+// A pair list keeps many pairs that a skin apart, which this rejects for a few comparisons instead of the
+// separating axes and the clipping.
+bool tets_apart(const PosedTet& i, const PosedTet& j);
+
 }  // namespace rbdem

@@ -442,6 +442,60 @@ TEST(ContactTets, NoNaNOverDegenerateAndRandomPairs) {
   RecordProperty("seconds", sci(seconds));
 }
 
+// tets_apart, the quick test that lets a pair list skip contact_tets, proves a pair apart only where
+// contact_tets finds no contact (so the skip changes no result), and proves most pairs apart that are: along a box's
+// side, along a face's normal where the boxes overlap, and not a pair that touches.
+TEST(ContactTets, PairsProvedApartHaveNoContact) {
+  auto apart = [](const Tet& i, const Tet& j) { return rbdem::tets_apart(rbdem::posed(i), rbdem::posed(j)); };
+  const Vec3 c{1.0 / 3, 1.0 / 3, 1.0 / 3};
+  Tet mirror;  // kCorner reflected through its slanted face's centroid: face on face, the boxes overlapping
+  for (int k = 0; k < 4; ++k) mirror[std::size_t(k)] = 2.0 * c - kCorner[std::size_t(k)];
+  const Vec3 n = (1.0 / std::sqrt(3.0)) * Vec3{1, 1, 1};
+  TetContact t;
+  EXPECT_TRUE(apart(kCorner, moved(kCorner, {1.01, 0, 0})));  // by a box's side
+  EXPECT_TRUE(apart(kCorner, moved(mirror, 0.01 * n)));       // by the slanted face's normal
+  EXPECT_TRUE(rbdem::aabbs_overlap(rbdem::aabb_of(kCorner), rbdem::aabb_of(moved(mirror, 0.01 * n))));
+  EXPECT_FALSE(contact_tets(kCorner, moved(mirror, 0.01 * n), t));
+  EXPECT_FALSE(apart(kCorner, mirror));  // touching face on face
+  EXPECT_TRUE(contact_tets(kCorner, mirror, t));
+  EXPECT_FALSE(apart(kCorner, moved(kCorner, {1.0, 0, 0})));  // a vertex on a vertex
+  Tet bad = kCorner;
+  bad[2].y = std::nan("");
+  EXPECT_FALSE(apart(kCorner, bad));
+
+  // Random pairs at every distance from overlapping to a few sizes apart, turned at random, of one size or of
+  // sizes a thousand times apart, and the degenerate kinds of NoNaNOverDegenerateAndRandomPairs.
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1), g(0, 1);
+  int proved = 0, separated = 0, checked = 0;
+  for (int k = 0; k < 200000; ++k) {
+    Tet i, j;
+    const int kind = k % 5;
+    const double reach = std::pow(10.0, -4.0 * g(rng));  // the offset's scale, 1e-4 to 1
+    if (kind == 0) i = lattice_tet(rng, 1.0), j = moved(lattice_tet(rng, 1.0), reach * Vec3{u(rng), u(rng), u(rng)});
+    else if (kind == 1)
+      i = random_tet(rng, {0, 0, 0}, 1.0), j = random_tet(rng, 1.5 * reach * Vec3{u(rng), u(rng), u(rng)}, 1.0);
+    else if (kind == 2) i = random_tet(rng, {0, 0, 0}, 1.0), j = random_tet(rng, {0.6 + reach * u(rng), 0, 0}, 1e-3);
+    else if (kind == 3) {  // slivers: a tetrahedron squashed along z by up to 1e-6
+      i = random_tet(rng, {0, 0, 0}, 1.0), j = random_tet(rng, {u(rng), u(rng), u(rng)}, 1.0);
+      for (Vec3& p : j) p.z *= std::pow(10.0, -6.0 * g(rng));
+    } else i = mirror, j = moved(kCorner, reach * 1e-3 * Vec3{u(rng), u(rng), u(rng)} - 0.3 * reach * n);
+    ++checked;
+    const bool ij = contact_tets(i, j, t), ji = contact_tets(j, i, t);
+    if (apart(i, j)) {
+      ++proved;
+      ASSERT_FALSE(ij) << k;
+      ASSERT_FALSE(ji) << k;
+    }
+    ASSERT_EQ(apart(i, j), apart(j, i)) << k;
+    separated += !ij;
+  }
+  EXPECT_GT(proved, 0.8 * separated);  // most pairs apart are proved so
+  RecordProperty("pairs", checked);
+  RecordProperty("separated", separated);
+  RecordProperty("proved_apart", proved);
+}
+
 // What has no contact: a pair with a non-finite vertex, a zero or too large extent; boxes apart.
 TEST(ContactTets, NonFiniteOrOutOfRangePairsHaveNoContact) {
   TetContact c;

@@ -12,12 +12,14 @@
 #pragma once
 
 #include <atomic>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "dem/boundary/boundary.hpp"
 #include "dem/boundary/hooks3.hpp"
+#include "dem/contact3.hpp"
 
 namespace rbdem {
 
@@ -159,6 +161,9 @@ class BlockContacts3 : public BoundaryHooks<3> {
   void rebuild(const Model<3>& m, const ModelState<3>& s);
   bool rebuild_due(const Model<3>& m, const ModelState<3>& s) const;
   Force contact(const Model<3>& m, const ModelState<3>& s, std::size_t k, double dt, Vec3& fs) const;
+  Force contact(const Model<3>& m, const ModelState<3>& s, std::size_t k, const Tet& ti, const Tet& tj, double dt,
+                Vec3& fs) const;
+  bool index_pairs(std::size_t num_blocks);
 
   double skin_ = 0;
   std::vector<double> mean_face_;                 // m^2 per block
@@ -175,6 +180,15 @@ class BlockContacts3 : public BoundaryHooks<3> {
   // until add_forces used them); the threads take pieces of the pairs from cursor_
   std::vector<Force> records_;
   std::vector<Vec3> new_fs_;
+  // each pair's two blocks as places in eligible_, and each eligible block's tetrahedron in its pose at the step's
+  // start (begin_step): the pairs of a block read it instead of turning its vertices again
+  std::vector<int> ki_, kj_;
+  // computed by the first thread that needs it in the step: ready_[k] is 2 s + 2 once posed_[k] holds step s's
+  // pose (2 s + 1 while a thread computes it), s counted by begin_step
+  const PosedTet& posed_at(const Model<3>& m, const ModelState<3>& s, std::size_t k) const;
+  mutable std::vector<PosedTet> posed_;
+  mutable std::unique_ptr<std::atomic<long>[]> ready_;
+  long generation_ = 0;
   std::atomic<std::size_t> cursor_{0};
   bool prepared_ = false;
 };

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
+#include <thread>
 
 #include "dem/boundary/components3.hpp"
 #include "dem/contact3.hpp"
@@ -57,7 +58,7 @@ bool BlockContacts3::rebuild_due(const Model<3>& m, const ModelState<3>& s) cons
   return false;
 }
 
-// The blocks that lost a bond (or never had one), their boxes grown by the skin, swept along x; pairs that share no face, in order of
+// The blocks that lost a bond (or never had one), their boxes grown by the skin, swept; pairs that share no face, in order of
 // (i, j). A pair that was in the list keeps its shear history.
 void BlockContacts3::rebuild(const Model<3>& m, const ModelState<3>& s) {
   ++rebuilds_;
@@ -70,25 +71,44 @@ void BlockContacts3::rebuild(const Model<3>& m, const ModelState<3>& s) {
     if (lost[b]) eligible_.push_back(int(b)), ref_.insert(ref_.end(), {s.x[b], s.y[b], s.z[b]});
   std::vector<Aabb3> box(eligible_.size());
   for (std::size_t k = 0; k < eligible_.size(); ++k) box[k] = aabb_of(world_tet(m, s, std::size_t(eligible_[k])));
+  // Swept along the axis the boxes spread most along (the cracked blocks of vertical joints share their x, and a
+  // sweep along x would then test every pair of them); the pairs found are the same along any axis.
+  int axis = 0;
+  double spread[3] = {};
+  for (int c = 0; c < 3 && !box.empty(); ++c) {
+    double mean = 0;
+    for (const Aabb3& b : box) mean += b.lo[c];
+    mean /= double(box.size());
+    for (const Aabb3& b : box) spread[c] += (b.lo[c] - mean) * (b.lo[c] - mean);
+    if (spread[c] > spread[axis]) axis = c;
+  }
   std::vector<std::size_t> order(eligible_.size());
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return box[a].lo.x != box[b].lo.x ? box[a].lo.x < box[b].lo.x : eligible_[a] < eligible_[b];
+    return box[a].lo[axis] != box[b].lo[axis] ? box[a].lo[axis] < box[b].lo[axis] : eligible_[a] < eligible_[b];
   });
-  std::vector<std::pair<int, int>> found;
-  for (std::size_t a = 0; a < order.size(); ++a)
+  // Each pair under its lower block's place in eligible_ (ascending blocks), so that the lists read in that order,
+  // each sorted, are the pairs in order of (i, j) without sorting them all.
+  std::vector<std::vector<int>> partners(eligible_.size());
+  for (std::size_t a = 0; a < order.size(); ++a) {
+    const Aabb3& A = box[order[a]];
     for (std::size_t c = a + 1; c < order.size(); ++c) {
-      const Aabb3& A = box[order[a]];
       const Aabb3& C = box[order[c]];
-      if (C.lo.x > A.hi.x + 2 * skin_) break;
+      if (C.lo[axis] - skin_ > A.hi[axis] + skin_) break;  // aabbs_overlap's test along the axis
       if (!aabbs_overlap(A, C, skin_)) continue;
-      int i = eligible_[order[a]], j = eligible_[order[c]];
-      if (i > j) std::swap(i, j);
+      std::size_t ka = order[a], kc = order[c];
+      if (ka > kc) std::swap(ka, kc);
+      const int i = eligible_[ka], j = eligible_[kc];
       const auto& n = neighbours_[std::size_t(i)];
       if (std::binary_search(n.begin(), n.end(), j)) continue;  // a face's pair: the bond's linear part
-      found.emplace_back(i, j);
+      partners[ka].push_back(j);
     }
-  std::sort(found.begin(), found.end());
+  }
+  std::vector<std::pair<int, int>> found;
+  for (std::size_t k = 0; k < partners.size(); ++k) {
+    std::sort(partners[k].begin(), partners[k].end());
+    for (const int j : partners[k]) found.emplace_back(eligible_[k], j);
+  }
   std::vector<int> pi, pj;
   std::vector<double> fs;
   std::size_t old = 0;
@@ -100,14 +120,37 @@ void BlockContacts3::rebuild(const Model<3>& m, const ModelState<3>& s) {
   }
   pi_ = std::move(pi), pj_ = std::move(pj), fs_ = std::move(fs);
   records_.resize(pi_.size()), new_fs_.resize(pi_.size());
+  index_pairs(m.num_blocks());
+}
+
+// Each pair's blocks as places in eligible_ (every pair's blocks are eligible: the rebuild pairs only those).
+// False where a pair's block is not eligible (a snapshot that does not hold together).
+bool BlockContacts3::index_pairs(std::size_t num_blocks) {
+  std::vector<int> place(num_blocks, -1);
+  for (std::size_t k = 0; k < eligible_.size(); ++k) place[std::size_t(eligible_[k])] = int(k);
+  ki_.resize(pi_.size()), kj_.resize(pi_.size());
+  bool ok = true;
+  for (std::size_t k = 0; k < pi_.size(); ++k) {
+    ki_[k] = place[std::size_t(pi_[k])], kj_[k] = place[std::size_t(pj_[k])];
+    ok = ok && ki_[k] >= 0 && kj_[k] >= 0;
+  }
+  posed_.resize(eligible_.size());
+  ready_ = std::make_unique<std::atomic<long>[]>(eligible_.size());  // zero: not this step's
+  return ok;
 }
 
 BlockContacts3::Force BlockContacts3::contact(const Model<3>& m, const ModelState<3>& s, std::size_t k, double dt,
                                               Vec3& fs) const {
+  return contact(m, s, k, world_tet(m, s, std::size_t(pi_[k])), world_tet(m, s, std::size_t(pj_[k])), dt, fs);
+}
+
+// The pair k with its blocks' tetrahedra ti, tj at the state s.
+BlockContacts3::Force BlockContacts3::contact(const Model<3>& m, const ModelState<3>& s, std::size_t k, const Tet& ti,
+                                              const Tet& tj, double dt, Vec3& fs) const {
   Force out;
   const std::size_t i = std::size_t(pi_[k]), j = std::size_t(pj_[k]);
   TetContact c;
-  if (!contact_tets(world_tet(m, s, i), world_tet(m, s, j), c) || !(c.area > 0) || !(c.volume > 0)) {
+  if (!contact_tets(ti, tj, c) || !(c.area > 0) || !(c.volume > 0)) {
     fs = {};
     return out;
   }
@@ -141,7 +184,24 @@ BlockContacts3::Force BlockContacts3::contact(const Model<3>& m, const ModelStat
 
 void BlockContacts3::begin_step(const Model<3>& m, const ModelState<3>& s) {
   if (rebuild_due(m, s)) rebuild(m, s);
+  ++generation_;  // every pose of the last step is stale
   cursor_.store(0, std::memory_order_relaxed);  // the threads' pieces start at the first pair
+}
+
+// Eligible block k's posed tetrahedron at the step's start, computed once in the step by the first thread that
+// asks (the values do not depend on which); a thread that finds it being computed waits for it.
+const PosedTet& BlockContacts3::posed_at(const Model<3>& m, const ModelState<3>& s, std::size_t k) const {
+  std::atomic<long>& state = ready_[k];
+  const long ready = 2 * generation_ + 2;
+  long seen = state.load(std::memory_order_acquire);
+  if (seen == ready) return posed_[k];
+  if (seen != ready - 1 && state.compare_exchange_strong(seen, ready - 1, std::memory_order_acq_rel)) {
+    posed_[k] = posed(world_tet(m, s, std::size_t(eligible_[k])));
+    state.store(ready, std::memory_order_release);
+    return posed_[k];
+  }
+  while (state.load(std::memory_order_acquire) != ready) std::this_thread::yield();
+  return posed_[k];
 }
 
 // The pairs that touch lie where the specimen cracked, not spread evenly over the list: pieces of it go to whichever
@@ -155,8 +215,13 @@ void BlockContacts3::prepare_forces(const Model<3>& m, const ModelState<3>& s, d
   for (std::size_t lo = cursor_.fetch_add(kPiece, std::memory_order_relaxed); lo < n;
        lo = cursor_.fetch_add(kPiece, std::memory_order_relaxed))
     for (std::size_t k = lo; k < std::min(n, lo + kPiece); ++k) {
+      const PosedTet &a = posed_at(m, s, std::size_t(ki_[k])), &b = posed_at(m, s, std::size_t(kj_[k]));
+      if (tets_apart(a, b)) {  // what contact() gives a pair contact_tets rejects
+        records_[k] = Force{}, new_fs_[k] = Vec3{};
+        continue;
+      }
       Vec3 fs{fs_[3 * k], fs_[3 * k + 1], fs_[3 * k + 2]};
-      records_[k] = contact(m, s, k, dt, fs);
+      records_[k] = contact(m, s, k, a.t, b.t, dt, fs);
       new_fs_[k] = fs;
     }
 }
@@ -230,6 +295,8 @@ void BlockContacts3::load(const Snapshot& s, const Model<3>& m) {
     throw std::invalid_argument("the snapshot's 3D contacts do not fit this model (another scene or mesh)");
   pi_ = i, pj_ = j, fs_ = fs, eligible_ = eligible, ref_ = ref;
   records_.resize(pi_.size()), new_fs_.resize(pi_.size());
+  if (!index_pairs(m.num_blocks()))
+    throw std::invalid_argument("the snapshot's 3D contacts pair blocks it does not list as searched (a damaged file)");
   prepared_ = false, cursor_.store(0, std::memory_order_relaxed);
   broken_seen_ = s.get<long>("contacts3/broken_seen");
   energy_ = s.get<double>("contacts3/energy");
