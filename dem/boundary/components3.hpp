@@ -12,6 +12,7 @@
 #pragma once
 
 #include <atomic>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <utility>
@@ -178,8 +179,9 @@ class BlockContacts3 : public BoundaryHooks<3> {
   double energy_ = 0;
   // workspace: this step's narrow phase, one record per pair and its new shear history (prepared_ from begin_step
   // until add_forces used them); the threads take pieces of the pairs from cursor_
-  std::vector<Force> records_;
-  std::vector<Vec3> new_fs_;
+  std::vector<Force> records_;        // read where touching_ is 1
+  std::vector<std::uint8_t> touching_;
+  std::vector<double> new_fs_;        // 3 per pair, as fs_, which it replaces in add_forces
   // each pair's two blocks as places in eligible_, and each eligible block's tetrahedron in its pose at the step's
   // start (begin_step): the pairs of a block read it instead of turning its vertices again
   std::vector<int> ki_, kj_;

@@ -119,7 +119,7 @@ void BlockContacts3::rebuild(const Model<3>& m, const ModelState<3>& s) {
     for (int k = 0; k < 3; ++k) fs.push_back(kept ? fs_[3 * old + std::size_t(k)] : 0.0);
   }
   pi_ = std::move(pi), pj_ = std::move(pj), fs_ = std::move(fs);
-  records_.resize(pi_.size()), new_fs_.resize(pi_.size());
+  records_.resize(pi_.size()), new_fs_.resize(3 * pi_.size()), touching_.resize(pi_.size());
   index_pairs(m.num_blocks());
 }
 
@@ -216,13 +216,15 @@ void BlockContacts3::prepare_forces(const Model<3>& m, const ModelState<3>& s, d
        lo = cursor_.fetch_add(kPiece, std::memory_order_relaxed))
     for (std::size_t k = lo; k < std::min(n, lo + kPiece); ++k) {
       const PosedTet &a = posed_at(m, s, std::size_t(ki_[k])), &b = posed_at(m, s, std::size_t(kj_[k]));
-      if (tets_apart(a, b)) {  // what contact() gives a pair contact_tets rejects
-        records_[k] = Force{}, new_fs_[k] = Vec3{};
-        continue;
+      Vec3 fs;  // what contact() gives a pair contact_tets rejects: no force, no shear history
+      if (tets_apart(a, b)) {
+        touching_[k] = 0;
+      } else {
+        fs = {fs_[3 * k], fs_[3 * k + 1], fs_[3 * k + 2]};
+        records_[k] = contact(m, s, k, a.t, b.t, dt, fs);
+        touching_[k] = records_[k].touching;
       }
-      Vec3 fs{fs_[3 * k], fs_[3 * k + 1], fs_[3 * k + 2]};
-      records_[k] = contact(m, s, k, a.t, b.t, dt, fs);
-      new_fs_[k] = fs;
+      new_fs_[3 * k] = fs.x, new_fs_[3 * k + 1] = fs.y, new_fs_[3 * k + 2] = fs.z;
     }
 }
 
@@ -234,17 +236,24 @@ double BlockContacts3::add_forces(const Model<3>& m, const ModelState<3>& s, std
   prepared_ = false;
   if (advance && !prepared && rebuild_due(m, s)) rebuild(m, s);
   double energy = 0, friction = 0;
-  for (std::size_t k = 0; k < pi_.size(); ++k) {
-    Vec3 fs{fs_[3 * k], fs_[3 * k + 1], fs_[3 * k + 2]};
-    const Force f = prepared ? records_[k] : contact(m, s, k, dt, fs);
-    if (prepared) fs = new_fs_[k];
-    if (advance) fs_[3 * k] = fs.x, fs_[3 * k + 1] = fs.y, fs_[3 * k + 2] = fs.z;
-    if (!f.touching) continue;
+  auto add = [&](std::size_t k, const Force& f) {
     const std::size_t i = std::size_t(pi_[k]), j = std::size_t(pj_[k]);
     force[j] += f.force, force[i] -= f.force;
     moment[j] += cross(f.point - s.position(j), f.force);
     moment[i] -= cross(f.point - s.position(i), f.force);
     energy += f.energy, friction += f.friction;
+  };
+  if (prepared) {  // every pair's new history is in new_fs_, and a record only where touching_ says so
+    fs_.swap(new_fs_);
+    for (std::size_t k = 0; k < pi_.size(); ++k)
+      if (touching_[k]) add(k, records_[k]);
+  } else {
+    for (std::size_t k = 0; k < pi_.size(); ++k) {
+      Vec3 fs{fs_[3 * k], fs_[3 * k + 1], fs_[3 * k + 2]};
+      const Force f = contact(m, s, k, dt, fs);
+      if (advance) fs_[3 * k] = fs.x, fs_[3 * k + 1] = fs.y, fs_[3 * k + 2] = fs.z;
+      if (f.touching) add(k, f);
+    }
   }
   if (!advance) return 0.0;
   energy_ = energy;
@@ -294,7 +303,7 @@ void BlockContacts3::load(const Snapshot& s, const Model<3>& m) {
       !in_range(j) || !in_range(eligible))
     throw std::invalid_argument("the snapshot's 3D contacts do not fit this model (another scene or mesh)");
   pi_ = i, pj_ = j, fs_ = fs, eligible_ = eligible, ref_ = ref;
-  records_.resize(pi_.size()), new_fs_.resize(pi_.size());
+  records_.resize(pi_.size()), new_fs_.resize(3 * pi_.size()), touching_.resize(pi_.size());
   if (!index_pairs(m.num_blocks()))
     throw std::invalid_argument("the snapshot's 3D contacts pair blocks it does not list as searched (a damaged file)");
   prepared_ = false, cursor_.store(0, std::memory_order_relaxed);

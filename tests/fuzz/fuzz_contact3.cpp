@@ -1,6 +1,7 @@
 // libFuzzer target: bytes -> two tetrahedra -> contact_tets (dem/contact3.hpp). Checks what must hold for any
 // finite input: a contact's outputs are finite, its volume, area and depth non-negative and within the smaller
-// tetrahedron, its normal and axis unit vectors, and a second call gives the same bits.
+// tetrahedron, its normal and axis unit vectors, a second call gives the same bits, and tets_apart does not call
+// the pair apart.
 //
 // Layout: byte 0 picks the coding of the 24 coordinates that follow (i's four vertices, then j's):
 //   0: one signed byte each, / 16 (a coarse lattice: shared vertices, coplanar faces, flat tetrahedra);
@@ -65,6 +66,9 @@ void check(const Tet& i, const Tet& j) {
   rbdem::TetContact c, again;
   if (!rbdem::contact_tets(i, j, c)) return;
   if (!rbdem::contact_tets(i, j, again) || !same(c, again)) __builtin_trap();
+  // A pair the quick test proves apart has no contact (a pair list skips contact_tets for it).
+  if (rbdem::tets_apart(rbdem::posed(i), rbdem::posed(j)) || rbdem::tets_apart(rbdem::posed(j), rbdem::posed(i)))
+    __builtin_trap();
   if (!(std::isfinite(c.volume) && std::isfinite(c.area) && std::isfinite(c.depth))) __builtin_trap();
   if (!(finite(c.normal) && finite(c.axis) && finite(c.point) && finite(c.centroid))) __builtin_trap();
   if (!(c.volume >= 0 && c.area >= 0 && c.depth >= 0)) __builtin_trap();
