@@ -58,8 +58,8 @@ bool BlockContacts3::rebuild_due(const Model<3>& m, const ModelState<3>& s) cons
   return false;
 }
 
-// The blocks that lost a bond (or never had one), their boxes grown by the skin, swept; pairs that share no face, in order of
-// (i, j). A pair that was in the list keeps its shear history.
+// The blocks that lost a bond (or never had one), their boxes grown by the skin, swept; pairs that share no face,
+// in order of (i, j). A pair that was in the list keeps its shear history.
 void BlockContacts3::rebuild(const Model<3>& m, const ModelState<3>& s) {
   ++rebuilds_;
   broken_seen_ = long(s.cracks.size());
