@@ -83,7 +83,7 @@ PosedTet posed(const Tet& t);
 // the pair's extent, found along a coordinate axis or the normal of a well-shaped face (angles over 0.6 deg, edges
 // over 1e-2 of the extent). Such a gap is far beyond what round-off and contact_tets's tolerances reach, so
 // contact_tets(i.t, j.t) returns false there: a caller may skip it and have the same result. False proves nothing.
-// A pair list keeps many pairs that a skin apart, which this rejects for a few comparisons instead of the
+// A pair list keeps many pairs up to a skin apart, which this rejects for a few comparisons instead of the
 // separating axes and the clipping.
 bool tets_apart(const PosedTet& i, const PosedTet& j);
 
